@@ -1,0 +1,98 @@
+// The scene model: plain structs in world space, SI radiometric units. Loaders (JSON, glTF)
+// fill it; geometry/ flattens it into the arrays that kernels and the CPU twin read.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/vec3.h"
+
+namespace pcl {
+
+enum class SpecularKind { None, Mirror, Glossy, Dielectric };
+
+// Jensen's mixed surface: a diffuse part ρd and a specular part ρs, ρd + ρs ≤ 1 per channel.
+// Photons pick diffuse with probability ρd, specular with ρs, absorption otherwise.
+struct Material {
+    std::string name;
+    Vec3 rhoD{0.0f};
+    Vec3 rhoS{0.0f};
+    SpecularKind specular = SpecularKind::None;
+    float phongExponent = 0.0f;  // Glossy: normalised Phong lobe (n+2)/(2π) cos^n around the mirror direction
+    float ior = 1.5f;            // Dielectric: index of refraction inside (outside is 1)
+    Vec3 emission{0.0f};         // one-sided emitted radiance, W m^-2 sr^-1, on the geometric-normal side
+    bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+};
+
+// Triangle soup with shared vertices. Winding is counter-clockwise seen from the front side;
+// the geometric normal is normalize(cross(p1 - p0, p2 - p0)).
+struct TriangleMesh {
+    std::string name;
+    std::vector<Vec3> positions;
+    std::vector<Vec3> normals;       // optional per-vertex shading normals (empty: geometric)
+    std::vector<uint32_t> indices;   // three per triangle
+    int material = 0;
+    Vec3 motion{0.0f};               // translation over the shutter interval
+    size_t triangleCount() const { return indices.size() / 3; }
+};
+
+struct Sphere {
+    std::string name;
+    Vec3 centre{0.0f};
+    float radius = 1.0f;
+    int material = 0;
+    Vec3 motion{0.0f};
+};
+
+enum class LightType { Point, Spot, Area, Directional };
+
+// Lights are stored by intensity / irradiance / radiance whichever way the file gave them;
+// the loader converts power-specified lights so that power() is exact.
+struct Light {
+    LightType type = LightType::Point;
+    std::string name;
+    Vec3 position{0.0f};     // Point, Spot
+    Vec3 direction{0, -1, 0};  // Spot: cone axis; Directional: direction light travels (unit)
+    Vec3 intensity{0.0f};    // Point, Spot: W/sr on the axis
+    float cosInner = 1.0f;   // Spot: full intensity inside, smoothstep falloff to cosOuter
+    float cosOuter = 0.0f;
+    Vec3 irradiance{0.0f};   // Directional: W/m^2 on a surface facing the light
+    int mesh = -1;           // Area: index into Scene::meshes; radiance is that mesh's material emission
+};
+
+enum class CameraModel { Pinhole, ThinLens };
+
+struct Camera {
+    CameraModel model = CameraModel::Pinhole;
+    Vec3 position{0, 0, 5};
+    Vec3 lookAt{0, 0, 0};
+    Vec3 up{0, 1, 0};
+    float vfovDegrees = 40.0f;
+    int width = 256, height = 256;
+    float apertureRadius = 0.0f;   // ThinLens
+    float focusDistance = 1.0f;    // ThinLens
+    float shutterOpen = 0.0f, shutterClose = 0.0f;  // seconds; motion is spread over this interval
+};
+
+struct Scene {
+    std::string path;  // the file it came from, for messages and metadata
+    std::vector<Material> materials;
+    std::vector<TriangleMesh> meshes;
+    std::vector<Sphere> spheres;
+    std::vector<Light> lights;
+    Camera camera;
+    size_t droppedDegenerateTriangles = 0;
+
+    size_t triangleCount() const {
+        size_t n = 0;
+        for (const auto& m : meshes) n += m.triangleCount();
+        return n;
+    }
+    bool hasMotion() const {
+        for (const auto& m : meshes) if (!(m.motion == Vec3(0.0f))) return true;
+        for (const auto& s : spheres) if (!(s.motion == Vec3(0.0f))) return true;
+        return false;
+    }
+};
+
+}  // namespace pcl
