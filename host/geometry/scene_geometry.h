@@ -1,0 +1,61 @@
+// SceneGeometry: the scene's triangles and spheres in a binned-SAH BVH collapsed to 8-wide
+// nodes, flattened into exactly the arrays kernels read (kernels/shared/types.h), plus the
+// host traversal that the CPU twin and the reference path tracer use.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "kernels/shared/types.h"
+#include "scene/scene.h"
+
+namespace pcl {
+
+struct BvhBuildOptions {
+    int bins = 16;              // SAH bins per axis (>= 12)
+    int maxLeafTriangles = 4;   // triangles per leaf before SAH may stop splitting
+    float traversalCost = 1.0f; // SAH: cost of visiting a node relative to one primitive test
+};
+
+struct BvhStats {
+    size_t nodes = 0, packets = 0, spheres = 0, leaves = 0;
+    double sahCost = 0.0;       // SAH cost of the collapsed tree
+    double buildSeconds = 0.0;
+    size_t bytes() const;       // nodes + packets + spheres arrays
+};
+
+// Global primitive ids: triangles first (mesh by mesh, in file order), then spheres.
+struct PrimitiveRef {
+    enum Kind : uint8_t { Triangle, Sphere } kind;
+    uint32_t object;  // mesh index or sphere index in Scene
+    uint32_t index;   // triangle index within the mesh (0 for spheres)
+};
+
+class SceneGeometry {
+public:
+    static SceneGeometry build(const Scene& scene, const BvhBuildOptions& options = {});
+
+    // Closest hit in (ray.tmin, ray.tmax); fills hit and returns true, or returns false and
+    // sets hit.prim = PCL_NO_HIT. Moving primitives are placed at ray.time.
+    bool intersect(const PclRay& ray, PclHit& hit) const;
+    // Any hit in (ray.tmin, ray.tmax): shadow rays.
+    bool occluded(const PclRay& ray) const;
+
+    PrimitiveRef primitive(uint32_t prim) const;
+    uint32_t triangleCount() const { return triangleCount_; }
+    uint32_t primitiveCount() const { return triangleCount_ + static_cast<uint32_t>(spheres.size()); }
+    Bounds3 bounds() const { return bounds_; }  // over the whole shutter interval
+    const BvhStats& stats() const { return stats_; }
+
+    // The flat arrays, uploaded as they are to the device.
+    std::vector<PclBvhNode> nodes;
+    std::vector<PclTriPacket> packets;
+    std::vector<PclSphere> spheres;
+
+private:
+    std::vector<uint32_t> meshFirstTriangle_;  // prefix sums: global id of each mesh's first triangle
+    uint32_t triangleCount_ = 0;
+    Bounds3 bounds_;
+    BvhStats stats_;
+};
+
+}  // namespace pcl
