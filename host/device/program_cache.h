@@ -1,0 +1,87 @@
+// ProgramCache: kernel sources → built cl::Programs, with compiled binaries kept on disk.
+//
+// Sources come from the binary (kEmbeddedKernels) or, when PHOTONCL_KERNEL_DIR is set, from
+// <dir>/<stage>.cl with `#include "shared/…"` expanded exactly as scripts/embed_kernels.py does
+// (with #line markers, so a build log points at the real file and line).
+//
+// Binaries live in cacheDirectory() as <stage>-<key>.bin, where key is the FNV-1a 64-bit hash
+// (http://www.isthe.com/chongo/tech/comp/fnv/) of the length-prefixed fields (expanded source,
+// build options, platform version, device name, driver version). FNV-1a is no cryptographic
+// hash, but the cache only has to tell our own builds apart, and a collision still has to pass
+// the device's own binary check. Each file is a 24-byte header {magic "PCLBIN01", binary
+// length, FNV-1a 64 of the binary} and the binary; it is written to a temporary name and renamed,
+// so readers see a whole file or none. A file whose header, length or checksum is wrong, or
+// that the device refuses, is deleted and the program rebuilt from source.
+#pragma once
+
+#include <CL/opencl.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "device/device.h"
+
+namespace pcl {
+
+// No fast-math options by default: the kernels are cross-checked against CPU twins, and
+// -cl-mad-enable / -cl-fast-relaxed-math would change results bit for bit.
+inline constexpr const char* kDefaultBuildOptions = "-cl-std=CL1.2";
+
+// FNV-1a 64 of `size` bytes, continuing from `hash` (the offset basis by default).
+uint64_t fnv1a64(const void* data, size_t size, uint64_t hash = 0xcbf29ce484222325ull);
+
+// $PHOTONCL_CACHE_DIR, else $XDG_CACHE_HOME/photoncl, else $HOME/.cache/photoncl.
+std::filesystem::path cacheDirectory();
+
+// $PHOTONCL_KERNEL_DIR when set and non-empty.
+std::optional<std::filesystem::path> kernelDirOverride();
+
+// kernels/<stage>.cl under kernelDir with its includes expanded (throws DeviceError if the
+// file or an include is missing).
+std::string expandKernelFile(const std::filesystem::path& kernelDir, const std::string& stage);
+
+// The expanded source of a stage: from kernelDir when given, else embedded.
+// Throws DeviceError for an unknown stage.
+std::string kernelSource(const std::string& stage,
+                         const std::optional<std::filesystem::path>& kernelDir);
+
+class ProgramCache {
+public:
+    // kernelDir: where sources are read from (nullopt: the embedded ones).
+    // cacheDir: where binaries are kept (nullopt: no disk cache).
+    ProgramCache(cl::Context context, DeviceInfo device,
+                 std::optional<std::filesystem::path> kernelDir = kernelDirOverride(),
+                 std::optional<std::filesystem::path> cacheDir = cacheDirectory());
+
+    // Builds kernels/<stage>.cl with kDefaultBuildOptions + options. Not memoised: Device does
+    // that. Throws DeviceError on a build failure (file, device, options, log).
+    cl::Program build(const std::string& stage, const std::string& options = "");
+
+    // What the last builds did, for tests and `--verbose` timing.
+    struct Stats {
+        int compiled = 0;  // built from source (cache miss or no cache)
+        int loaded = 0;    // built from a cached binary
+        int rejected = 0;  // cache entries found corrupt or refused by the device, deleted
+        double lastSeconds = 0;  // wall time of the last build()
+    };
+    const Stats& stats() const { return stats_; }
+
+    // The cache file a (stage, options) build uses; empty when there is no disk cache.
+    std::filesystem::path entryPath(const std::string& stage, const std::string& options = "") const;
+
+private:
+    std::string fullOptions(const std::string& options) const;
+    std::optional<cl::Program> loadBinary(const std::filesystem::path& file, const std::string& options);
+    void storeBinary(const std::filesystem::path& file, const cl::Program& program);
+    std::filesystem::path entryPathFor(const std::string& stage, const std::string& source,
+                                       const std::string& options) const;
+
+    cl::Context context_;
+    DeviceInfo device_;
+    std::optional<std::filesystem::path> kernelDir_, cacheDir_;
+    Stats stats_;
+};
+
+}  // namespace pcl
