@@ -18,9 +18,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <iosfwd>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -101,7 +99,7 @@ public:
     template <class... Ts, class... Args>
     cl::Event launch(const std::string& stage, cl::KernelFunctor<Ts...>& k, const cl::NDRange& global,
                      Args&&... args) {
-        if (global.size() == 0 || global[0] == 0) return cl::Event();
+        if (isEmpty(global)) return cl::Event();
         return guard(stage, [&] {
             return k(cl::EnqueueArgs(queue_, global), std::forward<Args>(args)...);
         });
@@ -109,7 +107,7 @@ public:
     template <class... Ts, class... Args>
     cl::Event launch(const std::string& stage, cl::KernelFunctor<Ts...>& k, const cl::NDRange& global,
                      const cl::NDRange& local, Args&&... args) {
-        if (global.size() == 0 || global[0] == 0) return cl::Event();
+        if (isEmpty(global)) return cl::Event();
         return guard(stage, [&] {
             return k(cl::EnqueueArgs(queue_, global, local), std::forward<Args>(args)...);
         });
@@ -159,6 +157,11 @@ public:
 
 private:
     Device() = default;
+    static bool isEmpty(const cl::NDRange& r) {
+        for (size_t i = 0; i < r.dimensions(); ++i)
+            if (r.get()[i] == 0) return true;
+        return r.dimensions() == 0;
+    }
 
     struct Programs;  // the memo and the ProgramCache, shared by copies
     DeviceInfo info_;

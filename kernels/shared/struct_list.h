@@ -1,0 +1,17 @@
+/* struct_list.h: every buffer struct of types.h, once, as an X-macro. kernels/probe.cl expands
+ * it into device-side sizeof's and host/device/probe.cpp into host-side ones, so the two lists
+ * cannot drift apart; tests/stages/probe_test.cpp checks that every `typedef struct` in types.h
+ * is listed here. Add a struct to types.h → add it here. */
+#ifndef PCL_STRUCT_LIST_H
+#define PCL_STRUCT_LIST_H
+
+#include "types.h"
+
+#define PCL_SHARED_STRUCTS(X) \
+    X(PclRay)                 \
+    X(PclHit)                 \
+    X(PclBvhNode)             \
+    X(PclTriPacket)           \
+    X(PclSphere)
+
+#endif /* PCL_STRUCT_LIST_H */
