@@ -1,0 +1,38 @@
+// Film: per-pixel sums of weighted radiance samples and their weights (box filter: every
+// sample counts toward the pixel it was taken in). Films of the same size merge by adding
+// sums, so passes, threads and batch shards combine exactly; resolve() divides.
+#pragma once
+#include <vector>
+
+#include "core/vec3.h"
+#include "image/image.h"
+
+namespace pcl {
+
+class Film {
+public:
+    Film() = default;
+    Film(int width, int height);
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+
+    // Adds weight * radiance to pixel (x, y) and weight to its weight sum.
+    void add(int x, int y, Vec3 radiance, double weight = 1.0);
+    // Adds another film's sums pixel by pixel; a size mismatch is an InputError.
+    void merge(const Film& other);
+    // Estimate per pixel: sum / weight (black where no sample landed).
+    Image resolve() const;
+
+    Vec3 sum(int x, int y) const;
+    double weight(int x, int y) const { return weight_[index(x, y)]; }
+    double totalWeight() const;
+
+private:
+    size_t index(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }
+    int width_ = 0, height_ = 0;
+    std::vector<double> sum_;     // 3 per pixel; double so long runs and merges lose nothing
+    std::vector<double> weight_;  // 1 per pixel
+};
+
+}  // namespace pcl

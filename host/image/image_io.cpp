@@ -1,0 +1,227 @@
+#include "image/image_io.h"
+
+#include <atomic>
+#include <cctype>
+#include <cstdlib>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <system_error>
+#include <unistd.h>
+
+#include "core/error.h"
+
+#ifdef PHOTONCL_HAVE_OIIO
+#include <OpenImageIO/imageio.h>
+#endif
+
+#ifndef PHOTONCL_VERSION
+#define PHOTONCL_VERSION "unknown"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace pcl {
+namespace {
+
+// A temporary name in the same folder (so rename is atomic), hidden, keeping the extension
+// so a format chosen by extension still applies: "dir/.name.tmp-<pid>-<n>.ext".
+std::string temporaryPathFor(const std::string& path) {
+    static std::atomic<unsigned> counter{0};
+    fs::path p(path);
+    std::string name = "." + p.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+                       std::to_string(counter++) + p.extension().string();
+    return (p.parent_path() / name).string();
+}
+
+// Runs `write(tmp)`, then renames tmp to path; on any failure removes tmp and rethrows.
+void writeThroughTemporary(const std::string& path, const std::function<void(const std::string&)>& write) {
+    std::string tmp = temporaryPathFor(path);
+    try {
+        write(tmp);
+        std::error_code ec;
+        fs::rename(tmp, path, ec);
+        if (ec) throw InputError(path + ": cannot write: " + ec.message());
+    } catch (...) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw;
+    }
+}
+
+void checkImage(const std::string& path, const Image& image) {
+    if (image.width <= 0 || image.height <= 0 || image.rgb.size() != image.pixelCount() * 3)
+        throw InputError(path + ": cannot write an empty or malformed image (" + std::to_string(image.width) +
+                         "x" + std::to_string(image.height) + ")");
+}
+
+[[maybe_unused]] std::string withExtension(const std::string& path, const char* ext) {
+    return fs::path(path).replace_extension(ext).string();
+}
+
+}  // namespace
+
+float linearToSrgb(float v) {
+    if (!(v > 0.0f)) return 0.0f;  // also maps NaN to black
+    if (v >= 1.0f) return 1.0f;
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+bool haveOpenImageIO() {
+#ifdef PHOTONCL_HAVE_OIIO
+    return true;
+#else
+    return false;
+#endif
+}
+
+// ---- PFM -------------------------------------------------------------------------------
+
+void writePfm(const std::string& path, const Image& image) {
+    checkImage(path, image);
+    writeThroughTemporary(path, [&](const std::string& tmp) {
+        std::ofstream out(tmp, std::ios::binary);
+        if (!out) throw InputError(path + ": cannot write: cannot open " + tmp);
+        out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";  // negative scale: little endian
+        static_assert(sizeof(float) == 4, "PFM stores 4-byte floats");
+        for (int y = image.height - 1; y >= 0; --y)  // PFM rows run bottom to top
+            out.write(reinterpret_cast<const char*>(&image.rgb[static_cast<size_t>(y) * image.width * 3]),
+                      static_cast<std::streamsize>(image.width) * 3 * sizeof(float));
+        out.close();
+        if (!out) throw InputError(path + ": cannot write: I/O error");
+    });
+}
+
+Image readPfm(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open");
+    std::string magic;
+    long long w = 0, h = 0;
+    double scale = 0.0;
+    in >> magic >> w >> h >> scale;
+    if (!in || (magic != "PF" && magic != "Pf") || w <= 0 || h <= 0 || w > (1 << 16) || h > (1 << 16) || scale == 0.0)
+        throw InputError(path + ": expected a PFM header \"PF <width> <height> <scale>\"");
+    if (scale > 0.0) throw InputError(path + ": big-endian PFM is not supported");
+    in.get();  // the single whitespace character after the scale
+    int channels = magic == "PF" ? 3 : 1;
+    Image image(static_cast<int>(w), static_cast<int>(h));
+    std::vector<float> row(static_cast<size_t>(w) * channels);
+    for (long long y = h - 1; y >= 0; --y) {
+        in.read(reinterpret_cast<char*>(row.data()), static_cast<std::streamsize>(row.size() * sizeof(float)));
+        if (!in) throw InputError(path + ": truncated PFM pixel data");
+        for (long long x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                image.rgb[(static_cast<size_t>(y) * w + x) * 3 + c] = row[static_cast<size_t>(x) * channels + (channels == 3 ? c : 0)];
+    }
+    return image;
+}
+
+// ---- EXR / PNG through OpenImageIO -------------------------------------------------------
+
+#ifdef PHOTONCL_HAVE_OIIO
+namespace {
+
+void writeWithOiio(const std::string& path, const std::string& tmp, const OIIO::ImageSpec& spec,
+                   OIIO::TypeDesc inType, const void* pixels) {
+    // The format follows the final name's extension; the temporary keeps the same extension.
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out) throw InputError(path + ": cannot write: " + OIIO::geterror());
+    if (!out->open(tmp, spec) || !out->write_image(inType, pixels) || !out->close())
+        throw InputError(path + ": cannot write: " + out->geterror());
+}
+
+}  // namespace
+#endif
+
+std::string writeLinearImage(const std::string& path, const Image& image, const ImageMetadata& metadata,
+                             ExrPixelType type) {
+    checkImage(path, image);
+#ifdef PHOTONCL_HAVE_OIIO
+    OIIO::ImageSpec spec(image.width, image.height, 3,
+                         type == ExrPixelType::Half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    spec.attribute("compression", "zip");
+    std::string version = metadata.version.empty() ? PHOTONCL_VERSION : metadata.version;
+    spec.attribute("Software", "photoncl " + version);
+    spec.attribute("photoncl:scene", metadata.scene);
+    spec.attribute("photoncl:method", metadata.method);
+    spec.attribute("photoncl:device", metadata.device);
+    spec.attribute("photoncl:version", version);
+    // 64-bit counts as decimal strings: EXR attributes hold 32-bit ints only.
+    spec.attribute("photoncl:samples", std::to_string(metadata.samples));
+    spec.attribute("photoncl:seed", std::to_string(metadata.seed));
+    spec.attribute("photoncl:seconds", static_cast<float>(metadata.seconds));
+    writeThroughTemporary(path, [&](const std::string& tmp) {
+        writeWithOiio(path, tmp, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());
+    });
+    return path;
+#else
+    (void)metadata;
+    (void)type;
+    std::string pfm = withExtension(path, ".pfm");
+    writePfm(pfm, image);
+    return pfm;
+#endif
+}
+
+bool writeSrgbPng(const std::string& path, const Image& image) {
+    checkImage(path, image);
+#ifdef PHOTONCL_HAVE_OIIO
+    std::vector<unsigned char> bytes(image.rgb.size());
+    for (size_t i = 0; i < bytes.size(); ++i)
+        bytes[i] = static_cast<unsigned char>(std::lround(linearToSrgb(image.rgb[i]) * 255.0f));
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    writeThroughTemporary(path, [&](const std::string& tmp) {
+        writeWithOiio(path, tmp, spec, OIIO::TypeDesc::UINT8, bytes.data());
+    });
+    return true;
+#else
+    return false;
+#endif
+}
+
+Image readImage(const std::string& path, ImageMetadata* metadata) {
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".pfm") {
+        if (metadata) *metadata = ImageMetadata{};
+        return readPfm(path);
+    }
+#ifdef PHOTONCL_HAVE_OIIO
+    if (!fs::exists(path)) throw InputError(path + ": no such file");
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError(path + ": cannot read: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    int channels = spec.nchannels;
+    if (spec.width <= 0 || spec.height <= 0 || channels <= 0)
+        throw InputError(path + ": expected a non-empty image");
+    std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * channels);
+    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
+        throw InputError(path + ": cannot read pixels: " + in->geterror());
+    Image image(spec.width, spec.height);
+    for (size_t i = 0; i < image.pixelCount(); ++i)
+        for (int c = 0; c < 3; ++c)
+            image.rgb[3 * i + c] = pixels[i * channels + (channels >= 3 ? c : 0)];
+    if (metadata) {
+        ImageMetadata m;
+        m.scene = spec.get_string_attribute("photoncl:scene");
+        m.method = spec.get_string_attribute("photoncl:method");
+        m.device = spec.get_string_attribute("photoncl:device");
+        m.version = spec.get_string_attribute("photoncl:version");
+        m.samples = std::strtoll(spec.get_string_attribute("photoncl:samples", "0").c_str(), nullptr, 10);
+        m.seed = std::strtoull(spec.get_string_attribute("photoncl:seed", "0").c_str(), nullptr, 10);
+        m.seconds = spec.get_float_attribute("photoncl:seconds", 0.0f);
+        *metadata = m;
+    }
+    in->close();
+    return image;
+#else
+    throw InputError(path + ": this build reads PFM only (built without OpenImageIO)");
+#endif
+}
+
+}  // namespace pcl

@@ -1,0 +1,50 @@
+// Image files: linear OpenEXR with the render's metadata, an sRGB 8-bit PNG for viewing, and
+// PFM (raw float) where OpenImageIO is absent (the lent GPU machine). Every writer writes a
+// temporary file in the destination folder and renames it, so the final name holds either
+// nothing or a complete file (DESIGN.md: no partial file in place of a good one).
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "image/image.h"
+
+namespace pcl {
+
+// Stored as EXR attributes "photoncl:scene", "photoncl:method", ... (and "Software").
+struct ImageMetadata {
+    std::string scene;    // scene file
+    std::string method;   // path | fg | direct | progressive
+    std::string device;   // device name, or "ref"
+    std::string version;  // photoncl version; empty: this build's PHOTONCL_VERSION
+    int64_t samples = 0;  // samples (or passes) per pixel
+    uint64_t seed = 0;
+    double seconds = 0.0; // render wall time
+};
+
+enum class ExrPixelType { Half, Float };
+
+// True when this build writes EXR/PNG (OpenImageIO found at configure time).
+bool haveOpenImageIO();
+
+// Writes a linear image. With OpenImageIO: OpenEXR (zip compression) at `path`, metadata as
+// attributes. Without it: PFM at `path` with its extension replaced by ".pfm" (PFM holds no
+// metadata). Returns the path actually written. Throws InputError if it cannot be written.
+std::string writeLinearImage(const std::string& path, const Image& image, const ImageMetadata& metadata,
+                             ExrPixelType type = ExrPixelType::Float);
+
+// sRGB 8-bit PNG: exposure 1, the sRGB transfer function (IEC 61966-2-1), clamped to [0,1].
+// Returns false (writes nothing) in a build without OpenImageIO.
+bool writeSrgbPng(const std::string& path, const Image& image);
+
+// Reads RGB (the first three channels; a one-channel image is replicated) from any file
+// OpenImageIO reads, or from PFM in any build. Fills metadata when asked and present.
+Image readImage(const std::string& path, ImageMetadata* metadata = nullptr);
+
+// PFM ("PF", little-endian, bottom row first), always available.
+void writePfm(const std::string& path, const Image& image);
+Image readPfm(const std::string& path);
+
+// The sRGB encoding of one linear value, in [0,1] (exposed for tests).
+float linearToSrgb(float linear);
+
+}  // namespace pcl
