@@ -104,9 +104,11 @@ public:
             return k(cl::EnqueueArgs(queue_, global), std::forward<Args>(args)...);
         });
     }
+    // The same with an explicit work-group size (a separate name: an NDRange argument would
+    // otherwise be taken for a kernel argument by the overload above).
     template <class... Ts, class... Args>
-    cl::Event launch(const std::string& stage, cl::KernelFunctor<Ts...>& k, const cl::NDRange& global,
-                     const cl::NDRange& local, Args&&... args) {
+    cl::Event launchLocal(const std::string& stage, cl::KernelFunctor<Ts...>& k, const cl::NDRange& global,
+                          const cl::NDRange& local, Args&&... args) {
         if (isEmpty(global)) return cl::Event();
         return guard(stage, [&] {
             return k(cl::EnqueueArgs(queue_, global, local), std::forward<Args>(args)...);
