@@ -43,7 +43,7 @@ PCL_INLINE pcl_u32 rng_mulhi32(pcl_u32 a, pcl_u32 b) {
 }
 
 /* Philox4x32-10: ten rounds, the key bumped between rounds (Random123 philox4x32_R, R = 10).
- * out may not alias ctr. */
+ * The arrays are private memory on the device (OpenCL 1.2 has no generic address space). */
 PCL_INLINE void rng_philox4x32_10(const pcl_u32 ctr[4], const pcl_u32 key[2], pcl_u32 out[4]) {
     pcl_u32 c0 = ctr[0], c1 = ctr[1], c2 = ctr[2], c3 = ctr[3];
     pcl_u32 k0 = key[0], k1 = key[1];
