@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "kernels/shared/types.h"
+#include "shared/types.h"
 #include "scene/scene.h"
 
 namespace pcl {
@@ -18,9 +18,14 @@ struct BvhBuildOptions {
 
 struct BvhStats {
     size_t nodes = 0, packets = 0, spheres = 0, leaves = 0;
-    double sahCost = 0.0;       // SAH cost of the collapsed tree
+    size_t triangles = 0;       // triangles in the tree (packet lanes in use)
+    double sahCost = 0.0;       // SAH cost of the collapsed tree, in packet tests per ray
     double buildSeconds = 0.0;
+    int binaryDepth = 0;        // depth of the binary SAH tree before collapsing
+    int depth = 0;              // depth of the 8-wide tree (root = 1)
+    int maxStack = 0;           // deepest traversal stack any ray can need (see bvh_collapse.h)
     size_t bytes() const;       // nodes + packets + spheres arrays
+    double bytesPerTriangle() const;  // (nodes + packets) bytes / triangles
 };
 
 // Global primitive ids: triangles first (mesh by mesh, in file order), then spheres.
