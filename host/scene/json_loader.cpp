@@ -1,0 +1,599 @@
+// Reads the JSON scene format of scenes/README.md. Every field is checked where it is read, so a
+// message can name the JSON path: "scenes/x.json: materials[2].rho_d: expected 3 numbers in
+// [0,1], got [1.2,0,0]". Checks that span the whole scene live in validate.cpp.
+#include "scene/json_loader.h"
+
+#include <cmath>
+#include <map>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/json_parse.h"
+#include "scene/scene_error.h"
+#include "scene/scene_paths.h"
+#include "scene/transform.h"
+#ifdef PHOTONCL_HAVE_GLTF
+#include "scene/gltf_loader.h"
+#endif
+
+namespace pcl {
+
+namespace {
+
+using json = nlohmann::json;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kFloatMax = 3.0e38;  // numbers beyond this would become inf as float
+
+std::string keyPath(const std::string& path, const std::string& key) {
+    return path.empty() ? key : path + "." + key;
+}
+std::string indexPath(const std::string& path, size_t i) {
+    return path + "[" + std::to_string(i) + "]";
+}
+std::string join(std::initializer_list<const char*> names) {
+    std::string s;
+    for (const char* n : names) s += (s.empty() ? "" : ", ") + std::string(n);
+    return s;
+}
+bool endsWith(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+class JsonSceneReader {
+public:
+    explicit JsonSceneReader(std::string file) : file_(std::move(file)) { scene_.path = file_; }
+
+    Scene read(const json& root) {
+        checkObject(root, "", {"comment", "camera", "materials", "shapes", "lights", "include"});
+        if (auto* v = optional(root, "comment")) text(*v, "comment");
+        if (auto* v = optional(root, "materials")) {
+            for (size_t i = 0; i < array(*v, "materials").size(); ++i)
+                readMaterial((*v)[i], indexPath("materials", i));
+        }
+        if (auto* v = optional(root, "shapes")) {
+            for (size_t i = 0; i < array(*v, "shapes").size(); ++i) readShape((*v)[i], indexPath("shapes", i));
+        }
+        if (auto* v = optional(root, "lights")) {
+            for (size_t i = 0; i < array(*v, "lights").size(); ++i) readLight((*v)[i], indexPath("lights", i));
+        }
+        if (auto* v = optional(root, "include")) readIncludes(*v, "include");
+        if (auto* v = optional(root, "camera")) {
+            readCamera(*v, "camera");
+        } else if (includedCamera_) {
+            scene_.camera = *includedCamera_;
+        } else {
+            failInput(file_, "camera", "a camera object (or an included glTF with a camera)", "none");
+        }
+        return std::move(scene_);
+    }
+
+private:
+    [[noreturn]] void fail(const std::string& field, const std::string& expected, const json& got) {
+        failInput(file_, field, expected, showJson(got));
+    }
+
+    // ---- Generic field readers -----------------------------------------------------------
+
+    // `value` must be an object whose keys are all in `allowed`.
+    void checkObject(const json& value, const std::string& path, std::initializer_list<const char*> allowed) {
+        if (!value.is_object()) fail(path.empty() ? "(top level)" : path, "an object", value);
+        for (auto it = value.begin(); it != value.end(); ++it) {
+            bool known = false;
+            for (const char* a : allowed) known = known || it.key() == a;
+            if (!known)
+                failInput(file_, keyPath(path, it.key()), "one of the keys " + join(allowed),
+                          "unknown key \"" + it.key() + "\"");
+        }
+    }
+    const json* optional(const json& object, const char* key) {
+        auto it = object.find(key);
+        return it == object.end() ? nullptr : &*it;
+    }
+    const json& required(const json& object, const std::string& path, const char* key,
+                         const std::string& expected) {
+        auto it = object.find(key);
+        if (it == object.end()) failInput(file_, keyPath(path, key), expected, "nothing (the key is missing)");
+        return *it;
+    }
+    const json& array(const json& value, const std::string& path) {
+        if (!value.is_array()) fail(path, "an array", value);
+        return value;
+    }
+    double number(const json& value, const std::string& path, double lo, double hi, const std::string& expected) {
+        if (!value.is_number()) fail(path, expected, value);
+        double x = value.get<double>();
+        if (!std::isfinite(x) || x < lo || x > hi) fail(path, expected, value);
+        return x;
+    }
+    std::string text(const json& value, const std::string& path) {
+        if (!value.is_string()) fail(path, "a string", value);
+        return value.get<std::string>();
+    }
+    // Three numbers, each in [lo, hi].
+    Vec3 triple(const json& value, const std::string& path, double lo, double hi, const std::string& expected) {
+        if (!value.is_array() || value.size() != 3) fail(path, expected, value);
+        Vec3 v;
+        for (int i = 0; i < 3; ++i) {
+            if (!value[i].is_number()) fail(path, expected, value);
+            double x = value[i].get<double>();
+            if (!std::isfinite(x) || x < lo || x > hi) fail(path, expected, value);
+            v[i] = float(x);
+        }
+        return v;
+    }
+    Vec3 point(const json& value, const std::string& path) {
+        return triple(value, path, -kFloatMax, kFloatMax, "3 finite numbers");
+    }
+    Vec3 direction(const json& value, const std::string& path) {
+        Vec3 d = triple(value, path, -kFloatMax, kFloatMax, "3 finite numbers, not all zero");
+        double l = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
+        if (!(l > 0) || !std::isfinite(l)) fail(path, "3 finite numbers, not all zero", value);
+        return Vec3(float(d.x / l), float(d.y / l), float(d.z / l));
+    }
+    Vec3 reflectance(const json& value, const std::string& path) {
+        return triple(value, path, 0.0, 1.0, "3 numbers in [0,1]");
+    }
+    Vec3 radiometric(const json& value, const std::string& path) {  // powers, radiances: ≥ 0
+        return triple(value, path, 0.0, kFloatMax, "3 finite numbers >= 0");
+    }
+    // Like radiometric() but a light of zero power is refused: it would never be sampled.
+    Vec3 lightAmount(const json& value, const std::string& path) {
+        Vec3 v = radiometric(value, path);
+        if (maxComponent(v) <= 0) fail(path, "3 finite numbers >= 0, not all zero (a light must emit)", value);
+        return v;
+    }
+    Vec3 motion(const json& object, const std::string& path) {
+        auto* v = optional(object, "motion");
+        return v ? point(*v, keyPath(path, "motion")) : Vec3(0.0f);
+    }
+
+    int materialRef(const json& value, const std::string& path) {
+        std::string name = text(value, path);
+        auto it = materialIndex_.find(name);
+        if (it == materialIndex_.end()) {
+            std::string names;
+            for (const auto& [n, i] : materialIndex_) names += (names.empty() ? "" : ", ") + n;
+            failInput(file_, path, "the name of a material (" + (names.empty() ? "none defined" : names) + ")",
+                      "\"" + name + "\"");
+        }
+        return it->second;
+    }
+
+    // {"translate": [x,y,z], "rotate": {"axis": [x,y,z], "degrees": a}, "scale": s | [x,y,z]}
+    // applied as T·R·S, or {"matrix": 16 numbers, row-major}.
+    Transform transform(const json& value, const std::string& path) {
+        checkObject(value, path, {"translate", "rotate", "scale", "matrix"});
+        Transform t;
+        if (auto* m = optional(value, "matrix")) {
+            if (value.size() != 1)
+                failInput(file_, path, "either \"matrix\" or translate/rotate/scale", "both");
+            const std::string expected = "16 finite numbers (row-major 4x4, last row 0 0 0 1)";
+            if (!m->is_array() || m->size() != 16) fail(keyPath(path, "matrix"), expected, *m);
+            double v[16];
+            for (int i = 0; i < 16; ++i) v[i] = number((*m)[i], keyPath(path, "matrix"), -kFloatMax, kFloatMax, expected);
+            if (v[12] != 0 || v[13] != 0 || v[14] != 0 || v[15] != 1) fail(keyPath(path, "matrix"), expected, *m);
+            t = Transform::rowMajor(v);
+        } else {
+            if (auto* s = optional(value, "scale")) {
+                const std::string expected = "a non-zero number or 3 non-zero numbers";
+                Vec3 k;
+                if (s->is_number()) {
+                    k = Vec3(float(number(*s, keyPath(path, "scale"), -kFloatMax, kFloatMax, expected)));
+                } else {
+                    k = triple(*s, keyPath(path, "scale"), -kFloatMax, kFloatMax, expected);
+                }
+                if (k.x == 0 || k.y == 0 || k.z == 0) fail(keyPath(path, "scale"), expected, *s);
+                t = Transform::scale(k.x, k.y, k.z);
+            }
+            if (auto* r = optional(value, "rotate")) {
+                std::string rp = keyPath(path, "rotate");
+                checkObject(*r, rp, {"axis", "degrees"});
+                Vec3 axis = direction(required(*r, rp, "axis", "3 finite numbers, not all zero"), keyPath(rp, "axis"));
+                double deg = number(required(*r, rp, "degrees", "a number"), keyPath(rp, "degrees"), -1e6, 1e6,
+                                    "a number of degrees");
+                t = Transform::rotate(deg, axis.x, axis.y, axis.z) * t;
+            }
+            if (auto* tr = optional(value, "translate")) {
+                Vec3 d = point(*tr, keyPath(path, "translate"));
+                t = Transform::translate(d.x, d.y, d.z) * t;
+            }
+        }
+        if (!t.isFinite() || t.determinant3() == 0)
+            failInput(file_, path, "an invertible transform", "a singular one");
+        return t;
+    }
+
+    // ---- Materials -------------------------------------------------------------------------
+
+    void readMaterial(const json& value, const std::string& path) {
+        checkObject(value, path, {"name", "rho_d", "specular", "emission"});
+        Material m;
+        m.name = text(required(value, path, "name", "a material name"), keyPath(path, "name"));
+        if (m.name.empty()) fail(keyPath(path, "name"), "a non-empty name", value["name"]);
+        if (materialIndex_.count(m.name))
+            failInput(file_, keyPath(path, "name"), "a name not used by another material", "\"" + m.name + "\" again");
+        if (auto* v = optional(value, "rho_d")) m.rhoD = reflectance(*v, keyPath(path, "rho_d"));
+        if (auto* v = optional(value, "emission")) m.emission = radiometric(*v, keyPath(path, "emission"));
+        if (auto* s = optional(value, "specular")) readSpecular(*s, keyPath(path, "specular"), m);
+        Vec3 sum = m.rhoD + m.rhoS;
+        if (maxComponent(sum) > 1.0f + 1e-6f) {
+            json shown = {sum.x, sum.y, sum.z};
+            failInput(file_, path, "rho_d + rho_s <= 1 in every channel (energy conservation)",
+                      "rho_d + rho_s = " + showJson(shown));
+        }
+        materialIndex_[m.name] = int(scene_.materials.size());
+        scene_.materials.push_back(m);
+    }
+
+    void readSpecular(const json& value, const std::string& path, Material& m) {
+        if (!value.is_object()) fail(path, "an object", value);
+        std::string kind = text(required(value, path, "kind", "mirror, glossy or dielectric"), keyPath(path, "kind"));
+        if (kind == "mirror") {
+            checkObject(value, path, {"kind", "rho_s"});
+            m.specular = SpecularKind::Mirror;
+            m.rhoS = reflectance(required(value, path, "rho_s", "3 numbers in [0,1]"), keyPath(path, "rho_s"));
+        } else if (kind == "glossy") {
+            checkObject(value, path, {"kind", "rho_s", "exponent"});
+            m.specular = SpecularKind::Glossy;
+            m.rhoS = reflectance(required(value, path, "rho_s", "3 numbers in [0,1]"), keyPath(path, "rho_s"));
+            m.phongExponent = float(number(required(value, path, "exponent", "a number in (0, 1e6]"),
+                                           keyPath(path, "exponent"), 0.0, 1e6, "a number in (0, 1e6]"));
+            if (m.phongExponent <= 0) fail(keyPath(path, "exponent"), "a number in (0, 1e6]", value["exponent"]);
+        } else if (kind == "dielectric") {
+            checkObject(value, path, {"kind", "rho_s", "ior"});
+            m.specular = SpecularKind::Dielectric;
+            m.rhoS = Vec3(1.0f);
+            if (auto* v = optional(value, "rho_s")) m.rhoS = reflectance(*v, keyPath(path, "rho_s"));
+            if (auto* v = optional(value, "ior")) {
+                m.ior = float(number(*v, keyPath(path, "ior"), 1e-3, 10.0, "a number in (0, 10]"));
+            }
+        } else {
+            fail(keyPath(path, "kind"), "one of mirror, glossy, dielectric", value["kind"]);
+        }
+    }
+
+    // ---- Shapes --------------------------------------------------------------------------
+
+    void readShape(const json& value, const std::string& path) {
+        if (!value.is_object()) fail(path, "an object", value);
+        std::string type = text(required(value, path, "type", "mesh, sphere or quad"), keyPath(path, "type"));
+        if (type == "sphere") {
+            checkObject(value, path, {"type", "name", "material", "centre", "radius", "motion"});
+            Sphere s;
+            s.name = shapeName(value, path);
+            s.material = materialRef(required(value, path, "material", "a material name"), keyPath(path, "material"));
+            if (scene_.materials[s.material].emits())
+                failInput(file_, keyPath(path, "material"),
+                          "a non-emissive material (emitting spheres are not supported; use a mesh or an area light)",
+                          "\"" + scene_.materials[s.material].name + "\" with emission");
+            s.centre = point(required(value, path, "centre", "3 finite numbers"), keyPath(path, "centre"));
+            s.radius = float(number(required(value, path, "radius", "a number > 0"), keyPath(path, "radius"),
+                                    0.0, 1e30, "a number > 0"));
+            if (!(s.radius > 0)) fail(keyPath(path, "radius"), "a number > 0", value["radius"]);
+            s.motion = motion(value, path);
+            scene_.spheres.push_back(s);
+        } else if (type == "quad") {
+            checkObject(value, path, {"type", "name", "material", "corner", "edge_u", "edge_v", "motion"});
+            TriangleMesh mesh = quadMesh(value, path);
+            mesh.name = shapeName(value, path);
+            mesh.material = materialRef(required(value, path, "material", "a material name"), keyPath(path, "material"));
+            mesh.motion = motion(value, path);
+            scene_.meshes.push_back(std::move(mesh));
+        } else if (type == "mesh") {
+            if (value.contains("gltf")) {
+                checkObject(value, path, {"type", "name", "material", "gltf", "transform", "motion"});
+                readGltfMesh(value, path);
+            } else {
+                checkObject(value, path, {"type", "name", "material", "positions", "indices", "normals", "transform", "motion"});
+                readInlineMesh(value, path);
+            }
+        } else {
+            fail(keyPath(path, "type"), "one of mesh, sphere, quad", value["type"]);
+        }
+    }
+
+    std::string shapeName(const json& value, const std::string& path) {
+        auto* v = optional(value, "name");
+        return v ? text(*v, keyPath(path, "name")) : path;
+    }
+
+    // corner, corner+u, corner+u+v, corner+v as two triangles (0,1,2), (0,2,3); both have the
+    // geometric normal cross(u, v).
+    TriangleMesh quadMesh(const json& value, const std::string& path) {
+        Vec3 c = point(required(value, path, "corner", "3 finite numbers"), keyPath(path, "corner"));
+        Vec3 u = point(required(value, path, "edge_u", "3 finite numbers"), keyPath(path, "edge_u"));
+        Vec3 v = point(required(value, path, "edge_v", "3 finite numbers"), keyPath(path, "edge_v"));
+        TriangleMesh mesh;
+        mesh.positions = {c, c + u, c + u + v, c + v};
+        mesh.indices = {0, 1, 2, 0, 2, 3};
+        return mesh;
+    }
+
+    void readInlineMesh(const json& value, const std::string& path) {
+        TriangleMesh mesh;
+        mesh.name = shapeName(value, path);
+        mesh.material = materialRef(required(value, path, "material", "a material name"), keyPath(path, "material"));
+        mesh.motion = motion(value, path);
+        mesh.positions = vectors(required(value, path, "positions", "a flat array of 3N numbers"), keyPath(path, "positions"));
+        if (mesh.positions.empty()) fail(keyPath(path, "positions"), "a flat array of 3N numbers, N >= 3", value["positions"]);
+        if (auto* n = optional(value, "normals")) {
+            mesh.normals = vectors(*n, keyPath(path, "normals"));
+            if (mesh.normals.size() != mesh.positions.size())
+                failInput(file_, keyPath(path, "normals"),
+                          std::to_string(mesh.positions.size() * 3) + " numbers (one normal per position)",
+                          std::to_string(mesh.normals.size() * 3));
+        }
+        const json& idx = required(value, path, "indices", "a flat array of 3M vertex indices");
+        std::string ip = keyPath(path, "indices");
+        if (!idx.is_array() || idx.empty() || idx.size() % 3 != 0)
+            fail(ip, "a flat array of 3M vertex indices, M >= 1", idx);
+        mesh.indices.reserve(idx.size());
+        for (size_t i = 0; i < idx.size(); ++i) {
+            const json& k = idx[i];
+            if (!k.is_number_integer() || k.get<int64_t>() < 0 || k.get<int64_t>() >= int64_t(mesh.positions.size()))
+                fail(indexPath(ip, i), "an integer vertex index in [0, " + std::to_string(mesh.positions.size() - 1) + "]", k);
+            mesh.indices.push_back(uint32_t(k.get<int64_t>()));
+        }
+        if (auto* t = optional(value, "transform")) applyTransform(transform(*t, keyPath(path, "transform")), mesh);
+        scene_.meshes.push_back(std::move(mesh));
+    }
+
+    std::vector<Vec3> vectors(const json& value, const std::string& path) {
+        const std::string expected = "a flat array of 3N finite numbers";
+        if (!value.is_array() || value.size() % 3 != 0) fail(path, expected, value);
+        std::vector<Vec3> out(value.size() / 3);
+        for (size_t i = 0; i < value.size(); ++i)
+            out[i / 3][int(i % 3)] = float(number(value[i], indexPath(path, i), -kFloatMax, kFloatMax, "a finite number"));
+        return out;
+    }
+
+    static void applyTransform(const Transform& t, TriangleMesh& mesh) {
+        for (auto& p : mesh.positions) p = t.point(p);
+        for (auto& n : mesh.normals) n = t.normal(n);
+        if (t.flipsWinding())
+            for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
+    }
+
+    // ---- glTF references -----------------------------------------------------------------
+
+    std::string gltfPath(const json& value, const std::string& path) {
+        std::string uri = text(value, path);
+        std::string resolved = resolveInsideFolder(file_, path, uri);
+        if (!endsWith(resolved, ".gltf") && !endsWith(resolved, ".glb"))
+            failInput(file_, path, "a .gltf or .glb file", "\"" + uri + "\"");
+#ifndef PHOTONCL_HAVE_GLTF
+        failInput(file_, path, "no glTF reference (this photoncl was built without glTF support, PHOTONCL_WITH_GLTF=OFF)",
+                  "\"" + uri + "\"");
+#endif
+        return resolved;
+    }
+
+    void readGltfMesh(const json& value, const std::string& path) {
+        std::string file = gltfPath(value["gltf"], keyPath(path, "gltf"));
+#ifdef PHOTONCL_HAVE_GLTF
+        GltfImportOptions options;
+        options.geometryOnly = true;
+        if (auto* m = optional(value, "material")) options.materialOverride = materialRef(*m, keyPath(path, "material"));
+        if (auto* t = optional(value, "transform")) options.transform = transform(*t, keyPath(path, "transform"));
+        options.motion = motion(value, path);
+        importGltf(scene_, file, options);
+#endif
+    }
+
+    // "include": "x.gltf" | ["a.gltf", {"file": "b.glb", "transform": {...}}]
+    void readIncludes(const json& value, const std::string& path) {
+        if (value.is_string()) {
+            readInclude(value, path, Transform());
+        } else if (value.is_array()) {
+            for (size_t i = 0; i < value.size(); ++i) {
+                const json& item = value[i];
+                std::string ip = indexPath(path, i);
+                if (item.is_object()) {
+                    checkObject(item, ip, {"file", "transform"});
+                    Transform t;
+                    if (auto* tv = optional(item, "transform")) t = transform(*tv, keyPath(ip, "transform"));
+                    readInclude(required(item, ip, "file", "a .gltf or .glb file"), keyPath(ip, "file"), t);
+                } else {
+                    readInclude(item, ip, Transform());
+                }
+            }
+        } else {
+            fail(path, "a file name or an array of file names / {file, transform} objects", value);
+        }
+    }
+
+    void readInclude(const json& value, const std::string& path, const Transform& t) {
+        std::string file = gltfPath(value, path);
+#ifdef PHOTONCL_HAVE_GLTF
+        GltfImportOptions options;
+        options.transform = t;
+        GltfImportResult r = importGltf(scene_, file, options);
+        if (r.hasCamera && !includedCamera_) includedCamera_ = r.camera;
+#else
+        (void)t;
+#endif
+    }
+
+    // ---- Lights --------------------------------------------------------------------------
+
+    // "power" (W) or "intensity" (W/sr), exactly one; returns the intensity. `solidAngle` is the
+    // power-weighted solid angle of the emission profile, so I = Φ / solidAngle.
+    Vec3 intensityOrPower(const json& value, const std::string& path, double solidAngle) {
+        auto* power = optional(value, "power");
+        auto* intensity = optional(value, "intensity");
+        if ((power != nullptr) == (intensity != nullptr))
+            failInput(file_, path, "exactly one of \"power\" (W) and \"intensity\" (W/sr)",
+                      power ? "both" : "neither");
+        if (intensity) return lightAmount(*intensity, keyPath(path, "intensity"));
+        return lightAmount(*power, keyPath(path, "power")) * float(1.0 / solidAngle);
+    }
+
+    void readLight(const json& value, const std::string& path) {
+        if (!value.is_object()) fail(path, "an object", value);
+        std::string type = text(required(value, path, "type", "point, spot, area or directional"), keyPath(path, "type"));
+        Light light;
+        auto* name = optional(value, "name");
+        light.name = name ? text(*name, keyPath(path, "name")) : path;
+        if (type == "point") {
+            checkObject(value, path, {"type", "name", "position", "power", "intensity"});
+            light.type = LightType::Point;
+            light.position = point(required(value, path, "position", "3 finite numbers"), keyPath(path, "position"));
+            light.intensity = intensityOrPower(value, path, 4.0 * kPi);  // I = Φ / 4π
+        } else if (type == "spot") {
+            checkObject(value, path, {"type", "name", "position", "direction", "power", "intensity", "inner_angle", "outer_angle"});
+            light.type = LightType::Spot;
+            light.position = point(required(value, path, "position", "3 finite numbers"), keyPath(path, "position"));
+            light.direction = direction(required(value, path, "direction", "3 finite numbers, not all zero"), keyPath(path, "direction"));
+            const std::string range = "a half-angle in degrees in (0, 90]";
+            double outer = number(required(value, path, "outer_angle", range), keyPath(path, "outer_angle"), 0.0, 90.0, range);
+            if (!(outer > 0)) fail(keyPath(path, "outer_angle"), range, value["outer_angle"]);
+            double inner = 0.0;
+            if (auto* v = optional(value, "inner_angle"))
+                inner = number(*v, keyPath(path, "inner_angle"), 0.0, outer,
+                               "a half-angle in degrees in [0, outer_angle = " + showJson(value["outer_angle"]) + "]");
+            double cosInner = std::cos(inner * kPi / 180.0), cosOuter = std::cos(outer * kPi / 180.0);
+            light.cosInner = float(cosInner);
+            light.cosOuter = float(cosOuter);
+            // Full intensity inside the inner cone, smoothstep in cosθ down to the outer cone,
+            // whose integral over its cos range is half its width: Φ = I·2π·((1-ci) + (ci-co)/2).
+            light.intensity = intensityOrPower(value, path, 2.0 * kPi * ((1.0 - cosInner) + 0.5 * (cosInner - cosOuter)));
+        } else if (type == "directional") {
+            checkObject(value, path, {"type", "name", "direction", "irradiance"});
+            light.type = LightType::Directional;
+            light.direction = direction(required(value, path, "direction", "3 finite numbers, not all zero"), keyPath(path, "direction"));
+            light.irradiance = lightAmount(required(value, path, "irradiance", "3 finite numbers >= 0, not all zero"),
+                                           keyPath(path, "irradiance"));
+        } else if (type == "area") {
+            readAreaLight(value, path, light);
+            return;
+        } else {
+            fail(keyPath(path, "type"), "one of point, spot, area, directional", value["type"]);
+        }
+        scene_.lights.push_back(light);
+    }
+
+    // An area light becomes a one-sided emissive TriangleMesh with its own black material, and a
+    // Light{Area} pointing at it. Radiance from total power: Φ = π·A·L for a Lambertian emitter.
+    void readAreaLight(const json& value, const std::string& path, Light& light) {
+        auto* shapeValue = optional(value, "shape");
+        std::string shape = shapeValue ? text(*shapeValue, keyPath(path, "shape")) : "";
+        TriangleMesh mesh;
+        if (shape == "quad") {
+            checkObject(value, path, {"type", "name", "shape", "corner", "edge_u", "edge_v", "radiance", "power"});
+            mesh = quadMesh(value, path);
+        } else if (shape == "triangle") {
+            checkObject(value, path, {"type", "name", "shape", "vertices", "radiance", "power"});
+            const json& v = required(value, path, "vertices", "3 points [[x,y,z],[x,y,z],[x,y,z]]");
+            if (!v.is_array() || v.size() != 3) fail(keyPath(path, "vertices"), "3 points [[x,y,z],[x,y,z],[x,y,z]]", v);
+            for (size_t i = 0; i < 3; ++i) mesh.positions.push_back(point(v[i], indexPath(keyPath(path, "vertices"), i)));
+            mesh.indices = {0, 1, 2};
+        } else {
+            fail(keyPath(path, "shape"), "quad or triangle", shapeValue ? *shapeValue : json("nothing"));
+        }
+        double area = 0;
+        for (size_t i = 0; i < mesh.indices.size(); i += 3) {
+            Vec3 p0 = mesh.positions[mesh.indices[i]];
+            area += 0.5 * double(length(cross(mesh.positions[mesh.indices[i + 1]] - p0, mesh.positions[mesh.indices[i + 2]] - p0)));
+        }
+        if (!(area > 0) || !std::isfinite(area))
+            failInput(file_, path, "a light shape of non-zero, finite area", "area " + std::to_string(area));
+
+        auto* radiance = optional(value, "radiance");
+        auto* power = optional(value, "power");
+        if ((radiance != nullptr) == (power != nullptr))
+            failInput(file_, path, "exactly one of \"radiance\" (W m^-2 sr^-1) and \"power\" (W)", radiance ? "both" : "neither");
+        Material emitter;
+        emitter.name = light.name + ":emitter";
+        emitter.emission = radiance ? lightAmount(*radiance, keyPath(path, "radiance"))
+                                    : lightAmount(*power, keyPath(path, "power")) * float(1.0 / (kPi * area));
+        if (!isFinite(emitter.emission))
+            failInput(file_, path, "a finite radiance", "power / (pi * area) overflowing");
+
+        mesh.name = light.name;
+        mesh.material = int(scene_.materials.size());
+        scene_.materials.push_back(emitter);
+        light.type = LightType::Area;
+        light.mesh = int(scene_.meshes.size());
+        scene_.meshes.push_back(std::move(mesh));
+        scene_.lights.push_back(light);
+    }
+
+    // ---- Camera --------------------------------------------------------------------------
+
+    void readCamera(const json& value, const std::string& path) {
+        checkObject(value, path, {"type", "position", "look_at", "up", "fov", "resolution",
+                                  "aperture_radius", "focus_distance", "shutter"});
+        Camera c;
+        std::string type = "pinhole";
+        if (auto* t = optional(value, "type")) type = text(*t, keyPath(path, "type"));
+        if (type == "pinhole") {
+            c.model = CameraModel::Pinhole;
+            for (const char* key : {"aperture_radius", "focus_distance"})
+                if (value.contains(key))
+                    failInput(file_, keyPath(path, key), "no lens settings for a pinhole camera (use \"type\": \"thin_lens\")",
+                              showJson(value[key]));
+        } else if (type == "thin_lens") {
+            c.model = CameraModel::ThinLens;
+        } else {
+            fail(keyPath(path, "type"), "pinhole or thin_lens", value["type"]);
+        }
+        c.position = point(required(value, path, "position", "3 finite numbers"), keyPath(path, "position"));
+        c.lookAt = point(required(value, path, "look_at", "3 finite numbers"), keyPath(path, "look_at"));
+        Vec3 forward = c.lookAt - c.position;
+        if (!(length(forward) > 0))
+            fail(keyPath(path, "look_at"), "a point different from the camera position", value["look_at"]);
+        if (auto* u = optional(value, "up")) c.up = direction(*u, keyPath(path, "up"));
+        if (!(length(cross(normalize(forward), c.up)) > 1e-4f))
+            fail(keyPath(path, "up"), "a direction not parallel to the viewing direction", value.value("up", json({0, 1, 0})));
+        c.vfovDegrees = float(number(required(value, path, "fov", "vertical field of view in degrees in (0, 180)"),
+                                     keyPath(path, "fov"), 0.0, 180.0, "vertical field of view in degrees in (0, 180)"));
+        if (!(c.vfovDegrees > 0 && c.vfovDegrees < 180))
+            fail(keyPath(path, "fov"), "vertical field of view in degrees in (0, 180)", value["fov"]);
+        if (auto* r = optional(value, "resolution")) {
+            const std::string expected = "2 integers [width, height], each in [1, 16384]";
+            if (!r->is_array() || r->size() != 2) fail(keyPath(path, "resolution"), expected, *r);
+            for (int i = 0; i < 2; ++i)
+                if (!(*r)[i].is_number_integer() || (*r)[i].get<int64_t>() < 1 || (*r)[i].get<int64_t>() > 16384)
+                    fail(keyPath(path, "resolution"), expected, *r);
+            c.width = int((*r)[0].get<int64_t>());
+            c.height = int((*r)[1].get<int64_t>());
+        }
+        if (c.model == CameraModel::ThinLens) {
+            c.apertureRadius = float(number(required(value, path, "aperture_radius", "a lens radius > 0"),
+                                            keyPath(path, "aperture_radius"), 0.0, kFloatMax, "a lens radius > 0"));
+            if (!(c.apertureRadius > 0)) fail(keyPath(path, "aperture_radius"), "a lens radius > 0", value["aperture_radius"]);
+            c.focusDistance = length(forward);
+            if (auto* f = optional(value, "focus_distance")) {
+                c.focusDistance = float(number(*f, keyPath(path, "focus_distance"), 0.0, kFloatMax, "a distance > 0"));
+                if (!(c.focusDistance > 0)) fail(keyPath(path, "focus_distance"), "a distance > 0", *f);
+            }
+        }
+        if (auto* s = optional(value, "shutter")) {
+            const std::string expected = "[open, close] in seconds with 0 <= open <= close";
+            Vec3 t;
+            if (!s->is_array() || s->size() != 2) fail(keyPath(path, "shutter"), expected, *s);
+            for (int i = 0; i < 2; ++i) t[i] = float(number((*s)[i], keyPath(path, "shutter"), 0.0, 1e6, expected));
+            if (t.x > t.y) fail(keyPath(path, "shutter"), expected, *s);
+            c.shutterOpen = t.x;
+            c.shutterClose = t.y;
+        }
+        scene_.camera = c;
+    }
+
+    std::string file_;
+    Scene scene_;
+    std::map<std::string, int> materialIndex_;
+    std::optional<Camera> includedCamera_;
+};
+
+}  // namespace
+
+Scene parseJsonScene(const std::string& text, const std::string& path) {
+    json root = parseSceneJson(text, path);
+    return JsonSceneReader(path).read(root);
+}
+
+Scene loadJsonScene(const std::string& path) { return parseJsonScene(readTextFile(path), path); }
+
+}  // namespace pcl
