@@ -1,0 +1,63 @@
+// Light sampling for next-event estimation. Every emitting surface is a light — each triangle
+// of an emissive mesh (area lights) and each emissive sphere — sampled uniformly by area; point,
+// spot and directional lights are delta lights. One light is chosen per sample with probability
+// proportional to an estimate of its power (any positive choice stays unbiased; power keeps
+// the variance low). Emission is one-sided: radiance leaves the geometric-normal side only.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "geometry/scene_geometry.h"
+#include "reference/surface.h"
+#include "scene/scene.h"
+
+namespace pcl {
+
+struct LightSample {
+    Vec3 Li;               // incident radiance (area) or I/r², E (delta lights), before the BSDF
+    Vec3 wi;               // unit direction from the shading point toward the light
+    Vec3 point;            // the point on the light (unused for directional lights)
+    Vec3 normal{0.0f};     // the light's surface normal there (zero for delta lights)
+    float pdf = 0.0f;      // solid-angle density incl. the light choice; delta lights: the choice probability
+    bool delta = false;
+    bool infinite = false; // directional: the shadow ray runs to infinity
+};
+
+class LightSampler {
+public:
+    LightSampler(const Scene& scene, const SceneGeometry& geometry);
+
+    bool empty() const { return emitters_.empty(); }
+    size_t count() const { return emitters_.size(); }
+
+    // Samples a light as seen from p at shutter time `time`; false if nothing reaches p
+    // (the back of a one-sided emitter, outside a spot cone, no lights).
+    bool sampleLi(Vec3 p, float time, float uSelect, float u1, float u2, LightSample& out) const;
+
+    // The density sampleLi gives to the emitter point pl (normal nl) of primitive `prim` as
+    // seen from p, in solid angle (for MIS when a BSDF-sampled ray hits an emitter).
+    float pdfLi(uint32_t prim, Vec3 p, Vec3 pl, Vec3 nl) const;
+
+    // Radiance a surface point emits toward w (one-sided).
+    static Vec3 emitted(const SurfacePoint& s, Vec3 w) {
+        return (s.material->emits() && dot(s.ng, w) > 0.0f) ? s.material->emission : Vec3(0.0f);
+    }
+
+private:
+    enum class Kind { Triangle, Sphere, Point, Spot, Directional };
+    struct Emitter {
+        Kind kind;
+        uint32_t object;  // mesh, sphere or light index
+        uint32_t index;   // triangle within the mesh
+        float area;       // surfaces
+    };
+    size_t choose(float u, float& probability) const;
+
+    const Scene& scene_;
+    std::vector<Emitter> emitters_;
+    std::vector<double> cdf_;            // cumulative power, normalised to end at 1
+    std::vector<float> probability_;     // per emitter
+    std::vector<int32_t> emitterOfPrim_; // global primitive id → emitter, -1 if it does not emit
+};
+
+}  // namespace pcl

@@ -1,0 +1,65 @@
+// The reference path tracer (`photoncl render --method path`, `--device ref`): unbiased
+// unidirectional path tracing with next-event estimation and multiple importance sampling
+// (Veach 1997, power heuristic) between light sampling and BSDF sampling for emitting surfaces;
+// delta lights (point, spot, directional) by light sampling only; Russian roulette on the path
+// throughput. Deterministic: pixel (x, y), sample s always uses the same random numbers
+// (sampler.h), whatever the thread count, and each pixel's samples are added in order.
+#pragma once
+#include <cstdint>
+#include <functional>
+
+#include "geometry/scene_geometry.h"
+#include "image/film.h"
+#include "reference/bsdf.h"
+#include "reference/camera.h"
+#include "reference/light_sampling.h"
+#include "reference/sampler.h"
+#include "scene/scene.h"
+
+namespace pcl {
+
+struct PathTracerSettings {
+    int samplesPerPixel = 16;
+    int firstSample = 0;          // render samples [firstSample, firstSample + samplesPerPixel):
+                                  // shards of one render merge into exactly the single-run film
+    int maxDepth = 64;            // bounces after the camera ray; Russian roulette ends paths long before
+    int rouletteDepth = 3;        // Russian roulette from this bounce on
+    uint64_t seed = 0;
+    int threads = 0;              // 0: std::thread::hardware_concurrency()
+    // Called with the fraction done (0..1] after each tile, from worker threads but never two at
+    // once. Keep it cheap: it runs under the tiles' lock.
+    std::function<void(double)> progress;
+};
+
+struct PathTracerStats {
+    double seconds = 0.0;          // wall time of render()
+    uint64_t samples = 0;          // camera paths traced
+    uint64_t discardedSamples = 0; // NaN/Inf path values dropped (expected 0)
+    double samplesPerSecond() const { return seconds > 0.0 ? static_cast<double>(samples) / seconds : 0.0; }
+};
+
+class PathTracer {
+public:
+    PathTracer(const Scene& scene, const SceneGeometry& geometry, PathTracerSettings settings);
+
+    // Renders the scene camera's full image.
+    Film render(PathTracerStats* stats = nullptr) const;
+
+    // Radiance arriving along a camera ray (one path sample), numbers from `sampler`.
+    Vec3 Li(PclRay ray, Sampler& sampler) const;
+
+private:
+    Vec3 sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3 wo, Sampler& sampler,
+                      uint32_t vertex) const;
+
+    const Scene& scene_;
+    const SceneGeometry& geometry_;
+    PathTracerSettings settings_;
+    RayCamera camera_;
+    LightSampler lights_;
+};
+
+// Convenience for the command line: builds the BVH and renders.
+Film renderPathTraced(const Scene& scene, const PathTracerSettings& settings, PathTracerStats* stats = nullptr);
+
+}  // namespace pcl

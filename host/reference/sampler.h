@@ -1,0 +1,50 @@
+// Random numbers for the reference path tracer: Philox4x32-10 from kernels/shared/rng.h,
+// indexed by (seed, pixel, sample, dimension), so an image does not depend on how pixels are
+// spread over threads or shards.
+//
+// Counter layout: path = pixel index (y * width + x), the "bounce" word = sample index within
+// the pixel, stream = PCL_RNG_STREAM_CAMERA, dimension = a fixed slot:
+//   dimensions 0..4               camera: film x, film y, lens u, lens v, shutter time
+//   dimensions 8+8b .. 8+8b+6    path vertex b: see PathVertexDims
+// Fixed slots keep a vertex's numbers the same whatever the path did before it.
+#pragma once
+#include <cstdint>
+
+#include "shared/rng.h"
+
+namespace pcl {
+
+struct CameraDims {
+    static constexpr uint32_t kFilm = 0, kLens = 2, kTime = 4;
+};
+struct PathVertexDims {
+    static constexpr uint32_t kFirst = 8, kPerVertex = 8;
+    static constexpr uint32_t kLightSelect = 0, kLightPoint = 1, kLobe = 3, kDirection = 4,
+                              kRoulette = 6;
+};
+
+class Sampler {
+public:
+    Sampler(uint64_t seed, uint32_t pixel, uint32_t sample)
+        : rng_(rng_start(seed, pixel, sample, PCL_RNG_STREAM_CAMERA)) {}
+
+    // Uniform in [0, 1) at an absolute dimension.
+    float get(uint32_t dim) {
+        if (dim >> 2 != block_) {
+            block_ = dim >> 2;
+            rng_block(rng_.seed, rng_.path, rng_.bounce, block_, rng_.stream, words_);
+        }
+        return rng_u01(words_[dim & 3u]);
+    }
+    // Dimension `k` of path vertex `vertex` (0: the camera ray's first hit).
+    float vertex(uint32_t vertexIndex, uint32_t k) {
+        return get(PathVertexDims::kFirst + PathVertexDims::kPerVertex * vertexIndex + k);
+    }
+
+private:
+    PclRng rng_;
+    uint32_t block_ = 0xFFFFFFFFu;
+    uint32_t words_[4] = {0, 0, 0, 0};
+};
+
+}  // namespace pcl

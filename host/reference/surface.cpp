@@ -1,0 +1,77 @@
+#include "reference/surface.h"
+
+#include <cmath>
+
+namespace pcl {
+namespace {
+
+// Offset scale: float spacing near |p| is ~ 6e-8 |p|; stepping ~ 1e-4 relative (at least 1e-4
+// absolute) clears the rounding error of the hit point by a wide margin.
+float offsetScale(Vec3 p) {
+    return 1e-4f * std::max(1.0f, maxComponent(vmax(p, -p)));
+}
+
+}  // namespace
+
+TriangleVertices triangleAt(const TriangleMesh& mesh, uint32_t index, float time) {
+    Vec3 shift = mesh.motion * time;
+    const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(index)];
+    return {mesh.positions[idx[0]] + shift, mesh.positions[idx[1]] + shift, mesh.positions[idx[2]] + shift};
+}
+
+SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const PclRay& ray, const PclHit& hit) {
+    SurfacePoint s;
+    s.prim = hit.prim;
+    s.time = ray.time;
+    PrimitiveRef ref = geometry.primitive(hit.prim);
+    if (ref.kind == PrimitiveRef::Triangle) {
+        const TriangleMesh& mesh = scene.meshes[ref.object];
+        TriangleVertices v = triangleAt(mesh, ref.index, ray.time);
+        // Barycentrics as the traversal defines them: p = p0 + u (p1 - p0) + v (p2 - p0).
+        float w = 1.0f - hit.u - hit.v;
+        s.p = v.p0 * w + v.p1 * hit.u + v.p2 * hit.v;
+        s.ng = normalize(cross(v.p1 - v.p0, v.p2 - v.p0));
+        s.ns = s.ng;
+        if (!mesh.normals.empty()) {
+            const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(ref.index)];
+            Vec3 n = mesh.normals[idx[0]] * w + mesh.normals[idx[1]] * hit.u + mesh.normals[idx[2]] * hit.v;
+            float len = length(n);
+            if (len > 0.0f) {
+                s.ns = n / len;
+                if (dot(s.ns, s.ng) < 0.0f) s.ns = -s.ns;  // keep both on the geometric side
+            }
+        }
+        s.material = &scene.materials[mesh.material];
+    } else {
+        const Sphere& sphere = scene.spheres[ref.object];
+        Vec3 c = sphere.centre + sphere.motion * ray.time;
+        Vec3 hitP = rayOrigin(ray) + rayDirection(ray) * hit.t;
+        s.ng = normalize(hitP - c);
+        s.p = c + s.ng * sphere.radius;  // re-projected onto the surface
+        s.ns = s.ng;
+        s.material = &scene.materials[sphere.material];
+    }
+    return s;
+}
+
+PclRay spawnRay(Vec3 p, Vec3 n, Vec3 d, float time, float tmax) {
+    Vec3 o = p + n * (dot(n, d) >= 0.0f ? offsetScale(p) : -offsetScale(p));
+    PclRay r{};
+    r.ox = o.x; r.oy = o.y; r.oz = o.z;
+    r.dx = d.x; r.dy = d.y; r.dz = d.z;
+    r.tmin = 0.0f;
+    r.tmax = tmax;
+    r.time = time;
+    return r;
+}
+
+PclRay spawnShadowRay(Vec3 p, Vec3 n, Vec3 target, Vec3 targetN, float time) {
+    PclRay r = spawnRay(p, n, target - p, time, 1.0f);
+    Vec3 o = rayOrigin(r);
+    Vec3 end = target + targetN * (dot(targetN, o - target) >= 0.0f ? offsetScale(target) : -offsetScale(target));
+    Vec3 d = end - o;
+    r.dx = d.x; r.dy = d.y; r.dz = d.z;
+    return r;
+}
+
+}  // namespace pcl
