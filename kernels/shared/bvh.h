@@ -1,0 +1,205 @@
+/* bvh.h: device traversal of the flat 8-wide BVH (layout in types.h), for the traversal,
+ * photon-trace and camera kernels. One ray per work-item; the parallelism inside a work-item is
+ * explicit: the eight child boxes of a node are slab-tested together with float8 (one vload8 per
+ * SoA field) and a leaf's triangles four at a time with float4 Möller–Trumbore, because PoCL
+ * does not vectorise a traversal loop across work-items but compiles vector types well
+ * (DESIGN.md, "Speed under PoCL").
+ *
+ * The arithmetic is the host traversal's (host/geometry/bvh_traversal.cpp and
+ * primitive_intersect.h) operation for operation, with FP_CONTRACT off so no a*b+c is fused:
+ * on a device with IEEE division and sqrt (PoCL) the two agree to the last bit.
+ *
+ * Stack: the traversal pushes every child whose box is hit, nearest on top. The deepest a tree
+ * can need is BvhStats::maxStack; the host passes it as -DPCL_BVH_STACK_SIZE. */
+#ifndef PCL_BVH_H
+#define PCL_BVH_H
+
+#include "types.h"
+
+#ifdef __OPENCL_VERSION__
+
+#ifndef PCL_BVH_STACK_SIZE
+#define PCL_BVH_STACK_SIZE 64
+#endif
+
+/* Ize 2013, "Robust BVH Ray Traversal": the far distance scaled by 1 + 2γ(3). */
+#define PCL_BVH_FAR_SCALE 1.0000004f
+
+#pragma OPENCL FP_CONTRACT OFF
+
+/* A ray prepared for traversal: reciprocal direction and, per axis, the float offset of the
+ * near-plane field in a PclBvhNode (lo or hi, by the direction's sign). */
+typedef struct BvhRay {
+    float ox, oy, oz, dx, dy, dz, ix, iy, iz, tmin, tmax, time;
+    int nearX, nearY, nearZ, farX, farY, farZ;
+} BvhRay;
+
+/* Field offsets (in floats) inside PclBvhNode. */
+#define PCL_BVH_LOX 0
+#define PCL_BVH_HIX 24
+
+inline BvhRay bvh_prepare(const PclRay r) {
+    BvhRay b;
+    b.ox = r.ox; b.oy = r.oy; b.oz = r.oz;
+    b.dx = r.dx; b.dy = r.dy; b.dz = r.dz;
+    b.ix = 1.0f / r.dx; b.iy = 1.0f / r.dy; b.iz = 1.0f / r.dz;
+    b.tmin = r.tmin; b.tmax = r.tmax; b.time = r.time;
+    b.nearX = (b.ix < 0.0f ? PCL_BVH_HIX : PCL_BVH_LOX);
+    b.nearY = (b.iy < 0.0f ? PCL_BVH_HIX : PCL_BVH_LOX) + 8;
+    b.nearZ = (b.iz < 0.0f ? PCL_BVH_HIX : PCL_BVH_LOX) + 16;
+    b.farX = (b.ix < 0.0f ? PCL_BVH_LOX : PCL_BVH_HIX);
+    b.farY = (b.iy < 0.0f ? PCL_BVH_LOX : PCL_BVH_HIX) + 8;
+    b.farZ = (b.iz < 0.0f ? PCL_BVH_LOX : PCL_BVH_HIX) + 16;
+    return b;
+}
+
+/* Slab test of all eight children: returns the entry distances in *tnear and a mask (-1 = hit).
+ * fmin/fmax ignore the NaN of 0*inf, which leaves that axis unconstrained (conservative);
+ * empty slots have inverted infinite boxes and always fail. */
+inline int8 bvh_hit_children(__global const PclBvhNode* node, const BvhRay* r, float tfarLimit,
+                             float8* tnear) {
+    __global const float* f = (__global const float*)node;
+    float8 t0x = (vload8(0, f + r->nearX) - r->ox) * r->ix;
+    float8 t0y = (vload8(0, f + r->nearY) - r->oy) * r->iy;
+    float8 t0z = (vload8(0, f + r->nearZ) - r->oz) * r->iz;
+    float8 t1x = (vload8(0, f + r->farX) - r->ox) * r->ix;
+    float8 t1y = (vload8(0, f + r->farY) - r->oy) * r->iy;
+    float8 t1z = (vload8(0, f + r->farZ) - r->oz) * r->iz;
+    float8 t0 = fmax(fmax(t0x, t0y), fmax(t0z, (float8)(r->tmin)));
+    float8 t1 = fmin(fmin(t1x, t1y), fmin(t1z, (float8)(tfarLimit)));
+    *tnear = t0;
+    return t0 <= t1 * PCL_BVH_FAR_SCALE;
+}
+
+/* The closest-hit rule of the host: smaller t wins, a tie goes to the smaller primitive id. */
+inline bool bvh_closer(float t, uint prim, float bestT, uint bestPrim) {
+    return t < bestT || (t == bestT && prim < bestPrim);
+}
+
+/* Möller–Trumbore (1997) on the four lanes of a packet, two-sided; the host's
+ * intersectTriangle lane by lane. Updates *best; returns true if a lane hit in (tmin, tmax)
+ * (for any-hit, *best then holds that hit). */
+inline bool bvh_hit_packet(__global const PclTriPacket* p, const BvhRay* r, bool anyHit,
+                           PclHit* best) {
+    /* Moving packets: shift the ray origin back by motion*time instead of moving the triangles. */
+    float ox = r->ox - p->mx * r->time, oy = r->oy - p->my * r->time, oz = r->oz - p->mz * r->time;
+    float4 e1x = vload4(0, p->e1x), e1y = vload4(0, p->e1y), e1z = vload4(0, p->e1z);
+    float4 e2x = vload4(0, p->e2x), e2y = vload4(0, p->e2y), e2z = vload4(0, p->e2z);
+    /* p = cross(d, e2) */
+    float4 px = r->dy * e2z - r->dz * e2y;
+    float4 py = r->dz * e2x - r->dx * e2z;
+    float4 pz = r->dx * e2y - r->dy * e2x;
+    float4 det = e1x * px + e1y * py + e1z * pz;
+    float4 inv = 1.0f / det;
+    float4 sx = ox - vload4(0, p->v0x), sy = oy - vload4(0, p->v0y), sz = oz - vload4(0, p->v0z);
+    float4 u = (sx * px + sy * py + sz * pz) * inv;
+    /* q = cross(s, e1) */
+    float4 qx = sy * e1z - sz * e1y;
+    float4 qy = sz * e1x - sx * e1z;
+    float4 qz = sx * e1y - sy * e1x;
+    float4 v = (r->dx * qx + r->dy * qy + r->dz * qz) * inv;
+    float4 t = (e2x * qx + e2y * qy + e2z * qz) * inv;
+    int4 ok = det != 0.0f && u >= 0.0f && v >= 0.0f && u + v <= 1.0f && t > r->tmin && t < r->tmax;
+    if (!any(ok)) return false;
+    float ts[4], us[4], vs[4];
+    int oks[4];
+    vstore4(t, 0, ts);
+    vstore4(u, 0, us);
+    vstore4(v, 0, vs);
+    vstore4(ok, 0, oks);
+    bool found = false;
+    for (int l = 0; l < 4; ++l) {
+        uint prim = p->prim[l];
+        /* empty lanes have zero edges (det == 0), the prim check is belt and braces */
+        if (!oks[l] || prim == PCL_NO_HIT) continue;
+        if (anyHit || bvh_closer(ts[l], prim, best->t, best->prim)) {
+            best->t = ts[l]; best->u = us[l]; best->v = vs[l]; best->prim = prim;
+            found = true;
+            if (anyHit) return true;
+        }
+    }
+    return found;
+}
+
+/* Ray–sphere as the host's intersectSphereRoots (Haines et al., Ray Tracing Gems ch. 7). */
+inline bool bvh_hit_sphere(__global const PclSphere* s, const BvhRay* r, bool anyHit,
+                           PclHit* best) {
+    float ox = r->ox - s->mx * r->time, oy = r->oy - s->my * r->time, oz = r->oz - s->mz * r->time;
+    float fx = ox - s->cx, fy = oy - s->cy, fz = oz - s->cz;
+    float a = r->dx * r->dx + r->dy * r->dy + r->dz * r->dz;
+    float b = fx * r->dx + fy * r->dy + fz * r->dz;
+    float ba = b / a;
+    float lx = fx - r->dx * ba, ly = fy - r->dy * ba, lz = fz - r->dz * ba;
+    float rr = s->radius * s->radius;
+    float disc = a * (rr - (lx * lx + ly * ly + lz * lz));
+    if (!(disc >= 0.0f)) return false;
+    float cc = (fx * fx + fy * fy + fz * fz) - rr;
+    float q = -b - copysign(sqrt(disc), b);
+    float ta = cc / q, tb = q / a;
+    if (q == 0.0f) ta = tb;
+    float t0 = fmin(ta, tb), t1 = fmax(ta, tb);
+    float t = (t0 > r->tmin && t0 < r->tmax) ? t0 : t1;
+    if (!(t > r->tmin && t < r->tmax)) return false;
+    if (!anyHit && !bvh_closer(t, s->prim, best->t, best->prim)) return false;
+    best->t = t; best->u = 0.0f; best->v = 0.0f; best->prim = s->prim;
+    return true;
+}
+
+/* Closest hit (anyHit false) or any hit (true) of ray in (tmin, tmax). Returns whether it hit;
+ * *hit gets t, u, v, prim (prim = PCL_NO_HIT and t = tmax on a miss). */
+inline bool bvh_trace(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
+                      __global const PclSphere* spheres, const PclRay ray, bool anyHit,
+                      PclHit* hit) {
+    BvhRay r = bvh_prepare(ray);
+    hit->t = ray.tmax; hit->u = 0.0f; hit->v = 0.0f; hit->prim = PCL_NO_HIT;
+    uint stackWord[PCL_BVH_STACK_SIZE];
+    float stackNear[PCL_BVH_STACK_SIZE];
+    int sp = 1;
+    stackWord[0] = 0u;
+    stackNear[0] = r.tmin;
+    while (sp > 0) {
+        --sp;
+        uint word = stackWord[sp];
+        if (stackNear[sp] > hit->t * PCL_BVH_FAR_SCALE) continue;
+        if (word & PCL_CHILD_LEAF) {
+            uint first = word & PCL_CHILD_INDEX_MASK;
+            uint count = ((word >> PCL_CHILD_COUNT_SHIFT) & PCL_CHILD_COUNT_MASK) + 1u;
+            if (word & PCL_CHILD_SPHERES) {
+                for (uint k = 0; k < count; ++k)
+                    if (bvh_hit_sphere(spheres + first + k, &r, anyHit, hit) && anyHit) return true;
+            } else {
+                for (uint k = 0; k < count; ++k)
+                    if (bvh_hit_packet(packets + first + k, &r, anyHit, hit) && anyHit) return true;
+            }
+            continue;
+        }
+        __global const PclBvhNode* node = nodes + word;
+        float8 tn8;
+        int8 mask = bvh_hit_children(node, &r, hit->t, &tn8);
+        if (!any(mask)) continue;
+        float tn[8];
+        int m[8];
+        vstore8(tn8, 0, tn);
+        vstore8(mask, 0, m);
+        /* Insert the hit children far to near so the nearest ends on top of the stack. */
+        int base = sp;
+        for (int i = 0; i < PCL_BVH_WIDTH; ++i) {
+            uint child = node->child[i];
+            if (!m[i] || child == PCL_CHILD_EMPTY || sp >= PCL_BVH_STACK_SIZE) continue;
+            int j = sp++;
+            while (j > base && stackNear[j - 1] < tn[i]) {
+                stackNear[j] = stackNear[j - 1];
+                stackWord[j] = stackWord[j - 1];
+                --j;
+            }
+            stackNear[j] = tn[i];
+            stackWord[j] = child;
+        }
+    }
+    return hit->prim != PCL_NO_HIT;
+}
+
+#pragma OPENCL FP_CONTRACT ON
+
+#endif /* __OPENCL_VERSION__ */
+#endif /* PCL_BVH_H */
