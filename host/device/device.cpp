@@ -59,7 +59,7 @@ std::vector<DeviceInfo> listDevices() {
         } catch (const cl::Error&) {
             continue;  // CL_DEVICE_NOT_FOUND: a platform with nothing usable
         }
-        for (cl::Device& d : devices) {
+        for (cl::Device& d : devices) try {
             DeviceInfo info;
             info.index = static_cast<int>(out.size());
             info.platform = trimmed(p.getInfo<CL_PLATFORM_NAME>());
@@ -75,6 +75,8 @@ std::vector<DeviceInfo> listDevices() {
             info.clPlatform = p;
             info.clDevice = d;
             out.push_back(std::move(info));
+        } catch (const cl::Error&) {
+            // A device that cannot describe itself cannot be used either: leave it out.
         }
     }
     return out;
