@@ -157,7 +157,18 @@ TEST(ProgramCache, KernelDirOverrideReadsFromDisk) {
     ASSERT_TRUE(pcl::kernelDirOverride());
     EXPECT_EQ(*pcl::kernelDirOverride(), kernels.path());
     ProgramCache programs(testDevice().context(), testDevice().info(), pcl::kernelDirOverride(), cache.path());
+    // A Device opened now reads its sources there too (and its binaries go to PHOTONCL_CACHE_DIR).
+    const char* oldCache = std::getenv("PHOTONCL_CACHE_DIR");
+    const std::string keepCache = oldCache ? oldCache : "";
+    setenv("PHOTONCL_CACHE_DIR", cache.path().c_str(), 1);
+    pcl::Device fresh = pcl::Device::open(std::to_string(testDevice().info().index));
+    oldCache ? setenv("PHOTONCL_CACHE_DIR", keepCache.c_str(), 1) : unsetenv("PHOTONCL_CACHE_DIR");
     old ? setenv("PHOTONCL_KERNEL_DIR", keep.c_str(), 1) : unsetenv("PHOTONCL_KERNEL_DIR");
+    auto viaDevice = fresh.kernel<cl::Buffer>("answer", "answer_write");
+    cl::Buffer one = fresh.allocate<uint32_t>(1);
+    fresh.launch("answer", viaDevice, cl::NDRange(1), one);
+    EXPECT_EQ(fresh.download<uint32_t>(one, 1)[0], 42u);
+    EXPECT_FALSE(fs::is_empty(cache.path()));
 
     cl::KernelFunctor<cl::Buffer> k(programs.build("answer"), "answer_write");
     pcl::Device& dev = testDevice();
