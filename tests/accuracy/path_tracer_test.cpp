@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
 #include "geometry/scene_geometry.h"
 #include "image/film.h"
@@ -410,8 +411,17 @@ TEST(PathTracerAccuracy, DeterministicAcrossThreadsAndShards) {
     settings.threads = 1;
     Image one = PathTracer(scene, geometry, settings).render().resolve();
     settings.threads = 2;
-    Image two = PathTracer(scene, geometry, settings).render().resolve();
+    std::vector<double> progress;  // called under a lock: no synchronisation needed here
+    settings.progress = [&](double f) { progress.push_back(f); };
+    PathTracerStats stats;
+    Image two = PathTracer(scene, geometry, settings).render(&stats).resolve();
+    settings.progress = nullptr;
     EXPECT_EQ(one.rgb, two.rgb);
+    ASSERT_EQ(progress.size(), 2u);  // one call per 16×16 tile: 20×14 pixels are two tiles
+    EXPECT_EQ(progress.back(), 1.0);
+    EXPECT_EQ(stats.samples, 20u * 14u * 4u);
+    EXPECT_EQ(stats.discardedSamples, 0u);
+    EXPECT_GT(stats.samplesPerSecond(), 0.0);
 
     settings.samplesPerPixel = 1;
     Film shards = PathTracer(scene, geometry, settings).render();
