@@ -1,0 +1,47 @@
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "device/device.h"
+#include "pipeline/check_intersect.h"
+#include "scene/load_scene.h"
+
+namespace pcl::cli {
+
+Run addCheckCommand(CLI::App& app) {
+    struct Options {
+        std::string scene, device = "auto", stage = "all";
+        size_t rays = 100000;
+        uint64_t seed = 1;
+    };
+    auto o = std::make_shared<Options>();
+    CLI::App* sub = app.add_subcommand(
+        "check", "Run kernel stages and their CPU twins on the same inputs and compare them");
+    sub->add_option("SCENE", o->scene, "Scene file (.json, .gltf, .glb)")->required();
+    sub->add_option("--device", o->device, "OpenCL device: auto|cpu|gpu|<index>|<name substring>")
+        ->capture_default_str();
+    sub->add_option("--stage", o->stage, "Stage to check (more arrive with the photon stages)")
+        ->check(CLI::IsMember({"all", "trace"}))
+        ->capture_default_str();
+    sub->add_option("--rays", o->rays, "Rays for the trace check")->capture_default_str();
+    sub->add_option("--seed", o->seed, "Seed of the random inputs")->capture_default_str();
+    return [o] {
+        if (o->device == "ref") throw InputError("check: --device ref has no kernels to check; pick an OpenCL device");
+        Scene scene = loadScene(o->scene);
+        Device device = Device::open(o->device);
+        std::printf("check %s on %s (%s)\n", o->scene.c_str(), device.info().name.c_str(),
+                    device.info().platform.c_str());
+        bool ok = true;
+        if (o->stage == "all" || o->stage == "trace") {
+            IntersectCheckReport report = checkIntersect(device, scene, o->rays, o->seed);
+            std::printf("stage trace: kernel vs host BVH traversal\n%s", report.table().c_str());
+            std::printf("stage trace: %s\n", report.passed() ? "PASSED" : "FAILED");
+            ok = ok && report.passed();
+        }
+        return ok ? kExitOk : kExitCheckFailed;
+    };
+}
+
+}  // namespace pcl::cli

@@ -1,0 +1,18 @@
+// One subcommand per file under host/cli/: each add*Command registers its options on the app
+// and returns the function that runs it (an exit status: 0 ok, 1 check failed, 2 bad input,
+// 3 device failure; errors may also be thrown as InputError / DeviceError).
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace pcl::cli {
+
+using Run = std::function<int()>;
+
+Run addDevicesCommand(CLI::App& app);
+Run addRenderCommand(CLI::App& app);
+Run addCheckCommand(CLI::App& app);
+Run addCompareCommand(CLI::App& app);
+
+}  // namespace pcl::cli

@@ -1,0 +1,36 @@
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "cli/command.h"
+#include "core/error.h"
+#include "image/image_io.h"
+#include "image/metrics.h"
+
+namespace pcl::cli {
+
+Run addCompareCommand(CLI::App& app) {
+    struct Options {
+        std::string test, reference;
+        double maxRmse = -1, maxRelMse = -1;
+    };
+    auto o = std::make_shared<Options>();
+    CLI::App* sub = app.add_subcommand(
+        "compare", "Error of image A against reference B: RMSE, relMSE, mean ratio, max difference");
+    sub->add_option("A", o->test, "Test image (EXR, PNG, PFM)")->required();
+    sub->add_option("B", o->reference, "Reference image")->required();
+    sub->add_option("--max-rmse", o->maxRmse, "Exit 1 when RMSE exceeds this");
+    sub->add_option("--max-relmse", o->maxRelMse, "Exit 1 when relMSE exceeds this");
+    return [o] {
+        Image a = readImage(o->test), b = readImage(o->reference);
+        ImageErrors e = compare(a, b);
+        std::printf("%s vs %s (%dx%d)\n%s\n", o->test.c_str(), o->reference.c_str(), b.width, b.height,
+                    formatErrors(e).c_str());
+        bool failed = (o->maxRmse >= 0 && !(e.rmse <= o->maxRmse)) ||
+                      (o->maxRelMse >= 0 && !(e.relMse <= o->maxRelMse));
+        if (failed) std::printf("FAILED: error above the stated bound\n");
+        return failed ? kExitCheckFailed : kExitOk;
+    };
+}
+
+}  // namespace pcl::cli
