@@ -1,0 +1,163 @@
+// The command-line contract (DESIGN.md): exit statuses, messages that name the bad input,
+// outputs written whole or not at all. Runs the real photoncl binary.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "image/image_io.h"
+#include "image/metrics.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+    int status = -1;
+    std::string output;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+    std::string cmd = std::string(PHOTONCL_BINARY) + " " + args + " 2>&1";
+    Result r;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf;
+    while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.output.append(buf.data(), n);
+    int raw = pclose(pipe);
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return r;
+}
+
+std::string scene(const std::string& name) { return std::string(PHOTONCL_SOURCE_DIR) + "/scenes/" + name; }
+
+class CliTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir = fs::temp_directory_path() / ("photoncl_cli_" + std::to_string(::getpid()) + "_" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+    }
+    void TearDown() override { fs::remove_all(dir); }
+    size_t filesIn() const {
+        size_t n = 0;
+        for (auto& e : fs::directory_iterator(dir)) (void)e, ++n;
+        return n;
+    }
+    fs::path dir;
+};
+
+TEST_F(CliTest, HelpListsEverySubcommandAndExitsZero) {
+    Result r = run("--help");
+    EXPECT_EQ(r.status, 0);
+    for (const char* sub : {"devices", "render", "check", "compare"}) EXPECT_NE(r.output.find(sub), std::string::npos) << sub;
+    for (const char* sub : {"devices", "render", "check", "compare"}) {
+        Result h = run(std::string(sub) + " --help");
+        EXPECT_EQ(h.status, 0) << sub;
+        EXPECT_NE(h.output.find("Usage"), std::string::npos) << sub;
+    }
+}
+
+TEST_F(CliTest, UnknownOptionAndMissingArgumentAreBadInput) {
+    EXPECT_EQ(run("render").status, 2);
+    EXPECT_EQ(run("render " + scene("cornell-box.json") + " --no-such-option").status, 2);
+    EXPECT_EQ(run("render " + scene("cornell-box.json") + " --passes -3").status, 2);
+    EXPECT_EQ(run("frobnicate").status, 2);
+}
+
+TEST_F(CliTest, MissingSceneNamesTheFileAndWritesNothing) {
+    fs::path out = dir / "out.exr";
+    Result r = run("render " + (dir / "nope.json").string() + " -o " + out.string());
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("nope.json"), std::string::npos) << r.output;
+    EXPECT_EQ(filesIn(), 0u);
+}
+
+TEST_F(CliTest, BadSceneNamesTheFieldAndWritesNothing) {
+    fs::path bad = dir / "bad.json";
+    {
+        std::ifstream in(scene("cornell-box.json"));
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        size_t at = text.find("\"rho_d\"");
+        ASSERT_NE(at, std::string::npos);
+        size_t open = text.find('[', at), close = text.find(']', at);
+        text.replace(open, close - open + 1, "[1.2, 0, 0]");
+        std::ofstream(bad) << text;
+    }
+    Result r = run("render " + bad.string() + " -o " + (dir / "out.exr").string());
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("bad.json"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("rho_d"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("1.2"), std::string::npos) << r.output;
+    EXPECT_EQ(filesIn(), 1u);  // only bad.json
+}
+
+TEST_F(CliTest, RenderWritesExrWithMetadataAndPngAndNoStrayFiles) {
+    fs::path out = dir / "cb.exr";
+    Result r = run("render " + scene("cornell-box.json") + " -o " + out.string() +
+                   " --width 32 --height 32 --passes 2 --seed 7 -q");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::exists(out));
+    EXPECT_TRUE(fs::exists(dir / "cb.png"));
+    EXPECT_EQ(filesIn(), 2u);  // no temporary files left behind
+    pcl::ImageMetadata meta;
+    pcl::Image img = pcl::readImage(out.string(), &meta);
+    EXPECT_EQ(img.width, 32);
+    EXPECT_EQ(img.height, 32);
+    EXPECT_EQ(meta.method, "path");
+    EXPECT_EQ(meta.samples, 2);
+    EXPECT_EQ(meta.seed, 7u);
+    double sum = 0;
+    for (float v : img.rgb) {
+        ASSERT_TRUE(std::isfinite(v));
+        sum += v;
+    }
+    EXPECT_GT(sum, 0.0);
+}
+
+TEST_F(CliTest, SameSeedGivesTheSameBitsAndCompareSaysSo) {
+    std::string common = " --width 24 --height 24 --passes 2 --seed 3 -q --no-png";
+    ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "a.exr").string() + common).status, 0);
+    ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "b.exr").string() + common).status, 0);
+    pcl::Image a = pcl::readImage((dir / "a.exr").string()), b = pcl::readImage((dir / "b.exr").string());
+    EXPECT_EQ(a.rgb, b.rgb);
+    Result same = run("compare " + (dir / "a.exr").string() + " " + (dir / "b.exr").string() + " --max-rmse 0");
+    EXPECT_EQ(same.status, 0) << same.output;
+    EXPECT_NE(same.output.find("RMSE 0"), std::string::npos) << same.output;
+
+    ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "c.exr").string() +
+                  " --width 24 --height 24 --passes 2 --seed 4 -q --no-png").status, 0);
+    Result differ = run("compare " + (dir / "c.exr").string() + " " + (dir / "a.exr").string() + " --max-rmse 1e-9");
+    EXPECT_EQ(differ.status, 1) << differ.output;
+}
+
+TEST_F(CliTest, CompareRefusesMismatchedSizesAndMissingFiles) {
+    ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "a.exr").string() +
+                  " --width 16 --height 16 --passes 1 -q --no-png").status, 0);
+    ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "b.exr").string() +
+                  " --width 8 --height 8 --passes 1 -q --no-png").status, 0);
+    EXPECT_EQ(run("compare " + (dir / "a.exr").string() + " " + (dir / "b.exr").string()).status, 2);
+    Result missing = run("compare " + (dir / "a.exr").string() + " " + (dir / "zzz.exr").string());
+    EXPECT_EQ(missing.status, 2);
+    EXPECT_NE(missing.output.find("zzz.exr"), std::string::npos) << missing.output;
+}
+
+TEST_F(CliTest, UnknownDeviceIsADeviceFailureThatListsDevices) {
+    Result r = run("check " + scene("cornell-box.json") + " --device no-such-device-xyz --rays 100");
+    EXPECT_EQ(r.status, 3) << r.output;
+    EXPECT_NE(r.output.find("no-such-device-xyz"), std::string::npos) << r.output;
+}
+
+TEST_F(CliTest, CheckTraceOnAShippedScenePasses) {
+    Result r = run("check " + scene("cornell-spheres.json") + " --device cpu --stage trace --rays 3000");
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("stage trace: PASSED"), std::string::npos) << r.output;
+}
+
+}  // namespace
