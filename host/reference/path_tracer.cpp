@@ -53,7 +53,8 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
         Vec3 Le = LightSampler::emitted(s, wo);
         if (maxComponent(Le) > 0.0f) {
             float weight = 1.0f;
-            if (!specularBounce) weight = powerHeuristic(prevPdf, lights_.pdfLi(s.prim, prevP, s.p, s.ng));
+            if (!specularBounce && settings_.lightSampling)
+                weight = powerHeuristic(prevPdf, lights_.pdfLi(s.prim, prevP, s.p, s.ng));
             L += beta * Le * weight;
         }
         if (depth >= settings_.maxDepth) break;
@@ -61,7 +62,7 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
         MixedBsdf bsdf(*s.material, s.ns, s.ng);
         if (bsdf.isBlack()) break;
         uint32_t vertex = static_cast<uint32_t>(depth);
-        if (bsdf.hasNonDelta()) L += beta * sampleDirect(s, bsdf, wo, sampler, vertex);
+        if (bsdf.hasNonDelta() && settings_.lightSampling) L += beta * sampleDirect(s, bsdf, wo, sampler, vertex);
 
         BsdfSample bs;
         if (!bsdf.sample(wo, sampler.vertex(vertex, PathVertexDims::kLobe),

@@ -26,6 +26,9 @@ struct PathTracerSettings {
     int rouletteDepth = 3;        // Russian roulette from this bounce on
     uint64_t seed = 0;
     int threads = 0;              // 0: std::thread::hardware_concurrency()
+    // false: BSDF sampling only, no light sampling and no MIS; delta lights then contribute
+    // nothing. An independent estimator of the same image, for tests of the MIS weights.
+    bool lightSampling = true;
     // Called with the fraction done (0..1] after each tile, from worker threads but never two at
     // once. Keep it cheap: it runs under the tiles' lock.
     std::function<void(double)> progress;
