@@ -1,6 +1,8 @@
 // Host traversal of the flat 8-wide BVH: the reference the traversal kernel is checked
 // against, and what the CPU twin and the reference path tracer trace with. It walks exactly the
 // arrays the kernel reads, with the same box test, stack discipline and primitive arithmetic.
+#include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 #include "geometry/primitive_intersect.h"
@@ -22,11 +24,16 @@ struct RayFrame {
     float tmin, tmax, time;
 };
 
+// 1/d clamped to ±FLT_MAX: a zero direction component gives a huge finite reciprocal instead of
+// an infinite one, so the slab test never forms 0·inf = NaN and plain min/max suffice (a libm
+// fmin/fmax call per slab would cost more than the rest of the traversal).
+inline float safeReciprocal(float d) { return std::clamp(1.0f / d, -FLT_MAX, FLT_MAX); }
+
 RayFrame frameOf(const PclRay& r) {
     RayFrame f;
     f.o = {r.ox, r.oy, r.oz};
     f.d = {r.dx, r.dy, r.dz};
-    f.inv = {1.0f / r.dx, 1.0f / r.dy, 1.0f / r.dz};
+    f.inv = {safeReciprocal(r.dx), safeReciprocal(r.dy), safeReciprocal(r.dz)};
     f.neg[0] = f.inv.x < 0.0f;
     f.neg[1] = f.inv.y < 0.0f;
     f.neg[2] = f.inv.z < 0.0f;
@@ -36,18 +43,17 @@ RayFrame frameOf(const PclRay& r) {
     return f;
 }
 
-// Slab test of child i; fmin/fmax ignore the NaN of 0·inf (a ray parallel to a slab starting
-// on its plane), which keeps that axis unconstrained: conservative. Empty slots have inverted
-// infinite boxes and always fail.
+// Slab test of child i. Empty slots have inverted infinite boxes and always fail. The min/max
+// order matches the kernel's (bvh_hit_children) so both cull the same boxes.
 inline bool hitChild(const PclBvhNode& n, int i, const RayFrame& f, float tfarLimit,
                      float& tnear) {
     float nx = f.neg[0] ? n.hix[i] : n.lox[i], fx = f.neg[0] ? n.lox[i] : n.hix[i];
     float ny = f.neg[1] ? n.hiy[i] : n.loy[i], fy = f.neg[1] ? n.loy[i] : n.hiy[i];
     float nz = f.neg[2] ? n.hiz[i] : n.loz[i], fz = f.neg[2] ? n.loz[i] : n.hiz[i];
-    float t0 = std::fmax(std::fmax((nx - f.o.x) * f.inv.x, (ny - f.o.y) * f.inv.y),
-                         std::fmax((nz - f.o.z) * f.inv.z, f.tmin));
-    float t1 = std::fmin(std::fmin((fx - f.o.x) * f.inv.x, (fy - f.o.y) * f.inv.y),
-                         std::fmin((fz - f.o.z) * f.inv.z, tfarLimit));
+    float t0 = std::max(std::max((nx - f.o.x) * f.inv.x, (ny - f.o.y) * f.inv.y),
+                        std::max((nz - f.o.z) * f.inv.z, f.tmin));
+    float t1 = std::min(std::min((fx - f.o.x) * f.inv.x, (fy - f.o.y) * f.inv.y),
+                        std::min((fz - f.o.z) * f.inv.z, tfarLimit));
     tnear = t0;
     return t0 <= t1 * kFarScale;
 }

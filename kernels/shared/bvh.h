@@ -42,7 +42,10 @@ inline BvhRay bvh_prepare(const PclRay r) {
     BvhRay b;
     b.ox = r.ox; b.oy = r.oy; b.oz = r.oz;
     b.dx = r.dx; b.dy = r.dy; b.dz = r.dz;
-    b.ix = 1.0f / r.dx; b.iy = 1.0f / r.dy; b.iz = 1.0f / r.dz;
+    /* 1/d clamped to ±FLT_MAX, as the host: no 0*inf = NaN in the slab test, so plain min/max. */
+    b.ix = clamp(1.0f / r.dx, -FLT_MAX, FLT_MAX);
+    b.iy = clamp(1.0f / r.dy, -FLT_MAX, FLT_MAX);
+    b.iz = clamp(1.0f / r.dz, -FLT_MAX, FLT_MAX);
     b.tmin = r.tmin; b.tmax = r.tmax; b.time = r.time;
     b.nearX = (b.ix < 0.0f ? PCL_BVH_HIX : PCL_BVH_LOX);
     b.nearY = (b.iy < 0.0f ? PCL_BVH_HIX : PCL_BVH_LOX) + 8;
@@ -54,8 +57,7 @@ inline BvhRay bvh_prepare(const PclRay r) {
 }
 
 /* Slab test of all eight children: returns the entry distances in *tnear and a mask (-1 = hit).
- * fmin/fmax ignore the NaN of 0*inf, which leaves that axis unconstrained (conservative);
- * empty slots have inverted infinite boxes and always fail. */
+ * Empty slots have inverted infinite boxes and always fail. */
 inline int8 bvh_hit_children(__global const PclBvhNode* node, const BvhRay* r, float tfarLimit,
                              float8* tnear) {
     __global const float* f = (__global const float*)node;
@@ -65,8 +67,8 @@ inline int8 bvh_hit_children(__global const PclBvhNode* node, const BvhRay* r, f
     float8 t1x = (vload8(0, f + r->farX) - r->ox) * r->ix;
     float8 t1y = (vload8(0, f + r->farY) - r->oy) * r->iy;
     float8 t1z = (vload8(0, f + r->farZ) - r->oz) * r->iz;
-    float8 t0 = fmax(fmax(t0x, t0y), fmax(t0z, (float8)(r->tmin)));
-    float8 t1 = fmin(fmin(t1x, t1y), fmin(t1z, (float8)(tfarLimit)));
+    float8 t0 = max(max(t0x, t0y), max(t0z, (float8)(r->tmin)));
+    float8 t1 = min(min(t1x, t1y), min(t1z, (float8)(tfarLimit)));
     *tnear = t0;
     return t0 <= t1 * PCL_BVH_FAR_SCALE;
 }
