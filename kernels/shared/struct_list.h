@@ -12,6 +12,12 @@
     X(PclHit)                 \
     X(PclBvhNode)             \
     X(PclTriPacket)           \
-    X(PclSphere)
+    X(PclSphere)              \
+    X(PclMaterial)            \
+    X(PclPrimInfo)            \
+    X(PclLight)               \
+    X(PclPhotonRay)           \
+    X(PclPhoton)              \
+    X(PclPhotonParams)
 
 #endif /* PCL_STRUCT_LIST_H */

@@ -71,4 +71,112 @@ typedef struct PclSphere {
 } PclSphere;
 PCL_STATIC_ASSERT(sizeof(PclSphere) == 32, PclSphere_size);
 
+
+/* ---- Scene shading data (photon pass, camera pass) -------------------------------------- */
+
+#define PCL_SPECULAR_NONE 0u
+#define PCL_SPECULAR_MIRROR 1u
+#define PCL_SPECULAR_GLOSSY 2u
+#define PCL_SPECULAR_DIELECTRIC 3u
+
+typedef struct PclMaterial {
+    pcl_f32 rhoD[4];      /* diffuse reflectance rgb, [3] = 0 */
+    pcl_f32 rhoS[4];      /* specular reflectance rgb, [3] = 0 */
+    pcl_f32 emission[4];  /* one-sided emitted radiance rgb, [3] = 0 */
+    pcl_u32 specular;     /* PCL_SPECULAR_* */
+    pcl_f32 exponent;     /* glossy: normalised Phong exponent */
+    pcl_f32 ior;          /* dielectric: index inside (outside 1) */
+    pcl_u32 pad0;
+} PclMaterial;
+PCL_STATIC_ASSERT(sizeof(PclMaterial) == 64, PclMaterial_size);
+
+/* Indexed by global primitive id (triangles first, then spheres; see SceneGeometry). */
+typedef struct PclPrimInfo {
+    pcl_f32 a, b, c;   /* triangle: unit geometric normal; sphere: centre at shutter time 0 */
+    pcl_u32 material;  /* index into the PclMaterial array */
+    pcl_f32 mx, my, mz;/* translation over the shutter interval */
+    pcl_f32 radius;    /* sphere radius; 0 for triangles */
+} PclPrimInfo;
+PCL_STATIC_ASSERT(sizeof(PclPrimInfo) == 32, PclPrimInfo_size);
+
+/* ---- Lights: one entry per point/spot/directional light and per emitting triangle -------- */
+
+#define PCL_LIGHT_POINT 0u
+#define PCL_LIGHT_SPOT 1u
+#define PCL_LIGHT_TRIANGLE 2u
+#define PCL_LIGHT_DIRECTIONAL 3u
+
+typedef struct PclLight {
+    pcl_u32 type;       /* PCL_LIGHT_* */
+    pcl_u32 prim;       /* triangle: global primitive id; others PCL_NO_HIT */
+    pcl_u32 projFirst;  /* projection map: first marked cell in the cell array */
+    pcl_u32 projCount;  /* projection map: marked cells (of PCL_PROJ_GRID^2); 0: no caustics */
+    pcl_f32 p[4];       /* point/spot: position; triangle: vertex p0; directional: disc centre */
+    pcl_f32 e1[4];      /* triangle: p1 - p0 */
+    pcl_f32 e2[4];      /* triangle: p2 - p0 */
+    pcl_f32 axis[4];    /* spot: cone axis; directional: travel direction; triangle: unit normal of the emitting side */
+    pcl_f32 power[4];   /* flux rgb in W emitted by this entry */
+    pcl_f32 motion[4];  /* triangle: translation over the shutter interval */
+    pcl_f32 cosInner, cosOuter;  /* spot */
+    pcl_f32 radius;     /* directional: radius of the disc covering the scene */
+    pcl_f32 area;       /* triangle: area */
+} PclLight;
+PCL_STATIC_ASSERT(sizeof(PclLight) == 128, PclLight_size);
+
+/* Projection maps (Jensen 1996): a PCL_PROJ_GRID x PCL_PROJ_GRID grid over the unit square of
+ * a light's direction sample (position sample for directional lights); a cell is marked when
+ * some sample in it can send a photon towards a specular object. */
+#define PCL_PROJ_GRID 32u
+
+/* ---- Photon pass ---------------------------------------------------------------------- */
+
+/* A photon leaving its light (emit → trace_photons). */
+typedef struct PclPhotonRay {
+    pcl_f32 ox, oy, oz, time;  /* origin; normalised shutter time */
+    pcl_f32 dx, dy, dz;        /* unit direction */
+    pcl_u32 light;             /* PclLight index */
+    pcl_f32 power[4];          /* flux rgb in W, [3] = 0 */
+} PclPhotonRay;
+PCL_STATIC_ASSERT(sizeof(PclPhotonRay) == 48, PclPhotonRay_size);
+
+/* A stored photon, 20 bytes as Jensen's: position, power in Ward's RGBE, incoming direction
+ * compressed to (theta, phi) bytes, and flags. */
+#define PCL_PHOTON_THETA_SHIFT 0
+#define PCL_PHOTON_PHI_SHIFT 8
+#define PCL_PHOTON_BOUNCE_SHIFT 16      /* bounces before this hit (0: straight from the light) */
+#define PCL_PHOTON_CAUSTIC 0x01000000u  /* stored in the caustic map */
+#define PCL_PHOTON_AFTER_SPECULAR 0x02000000u /* the path had a specular bounce */
+#define PCL_PHOTON_AFTER_DIFFUSE 0x04000000u  /* the path had a diffuse bounce */
+typedef struct PclPhoton {
+    pcl_f32 x, y, z;
+    pcl_u32 rgbe;     /* r | g << 8 | b << 16 | e << 24 */
+    pcl_u32 packed;   /* theta | phi << 8 | bounce << 16 | flags */
+} PclPhoton;
+PCL_STATIC_ASSERT(sizeof(PclPhoton) == 20, PclPhoton_size);
+
+/* How a photon path ended (trace_photons output, one per path): bits 0..7 bounces traced,
+ * bits 8..11 the cause. */
+#define PCL_END_ESCAPED 1u    /* left the scene */
+#define PCL_END_ABSORBED 2u   /* Russian roulette absorbed it (or a glossy sample went below the surface) */
+#define PCL_END_MAX_DEPTH 3u  /* reached maxDepth bounces */
+#define PCL_END_STORED 4u     /* caustic pass: stopped at its first diffuse hit */
+
+#define PCL_PASS_GLOBAL 0u
+#define PCL_PASS_CAUSTIC 1u
+
+typedef struct PclPhotonParams {
+    pcl_u32 seedLo, seedHi;  /* the pass seed (render seed mixed with the pass index) */
+    pcl_u32 firstPhoton;     /* photon index of this batch's first path */
+    pcl_u32 batchSize;       /* paths in this batch */
+    pcl_u32 lightCount;
+    pcl_u32 triangleCount;   /* global ids at or above it are spheres */
+    pcl_u32 maxDepth;        /* bounces; also the deposit slots per path in a global pass */
+    pcl_u32 pass;            /* PCL_PASS_GLOBAL or PCL_PASS_CAUSTIC */
+    pcl_u32 hasMotion;       /* 0: every photon at time 0 (no time sampling) */
+    pcl_u32 storeGlobal;     /* global pass: deposit into the global map */
+    pcl_f32 rayEpsilon;      /* spawn offset along the normal, scaled to the scene */
+    pcl_u32 pad0;
+} PclPhotonParams;
+PCL_STATIC_ASSERT(sizeof(PclPhotonParams) == 48, PclPhotonParams_size);
+
 #endif /* PCL_TYPES_H */
