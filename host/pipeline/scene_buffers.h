@@ -1,0 +1,35 @@
+// The flat scene buffers every photon-pass stage reads, kernel and twin alike
+// (kernels/README.md, "Flat scene buffers"): materials, per-primitive shading data, and one
+// light entry per point/spot/directional light and per emitting triangle.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "geometry/scene_geometry.h"
+#include "shared/types.h"
+#include "scene/scene.h"
+
+namespace pcl {
+
+struct SceneBuffers {
+    std::vector<PclMaterial> materials;
+    std::vector<PclPrimInfo> primInfo;  // by global primitive id
+    std::vector<PclLight> lights;       // projFirst/projCount are 0 until projection maps are built
+    std::vector<uint32_t> projCells;    // marked projection-map cells, per light [projFirst, +projCount)
+    Vec3 sceneCentre{0.0f};             // bounding sphere of the geometry over the shutter
+    float sceneRadius = 0.0f;
+    float rayEpsilon = 1e-6f;           // spawn offset: 1e-4 of the bounds' diagonal, at least 1e-6
+    bool hasMotion = false;
+};
+
+SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry);
+
+// The scalar power that photon allocation is proportional to: (Φr + Φg + Φb) / 3.
+double scalarPower(const PclLight& light);
+
+// Largest-remainder allocation of `photons` in proportion to `weights` (kernels/README.md,
+// "Photon allocation"): returns first[], size weights.size() + 1, light i owning photons
+// [first[i], first[i+1]). Every positive weight gets at least one photon when photons allow.
+std::vector<uint32_t> allocatePhotons(const std::vector<double>& weights, uint32_t photons);
+
+}  // namespace pcl
