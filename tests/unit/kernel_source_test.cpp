@@ -14,7 +14,8 @@ TEST(KernelSource, DiskExpansionEqualsEmbedded) {
     int n = 0;
     for (const pcl::EmbeddedKernel* k = pcl::kEmbeddedKernels; k->name; ++k, ++n)
         EXPECT_EQ(pcl::expandKernelFile(PHOTONCL_SOURCE_DIR "/kernels", k->name), std::string(k->source))
-            << "kernels/" << k->name << ".cl";
+            << "kernels/" << k->name << ".cl: the C++ expansion differs from scripts/embed_kernels.py's "
+            << "(or the kernel changed since this binary was built: rebuild)";
     EXPECT_GE(n, 1);
 }
 
