@@ -14,12 +14,17 @@
 
 #include "core/error.h"
 #include "scene/load_scene.h"
-#include "scene/json_loader.h"
-#include "scene/gltf_loader.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace pcl;
+
+// glTF tests need tinygltf; the lent GPU machine builds without it (PHOTONCL_WITH_GLTF=OFF).
+#ifdef PHOTONCL_HAVE_GLTF
+#define REQUIRE_GLTF()
+#else
+#define REQUIRE_GLTF() GTEST_SKIP() << "built without glTF support"
+#endif
 
 namespace {
 
@@ -374,17 +379,20 @@ TEST_F(SceneLoaderTest, TransformUnknownKey) {
 }
 
 TEST_F(SceneLoaderTest, GltfMissingBuffer) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf(false);  // refers to tri.bin, not written
     expectError(write("scene.gltf", g.doc.dump()), {"buffers[0].uri", "existing buffer file", "tri.bin"});
 }
 
 TEST_F(SceneLoaderTest, GltfUnsupportedRequiredExtension) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     g.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
     expectError(write("scene.gltf", g.doc.dump()), {"extensionsRequired[0]", "supported extension", "KHR_draco_mesh_compression"});
 }
 
 TEST_F(SceneLoaderTest, GltfBufferUriLeavingFolder) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf(false);
     write("tri.bin", g.bin);
     g.doc["buffers"][0]["uri"] = "%2e%2e/tri.bin";  // percent-encoded ".."
@@ -393,23 +401,27 @@ TEST_F(SceneLoaderTest, GltfBufferUriLeavingFolder) {
 }
 
 TEST_F(SceneLoaderTest, GltfDeepNesting) {
+    REQUIRE_GLTF();
     std::string deep = "{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
     expectError(write("scene.gltf", deep), {"nested at most"});
 }
 
 TEST_F(SceneLoaderTest, GltfWrongVersion) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     g.doc["asset"]["version"] = "1.0";
     expectError(write("scene.gltf", g.doc.dump()), {"asset.version", "\"2.0\"", "\"1.0\""});
 }
 
 TEST_F(SceneLoaderTest, GltfAccessorOutsideBuffer) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     g.doc["accessors"][0]["count"] = 4;
     expectError(write("scene.gltf", g.doc.dump()), {"accessors[0]", "inside bufferView 0"});
 }
 
 TEST_F(SceneLoaderTest, GltfIndexBeyondVertices) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     g.doc["accessors"][0]["count"] = 2;
     g.doc["bufferViews"][0]["byteLength"] = 36;
@@ -417,18 +429,21 @@ TEST_F(SceneLoaderTest, GltfIndexBeyondVertices) {
 }
 
 TEST_F(SceneLoaderTest, GltfNodeCycle) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     g.doc["nodes"][0]["children"] = {0};
     expectError(write("scene.gltf", g.doc.dump()), {"nodes[0]", "glTF nodes form a tree", "reached twice"});
 }
 
 TEST_F(SceneLoaderTest, GltfBaseColorOutOfRange) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.5, 0, 0, 1};
     expectError(write("scene.gltf", g.doc.dump()), {"materials[0].pbrMetallicRoughness.baseColorFactor", "[0, 1]", "1.5"});
 }
 
 TEST_F(SceneLoaderTest, GlbTruncated) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     std::vector<unsigned char> bytes = glb(g.doc, g.bin);
     bytes.resize(bytes.size() - 30);
@@ -436,10 +451,20 @@ TEST_F(SceneLoaderTest, GlbTruncated) {
 }
 
 TEST_F(SceneLoaderTest, GltfWithoutCamera) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     g.doc["scenes"][0]["nodes"] = {0, 2};
     expectError(write("scene.gltf", g.doc.dump()), {"cameras", "a camera on some node", "none"});
 }
+
+#ifndef PHOTONCL_HAVE_GLTF
+TEST_F(SceneLoaderTest, WithoutGltfSupportGltfIsRefusedClearly) {
+    expectError(write("scene.gltf", "{}"), {"built without glTF support"});
+    json scene = baseScene();
+    scene["include"] = "x.gltf";
+    expectError(write("bad.json", scene.dump()), {"include", "built without glTF support"});
+}
+#endif
 
 // ================================ Good input ==================================================
 
@@ -584,6 +609,7 @@ TEST_F(SceneLoaderTest, MaterialsAndCameraRead) {
 }
 
 TEST_F(SceneLoaderTest, GltfNodeHierarchyTransforms) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     // Parent: translate (1,2,3); child: rotate 90° about +Y then scale 2. Column-major matrix on a
     // third level: translate (0,0,-1).
@@ -601,6 +627,7 @@ TEST_F(SceneLoaderTest, GltfNodeHierarchyTransforms) {
 }
 
 TEST_F(SceneLoaderTest, GltfMaterialMapping) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     auto& mats = g.doc["materials"];
     mats = json::array();
@@ -648,6 +675,7 @@ TEST_F(SceneLoaderTest, GltfMaterialMapping) {
 }
 
 TEST_F(SceneLoaderTest, GltfPunctualLightsAndCamera) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     g.doc["extensions"]["KHR_lights_punctual"]["lights"].push_back(
         {{"type", "spot"}, {"intensity", 1366}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}});
@@ -679,6 +707,7 @@ TEST_F(SceneLoaderTest, GltfPunctualLightsAndCamera) {
 }
 
 TEST_F(SceneLoaderTest, GlbAndExternalBufferLoadLikeEmbedded) {
+    REQUIRE_GLTF();
     GltfDoc embedded = triangleGltf();
     Scene a = loadScene(write("a.gltf", embedded.doc.dump()));
     GltfDoc external = triangleGltf(false);
@@ -695,6 +724,7 @@ TEST_F(SceneLoaderTest, GlbAndExternalBufferLoadLikeEmbedded) {
 }
 
 TEST_F(SceneLoaderTest, JsonIncludesGltf) {
+    REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     write("models/tri.gltf", g.doc.dump());
     json scene = baseScene();
@@ -737,6 +767,9 @@ TEST_F(SceneLoaderTest, ShippedScenesLoad) {
                      Expect{"cornell-spheres-point.json", 1, LightType::Point, 2}, Expect{"cornell-glossy.json", 1, LightType::Area, 0},
                      Expect{"motion-dof.json", 2, LightType::Area, 5}, Expect{"gltf-room.gltf", 2, LightType::Point, 0}}) {
         SCOPED_TRACE(e.file);
+#ifndef PHOTONCL_HAVE_GLTF
+        if (std::string(e.file).find(".gltf") != std::string::npos) continue;
+#endif
         Scene s = loadScene(dir + e.file);
         EXPECT_EQ(s.lights.size(), e.lights);
         EXPECT_EQ(s.spheres.size(), e.spheres);
@@ -762,6 +795,7 @@ TEST_F(SceneLoaderTest, ShippedScenesLoad) {
     Scene dof = loadScene(dir + "motion-dof.json");
     EXPECT_EQ(dof.camera.model, CameraModel::ThinLens);
     EXPECT_TRUE(dof.hasMotion());
+#ifdef PHOTONCL_HAVE_GLTF
     Scene room = loadScene(dir + "gltf-room.gltf");
     int mirrors = 0, glossy = 0, glass = 0;
     for (const auto& m : room.materials) {
@@ -772,10 +806,12 @@ TEST_F(SceneLoaderTest, ShippedScenesLoad) {
     EXPECT_EQ(mirrors, 1);
     EXPECT_EQ(glossy, 1);
     EXPECT_EQ(glass, 1);
+#endif
 }
 
 // The stress generator's output (at a small grid) loads through the JSON include.
 TEST_F(SceneLoaderTest, StressScriptOutputLoads) {
+    REQUIRE_GLTF();
     std::string cmd = "python3 " + std::string(PHOTONCL_SOURCE_DIR) + "/scripts/gen_stress_scene.py " + dir_.string() +
                       " --grid 21 > /dev/null";
     ASSERT_EQ(std::system(cmd.c_str()), 0);
