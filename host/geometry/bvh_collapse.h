@@ -17,7 +17,7 @@ struct BvhStats;
 struct CollapseSource {
     const std::vector<Bounds3>* boxes = nullptr;  // per primitive, over the shutter interval
     uint32_t triangleCount = 0;
-    float traversalCost = 1.0f;  // SAH cost of visiting a wide node, in packet tests
+    float traversalCost = 1.0f;  // BvhStats::sahCost: cost of a wide node visit, in packet tests
     // Triangle: vertex 0 and the two edges, and its motion; packets group lanes by motion.
     std::function<void(uint32_t prim, Vec3& v0, Vec3& e1, Vec3& e2, Vec3& motion)> triangle;
     std::function<PclSphere(uint32_t prim)> sphere;

@@ -85,7 +85,6 @@ SceneGeometry SceneGeometry::build(const Scene& scene, const BvhBuildOptions& op
     CollapseSource src;
     src.boxes = &boxes;
     src.triangleCount = triangles;
-    src.traversalCost = options.traversalCost;
     src.triangle = [&](uint32_t prim, Vec3& v0, Vec3& e1, Vec3& e2, Vec3& motion) {
         const auto& m = scene.meshes[triMesh[prim]];
         const size_t t = prim - g.meshFirstTriangle_[triMesh[prim]];

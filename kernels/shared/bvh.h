@@ -147,6 +147,28 @@ inline bool bvh_hit_sphere(__global const PclSphere* s, const BvhRay* r, bool an
     return true;
 }
 
+/* All items of a leaf word; returns true if one hit (for any-hit: stop). */
+inline bool bvh_hit_leaf(__global const PclTriPacket* packets, __global const PclSphere* spheres,
+                         uint word, const BvhRay* r, bool anyHit, PclHit* hit) {
+    uint first = word & PCL_CHILD_INDEX_MASK;
+    uint count = ((word >> PCL_CHILD_COUNT_SHIFT) & PCL_CHILD_COUNT_MASK) + 1u;
+    bool found = false;
+    if (word & PCL_CHILD_SPHERES) {
+        for (uint k = 0; k < count; ++k)
+            if (bvh_hit_sphere(spheres + first + k, r, anyHit, hit)) {
+                found = true;
+                if (anyHit) return true;
+            }
+    } else {
+        for (uint k = 0; k < count; ++k)
+            if (bvh_hit_packet(packets + first + k, r, anyHit, hit)) {
+                found = true;
+                if (anyHit) return true;
+            }
+    }
+    return found;
+}
+
 /* Closest hit (anyHit false) or any hit (true) of ray in (tmin, tmax). Returns whether it hit;
  * *hit gets t, u, v, prim (prim = PCL_NO_HIT and t = tmax on a miss). */
 inline bool bvh_trace(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
@@ -164,15 +186,7 @@ inline bool bvh_trace(__global const PclBvhNode* nodes, __global const PclTriPac
         uint word = stackWord[sp];
         if (stackNear[sp] > hit->t * PCL_BVH_FAR_SCALE) continue;
         if (word & PCL_CHILD_LEAF) {
-            uint first = word & PCL_CHILD_INDEX_MASK;
-            uint count = ((word >> PCL_CHILD_COUNT_SHIFT) & PCL_CHILD_COUNT_MASK) + 1u;
-            if (word & PCL_CHILD_SPHERES) {
-                for (uint k = 0; k < count; ++k)
-                    if (bvh_hit_sphere(spheres + first + k, &r, anyHit, hit) && anyHit) return true;
-            } else {
-                for (uint k = 0; k < count; ++k)
-                    if (bvh_hit_packet(packets + first + k, &r, anyHit, hit) && anyHit) return true;
-            }
+            if (bvh_hit_leaf(packets, spheres, word, &r, anyHit, hit) && anyHit) return true;
             continue;
         }
         __global const PclBvhNode* node = nodes + word;
@@ -187,7 +201,8 @@ inline bool bvh_trace(__global const PclBvhNode* nodes, __global const PclTriPac
         int base = sp;
         for (int i = 0; i < PCL_BVH_WIDTH; ++i) {
             uint child = node->child[i];
-            if (!m[i] || child == PCL_CHILD_EMPTY || sp >= PCL_BVH_STACK_SIZE) continue;
+            if (!m[i] || child == PCL_CHILD_EMPTY) continue;
+            if (sp >= PCL_BVH_STACK_SIZE) continue;
             int j = sp++;
             while (j > base && stackNear[j - 1] < tn[i]) {
                 stackNear[j] = stackNear[j - 1];
