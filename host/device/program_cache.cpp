@@ -1,5 +1,6 @@
 #include "device/program_cache.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
@@ -201,6 +202,7 @@ std::optional<cl::Program> ProgramCache::loadBinary(const fs::path& file, const 
             std::vector<cl_int> status;
             cl::Program program(context_, {device_.clDevice}, binaries, &status);
             program.build({device_.clDevice}, options.c_str());
+            fs::last_write_time(file, fs::file_time_type::clock::now(), ec);  // recently used
             return program;
         } catch (const cl::Error&) {
             // The device refused it (a driver update the key missed, say): rebuild from source.
@@ -243,6 +245,28 @@ void ProgramCache::storeBinary(const fs::path& file, const cl::Program& program)
     if (ec) fs::remove(tmp, ec);
 }
 
+void ProgramCache::prune(const std::string& stage, const fs::path& keep) {
+    // Entries are "<stage>-<16 hex>.bin": match the exact length so "trace" leaves
+    // "trace_photons-…" alone.
+    const std::string prefix = stage + "-";
+    const size_t nameLength = prefix.size() + 16 + 4;
+    std::vector<std::pair<fs::file_time_type, fs::path>> entries;
+    std::error_code ec;
+    for (fs::directory_iterator it(*cacheDir_, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.size() != nameLength || name.compare(0, prefix.size(), prefix) != 0 ||
+            name.compare(name.size() - 4, 4, ".bin") != 0 || it->path() == keep)
+            continue;
+        std::error_code timeError;
+        auto time = fs::last_write_time(it->path(), timeError);
+        if (!timeError) entries.emplace_back(time, it->path());
+    }
+    if (entries.size() + 1 <= maxEntriesPerStage_) return;
+    std::sort(entries.begin(), entries.end());  // oldest first
+    const size_t excess = entries.size() + 1 - maxEntriesPerStage_;
+    for (size_t i = 0; i < excess && i < entries.size(); ++i) fs::remove(entries[i].second, ec);
+}
+
 cl::Program ProgramCache::build(const std::string& stage, const std::string& options) {
     const auto start = std::chrono::steady_clock::now();
     auto finish = [&] {
@@ -280,7 +304,10 @@ cl::Program ProgramCache::build(const std::string& stage, const std::string& opt
         throw DeviceError(msg.str());
     }
     ++stats_.compiled;
-    if (!entry.empty()) storeBinary(entry, program);
+    if (!entry.empty()) {
+        storeBinary(entry, program);
+        prune(stage, entry);
+    }
     finish();
     return program;
 }

@@ -11,7 +11,9 @@
 // the device's own binary check. Each file is a 24-byte header {magic "PCLBIN01", binary
 // length, FNV-1a 64 of the binary} and the binary; it is written to a temporary name and renamed,
 // so readers see a whole file or none. A file whose header, length or checksum is wrong, or
-// that the device refuses, is deleted and the program rebuilt from source.
+// that the device refuses, is deleted and the program rebuilt from source. Every kernel edit
+// makes a new key, so each stage keeps only its most recently used entries (a hit refreshes
+// the file's time) and older ones are deleted when a new one is stored.
 #pragma once
 
 #include <CL/opencl.hpp>
@@ -68,6 +70,9 @@ public:
     };
     const Stats& stats() const { return stats_; }
 
+    // How many binaries of one stage the disk cache keeps (all options and sources together).
+    void setMaxEntriesPerStage(size_t n) { maxEntriesPerStage_ = n; }
+
     // The cache file a (stage, options) build uses; empty when there is no disk cache.
     std::filesystem::path entryPath(const std::string& stage, const std::string& options = "") const;
 
@@ -75,6 +80,7 @@ private:
     std::string fullOptions(const std::string& options) const;
     std::optional<cl::Program> loadBinary(const std::filesystem::path& file, const std::string& options);
     void storeBinary(const std::filesystem::path& file, const cl::Program& program);
+    void prune(const std::string& stage, const std::filesystem::path& keep);
     std::filesystem::path entryPathFor(const std::string& stage, const std::string& source,
                                        const std::string& options) const;
 
@@ -82,6 +88,7 @@ private:
     DeviceInfo device_;
     std::optional<std::filesystem::path> kernelDir_, cacheDir_;
     Stats stats_;
+    size_t maxEntriesPerStage_ = 32;
 };
 
 }  // namespace pcl

@@ -113,6 +113,28 @@ TEST(ProgramCache, DamagedEntryIsRebuiltNotTrusted) {
     EXPECT_EQ(fifth.stats().loaded, 1);
 }
 
+// Each stage keeps its most recently used entries; a hit counts as a use; other stages' files
+// are left alone.
+TEST(ProgramCache, KeepsOnlyRecentEntriesPerStage) {
+    TempDir dir;
+    writeFile(dir.path() / "probe_other-0123456789abcdef.bin", "another stage");
+    ProgramCache cache = cacheIn(dir.path());
+    cache.setMaxEntriesPerStage(2);
+    const fs::path v1 = cache.entryPath("probe", "-DPCL_V=1"), v2 = cache.entryPath("probe", "-DPCL_V=2"),
+                   v3 = cache.entryPath("probe", "-DPCL_V=3");
+    cache.build("probe", "-DPCL_V=1");
+    cache.build("probe", "-DPCL_V=2");
+    ProgramCache again = cacheIn(dir.path());
+    again.setMaxEntriesPerStage(2);
+    again.build("probe", "-DPCL_V=1");  // a hit: v1 is now the most recently used
+    EXPECT_EQ(again.stats().loaded, 1);
+    again.build("probe", "-DPCL_V=3");
+    EXPECT_TRUE(fs::exists(v1));
+    EXPECT_FALSE(fs::exists(v2));
+    EXPECT_TRUE(fs::exists(v3));
+    EXPECT_TRUE(fs::exists(dir.path() / "probe_other-0123456789abcdef.bin"));
+}
+
 // A cache directory that cannot be written is no error: the program is built and not stored.
 TEST(ProgramCache, UnwritableCacheDirStillBuilds) {
     TempDir dir;
