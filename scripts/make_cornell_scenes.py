@@ -87,10 +87,11 @@ AREA_LIGHT_BY_POWER = dict(AREA_LIGHT)
 del AREA_LIGHT_BY_POWER["radiance"]
 AREA_LIGHT_BY_POWER["power"] = [round(math.pi * LAMP_AREA * L, 6) for L in LIGHT_RADIANCE]
 
-# A point light where the lamp is, with the lamp's irradiance straight below it: the lamp gives
-# E ≈ L·A/h² on the floor, a point light I/h², so I = L·A at nearly the same height.
-POINT_LIGHT = {"type": "point", "name": "ceiling-point", "position": [0.278, H - 0.05, 0.2795],
-               "intensity": [round(L * LAMP_AREA, 6) for L in LIGHT_RADIANCE]}
+# A point light 10 cm below the lamp with the lamp's total power (Φ = π·A·L): the scene receives
+# the same flux; the point light spreads it over the whole sphere of directions.
+POINT_LIGHT = {"type": "point", "name": "ceiling-point", "position": [0.278, H - 0.10, 0.2795],
+               "power": AREA_LIGHT_BY_POWER["power"]}
+
 
 SPHERES = [
     {"type": "sphere", "name": "mirror-ball", "material": "mirror", "centre": [0.40, 0.10, 0.37], "radius": 0.10},
@@ -111,7 +112,7 @@ SCENES = {
         "The Cornell box with a mirror sphere and a glass sphere (caustics); lamp given by total power.",
         ["white", "red", "green", "mirror", "glass"], walls() + SPHERES, [AREA_LIGHT_BY_POWER]),
     "cornell-spheres-point.json": scene(
-        "cornell-spheres lit by a point light where the lamp was (sharp shadows, point caustics).",
+        "cornell-spheres lit by a point light of the lamp's power just below it (sharp shadows, point caustics).",
         ["white", "red", "green", "mirror", "glass"], walls() + SPHERES, [POINT_LIGHT]),
     "cornell-glossy.json": scene(
         "The Cornell box with a glossy floor (normalised Phong, exponent 60) reflecting the blocks.",
