@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <vector>
 
 #include "geometry/primitive_intersect.h"
 #include "geometry/scene_geometry.h"
@@ -16,7 +17,9 @@ namespace {
 // It is applied after clamping to the best hit, so a box that holds a primitive at exactly
 // the current best distance (a tie, decided by primitive id) is still entered.
 constexpr float kFarScale = 1.0000004f;
-constexpr int kStackSize = 256;  // host only; the kernel sizes its stack from BvhStats::maxStack
+// Stack entries on the C++ stack; a tree that needs more (BvhStats::maxStack, never seen in
+// practice) gets a heap stack instead, so no ray is ever traced with a truncated stack.
+constexpr int kStackSize = 128;
 
 struct RayFrame {
     Vec3 o, d, inv;
@@ -62,8 +65,19 @@ inline bool hitChild(const PclBvhNode& n, int i, const RayFrame& f, float tfarLi
 // returns true to stop. `limit` reads the current far limit (best hit so far).
 template <class Limit, class Leaf>
 void traverse(const SceneGeometry& g, const RayFrame& f, Limit limit, Leaf leaf) {
-    uint32_t stackWord[kStackSize];
-    float stackNear[kStackSize];
+    uint32_t localWord[kStackSize];
+    float localNear[kStackSize];
+    std::vector<uint32_t> heapWord;
+    std::vector<float> heapNear;
+    uint32_t* stackWord = localWord;
+    float* stackNear = localNear;
+    const int capacity = std::max(kStackSize, g.stats().maxStack);
+    if (capacity > kStackSize) {
+        heapWord.resize(capacity);
+        heapNear.resize(capacity);
+        stackWord = heapWord.data();
+        stackNear = heapNear.data();
+    }
     int sp = 0;
     stackWord[sp] = 0;
     stackNear[sp] = f.tmin;
@@ -94,7 +108,7 @@ void traverse(const SceneGeometry& g, const RayFrame& f, Limit limit, Leaf leaf)
             hitNear[j] = tn;
             hitWord[j] = n.child[i];
         }
-        for (int k = 0; k < count && sp < kStackSize; ++k) {
+        for (int k = 0; k < count && sp < capacity; ++k) {
             stackWord[sp] = hitWord[k];
             stackNear[sp] = hitNear[k];
             ++sp;

@@ -27,6 +27,10 @@
 
 #pragma OPENCL FP_CONTRACT OFF
 
+/* PoCL (LLVM) left plain `inline` traversal helpers as calls, which keeps the best hit in
+ * memory and the any-hit flag a run-time value; forcing inlining specialises both. */
+#define PCL_BVH_INLINE inline __attribute__((always_inline))
+
 /* A ray prepared for traversal: reciprocal direction and, per axis, the float offset of the
  * near-plane field in a PclBvhNode (lo or hi, by the direction's sign). */
 typedef struct BvhRay {
@@ -38,7 +42,7 @@ typedef struct BvhRay {
 #define PCL_BVH_LOX 0
 #define PCL_BVH_HIX 24
 
-inline BvhRay bvh_prepare(const PclRay r) {
+PCL_BVH_INLINE BvhRay bvh_prepare(const PclRay r) {
     BvhRay b;
     b.ox = r.ox; b.oy = r.oy; b.oz = r.oz;
     b.dx = r.dx; b.dy = r.dy; b.dz = r.dz;
@@ -58,7 +62,7 @@ inline BvhRay bvh_prepare(const PclRay r) {
 
 /* Slab test of all eight children: returns the entry distances in *tnear and a mask (-1 = hit).
  * Empty slots have inverted infinite boxes and always fail. */
-inline int8 bvh_hit_children(__global const PclBvhNode* node, const BvhRay* r, float tfarLimit,
+PCL_BVH_INLINE int8 bvh_hit_children(__global const PclBvhNode* node, const BvhRay* r, float tfarLimit,
                              float8* tnear) {
     __global const float* f = (__global const float*)node;
     float8 t0x = (vload8(0, f + r->nearX) - r->ox) * r->ix;
@@ -74,14 +78,14 @@ inline int8 bvh_hit_children(__global const PclBvhNode* node, const BvhRay* r, f
 }
 
 /* The closest-hit rule of the host: smaller t wins, a tie goes to the smaller primitive id. */
-inline bool bvh_closer(float t, uint prim, float bestT, uint bestPrim) {
+PCL_BVH_INLINE bool bvh_closer(float t, uint prim, float bestT, uint bestPrim) {
     return t < bestT || (t == bestT && prim < bestPrim);
 }
 
 /* Möller–Trumbore (1997) on the four lanes of a packet, two-sided; the host's
  * intersectTriangle lane by lane. Updates *best; returns true if a lane hit in (tmin, tmax)
  * (for any-hit, *best then holds that hit). */
-inline bool bvh_hit_packet(__global const PclTriPacket* p, const BvhRay* r, bool anyHit,
+PCL_BVH_INLINE bool bvh_hit_packet(__global const PclTriPacket* p, const BvhRay* r, bool anyHit,
                            PclHit* best) {
     /* Moving packets: shift the ray origin back by motion*time instead of moving the triangles. */
     float ox = r->ox - p->mx * r->time, oy = r->oy - p->my * r->time, oz = r->oz - p->mz * r->time;
@@ -124,7 +128,7 @@ inline bool bvh_hit_packet(__global const PclTriPacket* p, const BvhRay* r, bool
 }
 
 /* Ray–sphere as the host's intersectSphereRoots (Haines et al., Ray Tracing Gems ch. 7). */
-inline bool bvh_hit_sphere(__global const PclSphere* s, const BvhRay* r, bool anyHit,
+PCL_BVH_INLINE bool bvh_hit_sphere(__global const PclSphere* s, const BvhRay* r, bool anyHit,
                            PclHit* best) {
     float ox = r->ox - s->mx * r->time, oy = r->oy - s->my * r->time, oz = r->oz - s->mz * r->time;
     float fx = ox - s->cx, fy = oy - s->cy, fz = oz - s->cz;
@@ -148,7 +152,7 @@ inline bool bvh_hit_sphere(__global const PclSphere* s, const BvhRay* r, bool an
 }
 
 /* All items of a leaf word; returns true if one hit (for any-hit: stop). */
-inline bool bvh_hit_leaf(__global const PclTriPacket* packets, __global const PclSphere* spheres,
+PCL_BVH_INLINE bool bvh_hit_leaf(__global const PclTriPacket* packets, __global const PclSphere* spheres,
                          uint word, const BvhRay* r, bool anyHit, PclHit* hit) {
     uint first = word & PCL_CHILD_INDEX_MASK;
     uint count = ((word >> PCL_CHILD_COUNT_SHIFT) & PCL_CHILD_COUNT_MASK) + 1u;
@@ -171,7 +175,7 @@ inline bool bvh_hit_leaf(__global const PclTriPacket* packets, __global const Pc
 
 /* Closest hit (anyHit false) or any hit (true) of ray in (tmin, tmax). Returns whether it hit;
  * *hit gets t, u, v, prim (prim = PCL_NO_HIT and t = tmax on a miss). */
-inline bool bvh_trace(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
+PCL_BVH_INLINE bool bvh_trace(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                       __global const PclSphere* spheres, const PclRay ray, bool anyHit,
                       PclHit* hit) {
     BvhRay r = bvh_prepare(ray);
