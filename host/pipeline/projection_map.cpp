@@ -30,7 +30,10 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr int kGrid = static_cast<int>(PCL_PROJ_GRID);
 constexpr int kEdgeSamples = 16;        // border samples per cell edge
 constexpr double kGapFactor = 1.5;      // arc length between border samples ≤ 1.5 × chord angle
-constexpr int kMeshGroups = 256;        // bounding spheres per specular mesh, at most
+constexpr int kMeshGroups = 256;        // balls per large specular mesh
+constexpr size_t kSplitTriangles = 512; // meshes up to this many triangles get split balls
+constexpr size_t kSplitBalls = 4096;    // ... up to this many balls in all
+constexpr size_t kAimBudget = 200000;   // lights × emitter pieces × balls: bounds the marking work
 
 struct D3 {
     double x = 0, y = 0, z = 0;
@@ -142,8 +145,32 @@ Ball boundingBall(const std::vector<D3>& points) {
     return b;
 }
 
+// Balls covering a triangle (vertices at τ = 0; it moves by m over the shutter), split
+// `depth` times into four by its edge midpoints.
+void triangleBalls(D3 a, D3 b, D3 c, D3 m, int depth, std::vector<Ball>& out) {
+    if (depth == 0) {
+        out.push_back(boundingBall({a, b, c, a + m, b + m, c + m}));
+        return;
+    }
+    D3 ab = (a + b) * 0.5, bc = (b + c) * 0.5, ca = (c + a) * 0.5;
+    triangleBalls(a, ab, ca, m, depth - 1, out);
+    triangleBalls(ab, b, bc, m, depth - 1, out);
+    triangleBalls(ca, bc, c, m, depth - 1, out);
+    triangleBalls(ab, bc, ca, m, depth - 1, out);
+}
+
+// Splits (each one into four) that bring a ball of radius r down to `target`, at most 4.
+int splitsFor(double r, double target) {
+    int d = 0;
+    while (d < 4 && r / double(1 << d) > target) ++d;
+    return d;
+}
+
 // Bounding balls of every specular primitive over the whole shutter interval: a primitive at
-// time τ is a convex combination of its positions at τ = 0 and τ = 1.
+// time τ is a convex combination of its positions at τ = 0 and τ = 1. Spheres get one ball.
+// Triangles of small meshes are split until their balls are about 1/32 of the scene's radius
+// (a large glossy floor would otherwise be one ball holding the lights); large meshes get at
+// most kMeshGroups balls, each around a run of consecutive triangles.
 std::vector<Ball> specularBalls(const Scene& scene, const SceneBuffers& buffers) {
     auto specular = [&](int material) {
         return material >= 0 && material < static_cast<int>(buffers.materials.size()) &&
@@ -157,22 +184,44 @@ std::vector<Ball> specularBalls(const Scene& scene, const SceneBuffers& buffers)
         D3 m = d3(s.motion);
         balls.push_back({d3(s.centre) + m * 0.5, s.radius + 0.5 * length(m)});
     }
+
+    struct Tri {
+        D3 a, b, c, m;
+        double r;
+    };
+    std::vector<Tri> small;
     for (const TriangleMesh& mesh : scene.meshes) {
         if (!specular(mesh.material) || mesh.triangleCount() == 0) continue;
         size_t n = mesh.triangleCount();
-        size_t group = (n + kMeshGroups - 1) / kMeshGroups;
         D3 m = d3(mesh.motion);
+        auto vertex = [&](size_t t, int k) { return d3(mesh.positions[mesh.indices[3 * t + k]]); };
+        if (n <= kSplitTriangles) {
+            for (size_t t = 0; t < n; ++t) {
+                Tri tri{vertex(t, 0), vertex(t, 1), vertex(t, 2), m, 0.0};
+                tri.r = boundingBall({tri.a, tri.b, tri.c}).r;
+                small.push_back(tri);
+            }
+            continue;
+        }
+        size_t group = (n + kMeshGroups - 1) / kMeshGroups;
         for (size_t first = 0; first < n; first += group) {
             std::vector<D3> points;
             for (size_t t = first; t < std::min(n, first + group); ++t)
                 for (int k = 0; k < 3; ++k) {
-                    D3 v = d3(mesh.positions[mesh.indices[3 * t + k]]);
-                    points.push_back(v);
-                    points.push_back(v + m);
+                    points.push_back(vertex(t, k));
+                    points.push_back(vertex(t, k) + m);
                 }
             balls.push_back(boundingBall(points));
         }
     }
+    double target = std::max(buffers.sceneRadius, 1e-6f) / 32.0;
+    for (;;) {
+        size_t count = 0;
+        for (const Tri& t : small) count += size_t(1) << (2 * splitsFor(t.r, target));
+        if (count <= kSplitBalls) break;
+        target *= 2.0;
+    }
+    for (const Tri& t : small) triangleBalls(t.a, t.b, t.c, t.m, splitsFor(t.r, target), balls);
     for (Ball& b : balls) b.r = b.r * (1.0 + 1e-5) + slack;
     return balls;
 }
@@ -249,7 +298,7 @@ void cellPatch(int cx, int cy, double& mx, double& my, double& radius) {
     radius = widest + kGapFactor * gap + 1e-9;
 }
 
-std::vector<uint32_t> markCells(const PclLight& light, const std::vector<Ball>& balls) {
+std::vector<uint32_t> markCells(const PclLight& light, const std::vector<Ball>& balls, int pieceDepth) {
     std::vector<uint32_t> cells;
     if (balls.empty()) return cells;
     auto all = [&] {
@@ -278,39 +327,56 @@ std::vector<uint32_t> markCells(const PclLight& light, const std::vector<Ball>& 
         return cells;
     }
 
-    // The emission points: p itself, or for a triangle every point of it over the shutter,
-    // within rLight of its centroid at mid-shutter.
-    D3 p = d3(light.p);
-    double rLight = 0.0;
-    if (light.type == PCL_LIGHT_TRIANGLE) {
-        D3 v[3] = {d3(light.p), d3(light.p) + d3(light.e1), d3(light.p) + d3(light.e2)};
-        D3 m = d3(light.motion);
-        p = (v[0] + v[1] + v[2]) * (1.0 / 3.0) + m * 0.5;
-        for (const D3& q : v) rLight = std::max(rLight, length(q + m * 0.5 - p));
-        rLight = rLight * (1.0 + 1e-5) + 0.5 * length(m);
-    }
+    // The emission points, as pieces (centre p, radius r) covering them: p itself, or for a
+    // triangle one piece around all of it (the coarse test) and its 4^pieceDepth sub-triangles
+    // over the whole shutter (the fine test, run only on cells the coarse test passes).
     struct Aim {
         D3 dir;
-        double half;
+        double half, cosHalf, sinHalf;
     };
-    std::vector<Aim> aims;
-    for (const Ball& b : balls) {
-        D3 d = b.c - p;
-        double dist = length(d), reach = b.r + rLight;
-        if (!(dist > reach)) return all();  // the light touches a specular object's ball
-        aims.push_back({d * (1.0 / dist), std::asin(std::min(1.0, reach / dist))});
+    auto aimsFrom = [&](const std::vector<Ball>& pieces) {
+        std::vector<Aim> aims;
+        for (const Ball& piece : pieces)
+            for (const Ball& b : balls) {
+                D3 d = b.c - piece.c;
+                double dist = length(d), reach = b.r + piece.r * (1.0 + 1e-5);
+                if (!(dist > reach)) {  // the piece touches a specular object's ball: every direction
+                    aims.push_back({{0, 0, 1}, kPi, -1.0, 0.0});
+                    continue;
+                }
+                double half = std::asin(std::min(1.0, reach / dist));
+                aims.push_back({d * (1.0 / dist), half, std::cos(half), std::sin(half)});
+            }
+        return aims;
+    };
+    std::vector<Ball> whole, parts;
+    if (light.type == PCL_LIGHT_TRIANGLE) {
+        D3 m = d3(light.motion), a = d3(light.p), b = a + d3(light.e1), c = a + d3(light.e2);
+        triangleBalls(a, b, c, m, 0, whole);
+        triangleBalls(a, b, c, m, pieceDepth, parts);
+    } else {
+        whole.push_back({d3(light.p), 0.0});
     }
+    std::vector<Aim> coarse = aimsFrom(whole);
+    std::vector<Aim> fine = parts.empty() ? std::vector<Aim>{} : aimsFrom(parts);
+    for (const Aim& a : fine.empty() ? coarse : fine)
+        if (a.half >= kPi) return all();
     Frame f = frameOf(light.axis);
     SpotWarp spot(light);
     for (int cy = 0; cy < kGrid; ++cy)
         for (int cx = 0; cx < kGrid; ++cx) {
             Cone cone = cellCone(light, f, spot, cx, cy);
-            for (const Aim& a : aims) {
-                if (angle(cone.axis, a.dir) <= cone.half + a.half) {
-                    cells.push_back(static_cast<uint32_t>(cy * kGrid + cx));
-                    break;
-                }
-            }
+            double ch = std::cos(cone.half), sh = std::sin(cone.half);
+            // angle(axis, dir) ≤ half + a.half  ⇔  axis·dir ≥ cos(half + a.half) on [0, π]
+            auto meets = [&](const std::vector<Aim>& aims) {
+                for (const Aim& a : aims)
+                    if (cone.half + a.half >= kPi ||
+                        dot(cone.axis, a.dir) >= ch * a.cosHalf - sh * a.sinHalf - 1e-12)
+                        return true;
+                return false;
+            };
+            if (meets(coarse) && (fine.empty() || meets(fine)))
+                cells.push_back(static_cast<uint32_t>(cy * kGrid + cx));
         }
     return cells;
 }
@@ -326,9 +392,16 @@ bool isDiffuse(const PclMaterial& m) { return std::max({m.rhoD[0], m.rhoD[1], m.
 void buildProjectionMaps(const Scene& scene, const SceneGeometry& geometry, SceneBuffers& buffers) {
     (void)geometry;  // bounds already live in buffers; the balls come from the scene's objects
     std::vector<Ball> balls = specularBalls(scene, buffers);
+    // Triangle lights are split into 4^depth pieces, each with its own cones (tighter than one
+    // ball around the whole emitter), as far as the work budget allows.
+    size_t triangles = 0;
+    for (const PclLight& light : buffers.lights) triangles += light.type == PCL_LIGHT_TRIANGLE;
+    int pieceDepth = 0;
+    while (pieceDepth < 3 && triangles * (size_t(1) << (2 * (pieceDepth + 1))) * balls.size() <= kAimBudget)
+        ++pieceDepth;
     buffers.projCells.clear();
     for (PclLight& light : buffers.lights) {
-        std::vector<uint32_t> cells = markCells(light, balls);
+        std::vector<uint32_t> cells = markCells(light, balls, pieceDepth);
         light.projFirst = static_cast<uint32_t>(buffers.projCells.size());
         light.projCount = static_cast<uint32_t>(cells.size());
         buffers.projCells.insert(buffers.projCells.end(), cells.begin(), cells.end());

@@ -328,6 +328,26 @@ TEST(ProjectionMap, SyntheticLightsAreConservative) {
         expectConservative("triangle", prepare(std::move(s)), 24, true);
     }
     {
+        // A large bumpy mirror mesh (2 × 40² triangles: bounded by groups of triangles, not split).
+        Scene s = specularRoom(false, false);
+        int mirror = addMaterial(s, Vec3(0.0f), Vec3(0.8f), SpecularKind::Mirror);
+        TriangleMesh m;
+        const int n = 40;
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i)
+                m.positions.push_back(Vec3(-1.5f + 1.2f * i / n, 0.3f + 0.05f * std::sin(0.9f * i) * std::cos(1.3f * j),
+                                           -1.8f + 1.0f * j / n));
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+                m.indices.insert(m.indices.end(), {a, c, b, b, c, d});
+            }
+        m.material = mirror;
+        s.meshes.push_back(m);
+        s.lights = {pointLight(Vec3(-0.5f, 1.5f, -1.0f)), spotLight(Vec3(0.5f, 1.5f, -1.5f), Vec3(-0.5f, -1, 0.2f), 10, 40)};
+        expectConservative("large mirror mesh", prepare(std::move(s)), 26, true);
+    }
+    {
         Scene s = specularRoom(true, true);
         s.lights = {directionalLight(Vec3(0.3f, -1, 0.2f)), directionalLight(Vec3(-1, -0.2f, 0.4f))};
         expectConservative("directional", prepare(std::move(s)), 25, true);
