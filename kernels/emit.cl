@@ -1,0 +1,119 @@
+/* emit.cl: photons leaving the lights (kernels/README.md, "emit"), one photon per work-item.
+ *
+ * in:  params                  PclPhotonParams: pass seed, firstPhoton, batchSize, lightCount,
+ *                              pass (PCL_PASS_GLOBAL / PCL_PASS_CAUSTIC), hasMotion, rayEpsilon
+ *      lights[lightCount]      PclLight, powers exact (pipeline/scene_buffers)
+ *      lightFirst[lightCount+1] photons of light l are [lightFirst[l], lightFirst[l+1]) of this
+ *                              pass (largest-remainder allocation, pipeline/photon_allocation)
+ *      projCells[]             marked projection-map cells, light l's at [projFirst, +projCount)
+ * out: rays[i], i < batchSize  PclPhotonRay of photon j = firstPhoton + i: origin, time, unit
+ *                              direction, light index, flux Φ_l / n_l (caustic: Φ_l f_l / n_l)
+ *
+ * Random numbers: bounce 0 of (pass seed, j), stream PHOTON or CAUSTIC; u0 projection cell,
+ * (u1, u2) position, u3 time, (u4, u5) direction. */
+#include "shared/types.h"
+#include "shared/rng.h"
+#include "shared/sampling.h"
+
+#pragma OPENCL FP_CONTRACT OFF
+
+/* The light owning photon j: the largest l with lightFirst[l] <= j (lights given no photons
+ * have empty ranges and are skipped over). */
+inline uint emit_light_of(__global const uint* lightFirst, uint lightCount, uint j) {
+    uint lo = 0u, hi = lightCount;
+    while (lo < hi) {
+        uint mid = lo + (hi - lo + 1u) / 2u;
+        if (lightFirst[mid] <= j)
+            lo = mid;
+        else
+            hi = mid - 1u;
+    }
+    return lo;
+}
+
+__kernel void emit_photons(const PclPhotonParams params, __global const PclLight* lights,
+                           __global const uint* lightFirst, __global const uint* projCells,
+                           __global PclPhotonRay* rays) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= params.batchSize) return;
+    const uint j = params.firstPhoton + i;
+    const bool caustic = params.pass == PCL_PASS_CAUSTIC;
+    const ulong seed = (ulong)params.seedLo | ((ulong)params.seedHi << 32);
+    const uint stream = caustic ? PCL_RNG_STREAM_CAUSTIC : PCL_RNG_STREAM_PHOTON;
+
+    const uint l = emit_light_of(lightFirst, params.lightCount, j);
+    const uint n = lightFirst[l + 1u] - lightFirst[l];
+    const PclLight L = lights[l];
+
+    uint w0[4], w1[4];
+    rng_block(seed, j, 0u, 0u, stream, w0);
+    rng_block(seed, j, 0u, 1u, stream, w1);
+    const float u0 = rng_u01(w0[0]), u1 = rng_u01(w0[1]), u2 = rng_u01(w0[2]), u3 = rng_u01(w0[3]);
+    const float u4 = rng_u01(w1[0]), u5 = rng_u01(w1[1]);
+    const float tau = params.hasMotion ? u3 : 0.0f;
+
+    /* The pair this light samples its projection-map square with. */
+    float s1 = L.type == PCL_LIGHT_DIRECTIONAL ? u1 : u4;
+    float s2 = L.type == PCL_LIGHT_DIRECTIONAL ? u2 : u5;
+    float flux = 1.0f;  /* f_l: the fraction of the square kept (1 in a global pass) */
+    if (caustic && L.projCount > 0u) {
+        uint c = (uint)floor(u0 * (float)L.projCount);
+        c = min(c, L.projCount - 1u);
+        const uint k = projCells[L.projFirst + c];
+        const uint cx = k % PCL_PROJ_GRID, cy = k / PCL_PROJ_GRID;
+        s1 = ((float)cx + s1) / (float)PCL_PROJ_GRID;
+        s2 = ((float)cy + s2) / (float)PCL_PROJ_GRID;
+        flux = (float)L.projCount / (float)(PCL_PROJ_GRID * PCL_PROJ_GRID);
+    }
+
+    const PclV3 axis = sampling_v3(L.axis[0], L.axis[1], L.axis[2]);
+    PclV3 o = sampling_v3(L.p[0], L.p[1], L.p[2]);
+    PclV3 d;
+    if (L.type == PCL_LIGHT_POINT) {
+        d = sampling_uniform_sphere(s1, s2);
+    } else if (L.type == PCL_LIGHT_SPOT) {
+        d = sampling_cone_direction(axis, sampling_spot_cos_theta(s1, L.cosInner, L.cosOuter),
+                                    PCL_TWO_PI_F * s2);
+    } else if (L.type == PCL_LIGHT_TRIANGLE) {
+        float b0, b1;
+        sampling_uniform_triangle(u1, u2, &b0, &b1);
+        const float b2 = 1.0f - b0 - b1;
+        const float eps = params.rayEpsilon;
+        o.x = L.p[0] + b1 * L.e1[0] + b2 * L.e2[0] + L.motion[0] * tau + eps * L.axis[0];
+        o.y = L.p[1] + b1 * L.e1[1] + b2 * L.e2[1] + L.motion[1] * tau + eps * L.axis[1];
+        o.z = L.p[2] + b1 * L.e1[2] + b2 * L.e2[2] + L.motion[2] * tau + eps * L.axis[2];
+        d = sampling_cosine_hemisphere(axis, s1, s2);
+    } else { /* directional: parallel rays from a disc of radius R, 2R behind the scene centre */
+        float x, y;
+        sampling_concentric_disk(s1, s2, &x, &y);
+        PclV3 t, b;
+        sampling_basis(axis, &t, &b);
+        const float R = L.radius;
+        o.x = L.p[0] + R * (x * t.x + y * b.x) - 2.0f * R * axis.x;
+        o.y = L.p[1] + R * (x * t.y + y * b.y) - 2.0f * R * axis.y;
+        o.z = L.p[2] + R * (x * t.z + y * b.z) - 2.0f * R * axis.z;
+        d = axis;
+    }
+
+    PclPhotonRay r;
+    r.ox = o.x;
+    r.oy = o.y;
+    r.oz = o.z;
+    r.time = tau;
+    r.dx = d.x;
+    r.dy = d.y;
+    r.dz = d.z;
+    r.light = l;
+    const float fn = (float)n;
+    if (caustic) {
+        r.power[0] = L.power[0] * flux / fn;
+        r.power[1] = L.power[1] * flux / fn;
+        r.power[2] = L.power[2] * flux / fn;
+    } else {
+        r.power[0] = L.power[0] / fn;
+        r.power[1] = L.power[1] / fn;
+        r.power[2] = L.power[2] / fn;
+    }
+    r.power[3] = 0.0f;
+    rays[i] = r;
+}

@@ -1,0 +1,269 @@
+/* sampling.h: the warps and encodings of the photon pass (kernels/README.md fixes every
+ * formula here), in the common subset of C and OpenCL C so the host can test them without a
+ * device. The CPU twin (host/reference/) does not include this file: it implements the same
+ * formulas from the README, independently.
+ *
+ *   sampling_basis             orthonormal frame around a unit vector (Duff et al. 2017)
+ *   sampling_concentric_disk   square -> unit disk (Shirley & Chiu 1997)
+ *   sampling_cosine_hemisphere cosine-weighted hemisphere by Malley's method
+ *   sampling_uniform_sphere    uniform direction (pbrt-v4 A.5.2)
+ *   sampling_uniform_triangle  uniform barycentrics (pbrt-v3 UniformSampleTriangle)
+ *   sampling_spot_cos_theta    spot-light cosθ: constant core + smoothstep falloff, inverted
+ *   sampling_phong_lobe        cos^n lobe around an axis (Lafortune & Willems 1994)
+ *   sampling_fresnel_dielectric exact unpolarised Fresnel reflectance (Born & Wolf)
+ *   sampling_reflect / sampling_refract
+ *   photon_rgbe_encode/decode  Ward's shared-exponent RGBE (Graphics Gems II, 1991)
+ *   photon_dir_encode/decode   (θ, φ) bytes of Jensen's photon record (Jensen 2001, §5.4)
+ *
+ * Arithmetic is written left to right as the README states it and FP_CONTRACT is off on the
+ * device, so a twin that follows the README gets the same floats up to the library functions'
+ * rounding (cos, sin, pow, acos, atan2). */
+#ifndef PCL_SAMPLING_H
+#define PCL_SAMPLING_H
+
+#include "compat.h"
+
+#if PCL_DEVICE
+  #pragma OPENCL FP_CONTRACT OFF
+  #define PCL_SQRTF(x) sqrt(x)
+  #define PCL_COSF(x) cos(x)
+  #define PCL_SINF(x) sin(x)
+  #define PCL_POWF(x, y) pow(x, y)
+  #define PCL_ACOSF(x) acos(x)
+  #define PCL_ATAN2F(y, x) atan2(y, x)
+  #define PCL_FLOORF(x) floor(x)
+  #define PCL_FABSF(x) fabs(x)
+  #define PCL_COPYSIGNF(x, y) copysign(x, y)
+  #define PCL_FREXPF(x, e) frexp(x, e)
+  #define PCL_LDEXPF(x, e) ldexp(x, e)
+#else
+  #define PCL_SQRTF(x) sqrtf(x)
+  #define PCL_COSF(x) cosf(x)
+  #define PCL_SINF(x) sinf(x)
+  #define PCL_POWF(x, y) powf(x, y)
+  #define PCL_ACOSF(x) acosf(x)
+  #define PCL_ATAN2F(y, x) atan2f(y, x)
+  #define PCL_FLOORF(x) floorf(x)
+  #define PCL_FABSF(x) fabsf(x)
+  #define PCL_COPYSIGNF(x, y) copysignf(x, y)
+  #define PCL_FREXPF(x, e) frexpf(x, e)
+  #define PCL_LDEXPF(x, e) ldexpf(x, e)
+#endif
+
+#define PCL_PI_F 3.14159265358979323846f
+#define PCL_TWO_PI_F 6.28318530717958647692f
+
+/* Three floats by value: a local helper, never a buffer struct (no float3: DESIGN.md). */
+typedef struct PclV3 {
+    pcl_f32 x, y, z;
+} PclV3;
+
+PCL_INLINE PclV3 sampling_v3(pcl_f32 x, pcl_f32 y, pcl_f32 z) {
+    PclV3 v;
+    v.x = x;
+    v.y = y;
+    v.z = z;
+    return v;
+}
+
+PCL_INLINE pcl_f32 sampling_dot(PclV3 a, PclV3 b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+PCL_INLINE pcl_f32 sampling_max3(pcl_f32 a, pcl_f32 b, pcl_f32 c) {
+    pcl_f32 m = a > b ? a : b;
+    return m > c ? m : c;
+}
+
+/* Duff, Burgess, Christensen, Hery, Kensler, Liani, Villemin, "Building an Orthonormal Basis,
+ * Revisited", JCGT 6(1), 2017, listing 3: no branch on the sign but copysign. */
+PCL_INLINE void sampling_basis(PclV3 n, PclV3* t, PclV3* b) {
+    pcl_f32 s = PCL_COPYSIGNF(1.0f, n.z);
+    pcl_f32 a = -1.0f / (s + n.z);
+    pcl_f32 c = n.x * n.y * a;
+    t->x = 1.0f + s * n.x * n.x * a;
+    t->y = s * c;
+    t->z = -s * n.x;
+    b->x = c;
+    b->y = s + n.y * n.y * a;
+    b->z = -n.y;
+}
+
+/* x t + y b + z n, per component left to right. */
+PCL_INLINE PclV3 sampling_from_frame(PclV3 t, PclV3 b, PclV3 n, pcl_f32 x, pcl_f32 y, pcl_f32 z) {
+    return sampling_v3(x * t.x + y * b.x + z * n.x, x * t.y + y * b.y + z * n.y,
+                       x * t.z + y * b.z + z * n.z);
+}
+
+/* Shirley & Chiu, "A Low Distortion Map Between Disk and Square", JGT 2(3), 1997, in the
+ * polar form of pbrt-v3 ConcentricSampleDisk. */
+PCL_INLINE void sampling_concentric_disk(pcl_f32 s1, pcl_f32 s2, pcl_f32* x, pcl_f32* y) {
+    pcl_f32 a = 2.0f * s1 - 1.0f;
+    pcl_f32 b = 2.0f * s2 - 1.0f;
+    if (a == 0.0f && b == 0.0f) {
+        *x = 0.0f;
+        *y = 0.0f;
+        return;
+    }
+    pcl_f32 r, phi;
+    if (PCL_FABSF(a) > PCL_FABSF(b)) {
+        r = a;
+        phi = (PCL_PI_F / 4.0f) * (b / a);
+    } else {
+        r = b;
+        phi = PCL_PI_F / 2.0f - (PCL_PI_F / 4.0f) * (a / b);
+    }
+    *x = r * PCL_COSF(phi);
+    *y = r * PCL_SINF(phi);
+}
+
+/* Malley's method: a uniform point on the disk lifted to the hemisphere has density cosθ/π. */
+PCL_INLINE PclV3 sampling_cosine_hemisphere(PclV3 n, pcl_f32 s1, pcl_f32 s2) {
+    pcl_f32 x, y;
+    sampling_concentric_disk(s1, s2, &x, &y);
+    pcl_f32 zz = 1.0f - x * x - y * y;
+    pcl_f32 z = PCL_SQRTF(zz > 0.0f ? zz : 0.0f);
+    PclV3 t, b;
+    sampling_basis(n, &t, &b);
+    return sampling_from_frame(t, b, n, x, y, z);
+}
+
+/* Uniform on the unit sphere, density 1/(4π): z = 1 - 2 s1, φ = 2π s2. */
+PCL_INLINE PclV3 sampling_uniform_sphere(pcl_f32 s1, pcl_f32 s2) {
+    pcl_f32 z = 1.0f - 2.0f * s1;
+    pcl_f32 rr = 1.0f - z * z;
+    pcl_f32 r = PCL_SQRTF(rr > 0.0f ? rr : 0.0f);
+    pcl_f32 phi = PCL_TWO_PI_F * s2;
+    return sampling_v3(r * PCL_COSF(phi), r * PCL_SINF(phi), z);
+}
+
+/* Uniform barycentrics: b0 = 1 - √u1, b1 = u2 √u1 (weights of p0 and p1). */
+PCL_INLINE void sampling_uniform_triangle(pcl_f32 u1, pcl_f32 u2, pcl_f32* b0, pcl_f32* b1) {
+    pcl_f32 su = PCL_SQRTF(u1);
+    *b0 = 1.0f - su;
+    *b1 = u2 * su;
+}
+
+/* The normalised integral of smoothstep over [0, t]: 2t³ - t⁴ = t³ (2 - t). */
+PCL_INLINE pcl_f32 sampling_smoothstep_cdf(pcl_f32 t) {
+    return t * t * t * (2.0f - t);
+}
+
+/* Spot-light cosθ with density proportional to the falloff (kernels/README.md, "Spot cosθ"):
+ * the core [cosInner, 1] has weight w_in = 1 - cosInner, the smoothstep falloff
+ * [cosOuter, cosInner] weight w_fall = (cosInner - cosOuter)/2. The falloff part inverts its
+ * CDF 2t³ - t⁴ by 32 float bisections (the CDF is monotone, so bisection cannot fail). */
+PCL_INLINE pcl_f32 sampling_spot_cos_theta(pcl_f32 s1, pcl_f32 cosInner, pcl_f32 cosOuter) {
+    pcl_f32 wIn = 1.0f - cosInner;
+    pcl_f32 wFall = (cosInner - cosOuter) / 2.0f;
+    pcl_f32 pIn = wIn / (wIn + wFall);
+    if (s1 < pIn) return 1.0f - (s1 / pIn) * wIn;
+    pcl_f32 v = (s1 - pIn) / (1.0f - pIn);
+    pcl_f32 lo = 0.0f, hi = 1.0f;
+    for (int k = 0; k < 32; ++k) {
+        pcl_f32 mid = 0.5f * (lo + hi);
+        if (sampling_smoothstep_cdf(mid) < v)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    pcl_f32 t = 0.5f * (lo + hi);
+    return cosOuter + t * (cosInner - cosOuter);
+}
+
+/* A direction at angle θ (given as cosθ) from axis, azimuth φ, in makeBasis(axis). */
+PCL_INLINE PclV3 sampling_cone_direction(PclV3 axis, pcl_f32 cosTheta, pcl_f32 phi) {
+    pcl_f32 ss = 1.0f - cosTheta * cosTheta;
+    pcl_f32 sinTheta = PCL_SQRTF(ss > 0.0f ? ss : 0.0f);
+    PclV3 t, b;
+    sampling_basis(axis, &t, &b);
+    return sampling_from_frame(t, b, axis, sinTheta * PCL_COSF(phi), sinTheta * PCL_SINF(phi), cosTheta);
+}
+
+/* cosⁿ lobe around r: cosα = u^(1/(n+1)), φ = 2π v; density (n+1)/(2π) cosⁿα. */
+PCL_INLINE PclV3 sampling_phong_lobe(PclV3 r, pcl_f32 exponent, pcl_f32 u, pcl_f32 v) {
+    pcl_f32 cosA = PCL_POWF(u, 1.0f / (exponent + 1.0f));
+    return sampling_cone_direction(r, cosA, PCL_TWO_PI_F * v);
+}
+
+/* Mirror d about n: d - 2 (d·n) n. */
+PCL_INLINE PclV3 sampling_reflect(PclV3 d, PclV3 n) {
+    pcl_f32 k = 2.0f * sampling_dot(d, n);
+    return sampling_v3(d.x - k * n.x, d.y - k * n.y, d.z - k * n.z);
+}
+
+/* Exact unpolarised Fresnel reflectance for cosθ_i and η = η_i/η_t; 1 under total internal
+ * reflection. r_s = (η cos_i - cos_t)/(η cos_i + cos_t), r_p = (cos_i - η cos_t)/(cos_i + η cos_t)
+ * (the Fresnel equations divided through by η_t), F = (r_s² + r_p²)/2. */
+PCL_INLINE pcl_f32 sampling_fresnel_dielectric(pcl_f32 cosI, pcl_f32 eta) {
+    pcl_f32 sin2T = eta * eta * (1.0f - cosI * cosI);
+    if (sin2T >= 1.0f) return 1.0f;
+    pcl_f32 cosT = PCL_SQRTF(1.0f - sin2T);
+    pcl_f32 rs = (eta * cosI - cosT) / (eta * cosI + cosT);
+    pcl_f32 rp = (cosI - eta * cosT) / (cosI + eta * cosT);
+    return 0.5f * (rs * rs + rp * rp);
+}
+
+/* Refraction of d through a surface whose normal nf faces d's side (d·nf < 0), cos_i = |d·n|:
+ * d' = η d + (η cos_i - cos_t) nf, cos_t = √(1 - η²(1 - cos_i²)). The caller has ruled out
+ * total internal reflection (the Fresnel term is 1 there). */
+PCL_INLINE PclV3 sampling_refract(PclV3 d, PclV3 nf, pcl_f32 cosI, pcl_f32 eta) {
+    pcl_f32 c2 = 1.0f - eta * eta * (1.0f - cosI * cosI);
+    pcl_f32 cosT = PCL_SQRTF(c2 > 0.0f ? c2 : 0.0f);
+    pcl_f32 k = eta * cosI - cosT;
+    return sampling_v3(eta * d.x + k * nf.x, eta * d.y + k * nf.y, eta * d.z + k * nf.z);
+}
+
+/* ---- Photon record encodings (kernels/README.md, "Photon record") ---------------------- */
+
+/* Ward's RGBE: the largest channel sets a shared exponent, each channel keeps 8 bits. */
+PCL_INLINE pcl_u32 photon_rgbe_encode(pcl_f32 r, pcl_f32 g, pcl_f32 b) {
+    pcl_f32 v = sampling_max3(r, g, b);
+    if (!(v >= 1e-32f)) return 0u;
+    int e;
+    pcl_f32 m = PCL_FREXPF(v, &e);
+    pcl_f32 scale = m * 256.0f / v;
+    pcl_f32 fr = PCL_FLOORF(r * scale + 0.5f), fg = PCL_FLOORF(g * scale + 0.5f),
+            fb = PCL_FLOORF(b * scale + 0.5f);
+    pcl_u32 br = fr > 255.0f ? 255u : (fr > 0.0f ? (pcl_u32)fr : 0u);
+    pcl_u32 bg = fg > 255.0f ? 255u : (fg > 0.0f ? (pcl_u32)fg : 0u);
+    pcl_u32 bb = fb > 255.0f ? 255u : (fb > 0.0f ? (pcl_u32)fb : 0u);
+    pcl_u32 be = (pcl_u32)(e + 128);
+    return br | (bg << 8) | (bb << 16) | (be << 24);
+}
+
+/* c = byte · 2^(E - 136); rgbe 0 decodes to black. */
+PCL_INLINE void photon_rgbe_decode(pcl_u32 rgbe, pcl_f32* r, pcl_f32* g, pcl_f32* b) {
+    pcl_u32 be = rgbe >> 24;
+    if (be == 0u) {
+        *r = *g = *b = 0.0f;
+        return;
+    }
+    int e = (int)be - 136;
+    *r = PCL_LDEXPF((pcl_f32)(rgbe & 255u), e);
+    *g = PCL_LDEXPF((pcl_f32)((rgbe >> 8) & 255u), e);
+    *b = PCL_LDEXPF((pcl_f32)((rgbe >> 16) & 255u), e);
+}
+
+/* θ byte = min(255, ⌊acos(w_z)·256/π⌋), φ byte = ⌊atan2(w_y, w_x)·128/π⌋ & 255; returns
+ * θ | φ << 8 (the low half of PclPhoton::packed). */
+PCL_INLINE pcl_u32 photon_dir_encode(pcl_f32 wx, pcl_f32 wy, pcl_f32 wz) {
+    pcl_f32 z = wz > 1.0f ? 1.0f : (wz < -1.0f ? -1.0f : wz);
+    pcl_f32 th = PCL_FLOORF(PCL_ACOSF(z) * 256.0f / PCL_PI_F);
+    pcl_u32 theta = th > 255.0f ? 255u : (th > 0.0f ? (pcl_u32)th : 0u);
+    pcl_i32 ph = (pcl_i32)PCL_FLOORF(PCL_ATAN2F(wy, wx) * 128.0f / PCL_PI_F);
+    pcl_u32 phi = ((pcl_u32)ph) & 255u;
+    return theta | (phi << 8);
+}
+
+/* The direction at the centre of a (θ, φ) byte cell, as Jensen's lookup tables (§5.4). */
+PCL_INLINE PclV3 photon_dir_decode(pcl_u32 packed) {
+    pcl_f32 theta = ((pcl_f32)(packed & 255u) + 0.5f) * (PCL_PI_F / 256.0f);
+    pcl_u32 pb = (packed >> 8) & 255u;
+    pcl_i32 ps = pb >= 128u ? (pcl_i32)pb - 256 : (pcl_i32)pb;
+    pcl_f32 phi = ((pcl_f32)ps + 0.5f) * (PCL_PI_F / 128.0f);
+    pcl_f32 st = PCL_SINF(theta);
+    return sampling_v3(st * PCL_COSF(phi), st * PCL_SINF(phi), PCL_COSF(theta));
+}
+
+#endif /* PCL_SAMPLING_H */
