@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
 
+#include "core/error.h"
 #include "geometry/bvh_build.h"
 #include "geometry/bvh_collapse.h"
 
@@ -47,6 +49,12 @@ SceneGeometry SceneGeometry::build(const Scene& scene, const BvhBuildOptions& op
     }
     g.triangleCount_ = triangles;
     const uint32_t total = triangles + static_cast<uint32_t>(scene.spheres.size());
+    // A leaf word addresses its first packet or sphere with 26 bits (types.h); a triangle needs
+    // at most one packet, so this bound keeps every index representable.
+    if (total > PCL_CHILD_INDEX_MASK)
+        throw InputError(scene.path + ": scene: expected at most " +
+                         std::to_string(PCL_CHILD_INDEX_MASK) + " primitives (the BVH layout's limit), got " +
+                         std::to_string(total));
 
     // Per-primitive data by global id: bounds over the shutter, and what a packet lane needs.
     std::vector<Bounds3> boxes(total);
