@@ -1,0 +1,199 @@
+#include "reference/trace_photons.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "reference/bsdf.h"
+#include "reference/parallel_for.h"
+#include "reference/sampling.h"
+#include "shared/rng.h"
+
+namespace pcl {
+namespace {
+
+Vec3 vec(const float v[4]) { return {v[0], v[1], v[2]}; }
+
+}  // namespace
+
+// ---- Step 2 of the spec: Russian roulette on a mixed surface, then the new direction --------
+ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 power,
+                                        const float u[4]) {
+    ReferenceScatter s;
+    const Vec3 rhoD = vec(m.rhoD), rhoS = vec(m.rhoS);
+    const Vec3 nf = dot(d, n) < 0.0f ? n : -n;  // the side the photon arrives on
+
+    // Jensen 2001 §5.3.2: per-channel probabilities, so a coloured surface keeps the photon's
+    // power level and changes only its colour. (Grey surfaces: the notes' z < ρd, z < ρd + ρs.)
+    const float maxPower = maxComponent(power);
+    if (!(maxPower > 0.0f)) return s;  // absorbed
+    float pd = maxComponent(rhoD * power) / maxPower;
+    float ps = m.specular == PCL_SPECULAR_NONE ? 0.0f : maxComponent(rhoS * power) / maxPower;
+    s.pDiffuse = pd;
+    s.pSpecular = ps;
+    if (pd + ps > 1.0f) {
+        const float sum = pd + ps;
+        pd /= sum;
+        ps /= sum;
+    }
+
+    const float z = u[0];
+    if (z < pd) {  // diffuse: cosine hemisphere around n_f (Malley), Φ ρd / P_d
+        s.kind = ReferenceScatter::Diffuse;
+        s.direction = sampleCosineHemisphere(nf, u[2], u[3]);
+        s.power = power * rhoD / pd;
+        return s;
+    }
+    if (!(z < pd + ps)) return s;  // absorbed
+
+    s.power = power * rhoS / ps;
+    const Vec3 mirror = d - nf * (2.0f * dot(d, nf));
+    switch (m.specular) {
+        case PCL_SPECULAR_MIRROR:
+            s.kind = ReferenceScatter::Mirror;
+            s.direction = mirror;
+            break;
+        case PCL_SPECULAR_GLOSSY: {
+            // Normalised Phong lobe ρs (n+2)/(2π) cosⁿα sampled with density (n+1)/(2π) cosⁿα:
+            // the weight is (n+2)/(n+1) cosθ'.
+            s.direction = samplePhongLobe(mirror, m.exponent, u[2], u[3]);
+            const float cosOut = dot(s.direction, nf);
+            if (!(cosOut > 0.0f)) {
+                s.kind = ReferenceScatter::GlossyBelow;
+                s.power = Vec3(0.0f);
+                return s;
+            }
+            s.kind = ReferenceScatter::Glossy;
+            s.power = s.power * ((m.exponent + 2.0f) / (m.exponent + 1.0f) * cosOut);
+            break;
+        }
+        default: {  // dielectric: exact Fresnel chooses reflection or refraction
+            const bool entering = dot(d, n) < 0.0f;
+            const float eta = entering ? 1.0f / m.ior : m.ior;
+            const float cosI = std::fabs(dot(d, n));
+            const float F = entering ? fresnelDielectric(cosI, 1.0f, m.ior) : fresnelDielectric(cosI, m.ior, 1.0f);
+            if (u[1] < F) {
+                s.kind = ReferenceScatter::Reflected;
+                s.direction = mirror;
+            } else {
+                // Snell in vector form; photons carry flux, so no η² scaling.
+                s.kind = ReferenceScatter::Refracted;
+                const float cosT = std::sqrt(std::max(0.0f, 1.0f - eta * eta * (1.0f - cosI * cosI)));
+                s.direction = d * eta + nf * (eta * cosI - cosT);
+            }
+            break;
+        }
+    }
+    return s;
+}
+
+// ---- The photon record ------------------------------------------------------------------
+uint32_t referenceEncodeRgbe(Vec3 power) {
+    const float v = maxComponent(power);
+    if (v < 1e-32f) return 0u;
+    int e;
+    const float m = std::frexp(v, &e);
+    const float scale = m * 256.0f / v;
+    auto byte = [&](float c) { return std::min(255u, static_cast<uint32_t>(std::floor(c * scale + 0.5f))); };
+    return byte(power.x) | byte(power.y) << 8 | byte(power.z) << 16 | uint32_t(e + 128) << 24;
+}
+
+Vec3 referenceDecodeRgbe(uint32_t rgbe) {
+    const uint32_t E = rgbe >> 24;
+    if (rgbe == 0u) return Vec3(0.0f);
+    const float f = std::ldexp(1.0f, int(E) - 136);
+    return Vec3(float(rgbe & 255u), float((rgbe >> 8) & 255u), float((rgbe >> 16) & 255u)) * f;
+}
+
+uint32_t referenceEncodeDirection(Vec3 w) {
+    const float theta = std::acos(std::min(1.0f, std::max(-1.0f, w.z)));
+    const uint32_t tb = std::min(255u, static_cast<uint32_t>(std::floor(theta * (256.0f / kPi))));
+    const int32_t pb = static_cast<int32_t>(std::floor(std::atan2(w.y, w.x) * (128.0f / kPi)));
+    return tb | (static_cast<uint32_t>(pb) & 255u) << 8;
+}
+
+// ---- One path ---------------------------------------------------------------------------
+uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
+                                  const PclPhotonParams& params, const PclPhotonRay& ray, uint32_t i,
+                                  PclPhoton* slots, uint32_t& count, std::vector<ReferencePhotonHit>* hits) {
+    const bool caustic = params.pass == PCL_PASS_CAUSTIC;
+    const uint64_t seed = uint64_t(params.seedLo) | (uint64_t(params.seedHi) << 32);
+    const uint32_t j = params.firstPhoton + i;
+    const uint32_t stream = caustic ? PCL_RNG_STREAM_CAUSTIC : PCL_RNG_STREAM_PHOTON;
+    const float time = ray.time;
+
+    Vec3 o{ray.ox, ray.oy, ray.oz}, d{ray.dx, ray.dy, ray.dz};
+    Vec3 power{ray.power[0], ray.power[1], ray.power[2]};
+    uint32_t flags = 0;  // AFTER_SPECULAR / AFTER_DIFFUSE: the path so far
+    count = 0;
+
+    auto deposit = [&](Vec3 p, uint32_t b, uint32_t extra) {
+        PclPhoton& ph = slots[count++];
+        ph.x = p.x; ph.y = p.y; ph.z = p.z;
+        ph.rgbe = referenceEncodeRgbe(power);
+        ph.packed = referenceEncodeDirection(-d) | (b - 1) << PCL_PHOTON_BOUNCE_SHIFT | flags | extra;
+    };
+
+    for (uint32_t b = 1;; ++b) {
+        PclRay r{};
+        r.ox = o.x; r.oy = o.y; r.oz = o.z; r.tmin = 0.0f;
+        r.dx = d.x; r.dy = d.y; r.dz = d.z; r.tmax = INFINITY;
+        r.time = time;
+        PclHit hit;
+        if (!geometry.intersect(r, hit)) return b | PCL_END_ESCAPED << 8;
+
+        const Vec3 p = o + d * hit.t;
+        const PclPrimInfo& info = buffers.primInfo[hit.prim];
+        const Vec3 n = hit.prim < params.triangleCount
+                           ? Vec3(info.a, info.b, info.c)
+                           : (p - (Vec3(info.a, info.b, info.c) + Vec3(info.mx, info.my, info.mz) * time)) / info.radius;
+        const PclMaterial& m = buffers.materials[info.material];
+
+        // 1. Deposit at a diffuse surface: global map L(S|D)*D, caustic map LS+D.
+        if (maxComponent(vec(m.rhoD)) > 0.0f) {
+            if (!caustic) {
+                if (params.storeGlobal) deposit(p, b, 0u);
+            } else {
+                const bool lsd = b > 1 && !(flags & PCL_PHOTON_AFTER_DIFFUSE);
+                if (lsd) deposit(p, b, PCL_PHOTON_CAUSTIC);
+                if (hits) hits->push_back({b, ReferenceScatter::Absorbed, 0, 0, power, power});
+                return b | (lsd ? PCL_END_STORED : PCL_END_ABSORBED) << 8;
+            }
+        }
+
+        // 2. Russian roulette and the bounce, from the numbers of bounce b.
+        uint32_t w[4];
+        rng_block(seed, j, b, 0, stream, w);
+        const float u[4] = {rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3])};
+        const ReferenceScatter s = scatterPhotonReference(m, d, n, power, u);
+        if (hits) hits->push_back({b, s.kind, s.pDiffuse, s.pSpecular, power, s.power});
+        if (s.kind == ReferenceScatter::Absorbed || s.kind == ReferenceScatter::GlossyBelow)
+            return b | PCL_END_ABSORBED << 8;
+        flags |= s.kind == ReferenceScatter::Diffuse ? PCL_PHOTON_AFTER_DIFFUSE : PCL_PHOTON_AFTER_SPECULAR;
+        power = s.power;
+        if (b >= params.maxDepth) return b | PCL_END_MAX_DEPTH << 8;
+
+        // 3. Spawn on the side the new direction leaves from.
+        const Vec3 nf = dot(d, n) < 0.0f ? n : -n;
+        const Vec3 ns = dot(s.direction, nf) > 0.0f ? nf : -nf;
+        o = p + ns * params.rayEpsilon;
+        d = s.direction;
+    }
+}
+
+ReferencePhotonBatch tracePhotonsReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
+                                           const PclPhotonParams& params,
+                                           const std::vector<PclPhotonRay>& rays, unsigned threads) {
+    ReferencePhotonBatch out;
+    const size_t n = std::min<size_t>(params.batchSize, rays.size());
+    out.slotsPerPath = params.pass == PCL_PASS_CAUSTIC ? 1u : params.maxDepth;
+    out.slots.assign(n * out.slotsPerPath, PclPhoton{});
+    out.counts.assign(n, 0u);
+    out.ends.assign(n, 0u);
+    referenceParallelFor(n, threads, [&](size_t i) {
+        out.ends[i] = tracePhotonPathReference(buffers, geometry, params, rays[i], static_cast<uint32_t>(i),
+                                               &out.slots[i * out.slotsPerPath], out.counts[i]);
+    });
+    return out;
+}
+
+}  // namespace pcl
