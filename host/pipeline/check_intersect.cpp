@@ -50,8 +50,10 @@ std::vector<PclRay> checkRays(const Scene& scene, const Bounds3& bounds, size_t 
     // Pinhole camera basis (the check wants rays where the camera looks, not lens effects).
     const Camera& cam = scene.camera;
     Vec3 forward = normalize(cam.lookAt - cam.position);
+    if (!isFinite(forward)) forward = Vec3(0, 0, -1);  // degenerate camera: any direction will do
     Vec3 right = normalize(cross(forward, cam.up));
     Vec3 up = cross(right, forward);
+    if (!isFinite(right) || !isFinite(up)) makeBasis(forward, right, up);
     float tanY = std::tan(0.5f * cam.vfovDegrees * 3.14159265f / 180.0f);
     float tanX = tanY * float(cam.width) / float(std::max(cam.height, 1));
 
