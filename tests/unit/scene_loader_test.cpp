@@ -13,7 +13,10 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "scene/gltf_loader.h"
+#include "scene/json_loader.h"
 #include "scene/load_scene.h"
+#include "scene/validate.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -817,4 +820,43 @@ TEST_F(SceneLoaderTest, StressScriptOutputLoads) {
     ASSERT_EQ(std::system(cmd.c_str()), 0);
     Scene s = loadScene((dir_ / "stress.json").string());
     EXPECT_EQ(s.triangleCount(), 2u * 20 * 20 + 2);  // the terrain and the 2-triangle sky panel
+}
+
+// The fuzz seed corpus and every input a fuzzer once crashed on (tests/fuzz/regressions/), run
+// the way the harnesses run them: each must give a Scene or an InputError, nothing else.
+TEST_F(SceneLoaderTest, FuzzCorpusAndRegressionsGiveSceneOrInputError) {
+    const fs::path root = fs::path(PHOTONCL_SOURCE_DIR) / "tests" / "fuzz";
+    size_t files = 0;
+    for (const char* kind : {"json", "gltf"}) {
+#ifndef PHOTONCL_HAVE_GLTF
+        if (std::string(kind) == "gltf") continue;
+#endif
+        for (const fs::path dir : {root / "corpus" / kind, root / "regressions" / kind}) {
+            if (!fs::exists(dir)) continue;
+            for (const auto& entry : fs::directory_iterator(dir)) {
+                std::ifstream in(entry.path(), std::ios::binary);
+                std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+                SCOPED_TRACE(entry.path().string());
+                ++files;
+                try {
+                    Scene scene;
+                    if (std::string(kind) == "json") {
+                        scene = parseJsonScene(text, "photoncl-fuzz-no-such-dir/scene.json");
+                    } else {
+#ifdef PHOTONCL_HAVE_GLTF
+                        scene.path = "photoncl-fuzz-no-such-dir/scene.gltf";
+                        GltfImportResult r = importGltfFromMemory(
+                            scene, std::vector<unsigned char>(text.begin(), text.end()), scene.path, GltfImportOptions{});
+                        if (r.hasCamera) scene.camera = r.camera;
+#endif
+                    }
+                    validateScene(scene);
+                } catch (const InputError&) {
+                } catch (const std::exception& e) {
+                    ADD_FAILURE() << "not an InputError: " << e.what();
+                }
+            }
+        }
+    }
+    EXPECT_GE(files, 5u);
 }
