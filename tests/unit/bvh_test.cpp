@@ -11,6 +11,7 @@
 #include <random>
 #include <thread>
 
+#include "../bench/bench_meshes.h"
 #include "geometry/primitive_intersect.h"
 #include "geometry/scene_geometry.h"
 #if __has_include("scene/load_scene.h")
@@ -287,6 +288,22 @@ void expectAgreement(const Scene& scene, uint32_t seed, size_t rays = kRays) {
 TEST(Bvh, TriangleSoupMatchesBruteForce) { expectAgreement(soupScene(), 11); }
 TEST(Bvh, SpheresMatchBruteForce) { expectAgreement(sphereScene(), 12); }
 TEST(Bvh, MovingPrimitivesMatchBruteForce) { expectAgreement(movingScene(), 13); }
+
+// The layout budget of issue 3 (≤ 80 bytes per triangle for nodes + packets) on a 100k-triangle
+// scan-like mesh; packets must be mostly full for that (SAH counts whole packets).
+TEST(Bvh, CompactLayout) {
+    Scene s;
+    s.meshes.push_back(displacedSphere(160, 320));
+    SceneGeometry g = SceneGeometry::build(s);
+    const BvhStats& st = g.stats();
+    double fill = double(st.triangles) / (4.0 * double(st.packets));
+    std::printf("  %zu triangles: %.1f bytes/triangle, packet fill %.3f, SAH %.2f, depth %d, stack %d\n",
+                st.triangles, st.bytesPerTriangle(), fill, st.sahCost, st.depth, st.maxStack);
+    EXPECT_LE(st.bytesPerTriangle(), 80.0);
+    EXPECT_GE(fill, 0.85);
+    EXPECT_LE(st.maxStack, 96);
+    expectValidTree(s, g);
+}
 
 TEST(Bvh, EmptySceneNeverHits) {
     Scene s;
