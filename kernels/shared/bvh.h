@@ -34,7 +34,11 @@
 
 /* PoCL 3.1 (LLVM 15) left plain `inline` helpers as calls; forced inlining makes the any-hit
  * flag a compile-time constant in each entry point (no measurable speed change on PoCL). */
+#ifdef __clang__
 #define PCL_BVH_INLINE inline __attribute__((always_inline))
+#else
+#define PCL_BVH_INLINE inline
+#endif
 
 /* A ray prepared for traversal: reciprocal direction and, per axis, the float offset of the
  * near-plane field in a PclBvhNode (lo or hi, by the direction's sign). */
