@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
     add(pcl::cli::addRenderCommand(app));
     add(pcl::cli::addCheckCommand(app));
     add(pcl::cli::addCompareCommand(app));
+    add(pcl::cli::addAnalyzeCommand(app));
 
     try {
         app.parse(argc, argv);

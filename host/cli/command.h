@@ -14,5 +14,6 @@ Run addDevicesCommand(CLI::App& app);
 Run addRenderCommand(CLI::App& app);
 Run addCheckCommand(CLI::App& app);
 Run addCompareCommand(CLI::App& app);
+Run addAnalyzeCommand(CLI::App& app);
 
 }  // namespace pcl::cli

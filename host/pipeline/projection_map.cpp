@@ -171,10 +171,11 @@ int splitsFor(double r, double target) {
 // Triangles of small meshes are split until their balls are about 1/32 of the scene's radius
 // (a large glossy floor would otherwise be one ball holding the lights); large meshes get at
 // most kMeshGroups balls, each around a run of consecutive triangles.
-std::vector<Ball> specularBalls(const Scene& scene, const SceneBuffers& buffers) {
+std::vector<Ball> specularBalls(const Scene& scene, const SceneBuffers& buffers,
+                                bool (*target)(const PclMaterial&)) {
     auto specular = [&](int material) {
         return material >= 0 && material < static_cast<int>(buffers.materials.size()) &&
-               isSpecular(buffers.materials[material]);
+               target(buffers.materials[material]);
     };
     // Float rounding in the tracer: hits may land a hair outside the exact surface.
     double slack = 1e-5 * (buffers.sceneRadius + length(d3(buffers.sceneCentre))) + 1e-7;
@@ -214,14 +215,14 @@ std::vector<Ball> specularBalls(const Scene& scene, const SceneBuffers& buffers)
             balls.push_back(boundingBall(points));
         }
     }
-    double target = std::max(buffers.sceneRadius, 1e-6f) / 32.0;
+    double size = std::max(buffers.sceneRadius, 1e-6f) / 32.0;  // wanted ball radius
     for (;;) {
         size_t count = 0;
-        for (const Tri& t : small) count += size_t(1) << (2 * splitsFor(t.r, target));
+        for (const Tri& t : small) count += size_t(1) << (2 * splitsFor(t.r, size));
         if (count <= kSplitBalls) break;
-        target *= 2.0;
+        size *= 2.0;
     }
-    for (const Tri& t : small) triangleBalls(t.a, t.b, t.c, t.m, splitsFor(t.r, target), balls);
+    for (const Tri& t : small) triangleBalls(t.a, t.b, t.c, t.m, splitsFor(t.r, size), balls);
     for (Ball& b : balls) b.r = b.r * (1.0 + 1e-5) + slack;
     return balls;
 }
@@ -253,15 +254,15 @@ Cone cellCone(const PclLight& light, const Frame& f, const SpotWarp& spot, int c
         double a0, a1;
         int piece;
     };
-    std::vector<Rect> rects;
-    if (light.type == PCL_LIGHT_SPOT && spot.pIn < 1.0 && a0 < spot.pIn && spot.pIn < a1)
-        rects = {{a0, spot.pIn, 0}, {spot.pIn, a1, 1}};
-    else if (light.type == PCL_LIGHT_SPOT)
-        rects = {{a0, a1, spot.piece(ac)}};
-    else
-        rects = {{a0, a1, 0}};
-
-    for (const Rect& r : rects) {
+    Rect rects[2] = {{a0, a1, light.type == PCL_LIGHT_SPOT ? spot.piece(ac) : 0}, {a0, a1, 0}};
+    int count = 1;
+    if (light.type == PCL_LIGHT_SPOT && spot.pIn < 1.0 && a0 < spot.pIn && spot.pIn < a1) {
+        rects[0] = {a0, spot.pIn, 0};
+        rects[1] = {spot.pIn, a1, 1};
+        count = 2;
+    }
+    for (int i = 0; i < count; ++i) {
+        const Rect& r = rects[i];
         std::vector<D3> border;
         forBorder(r.a0, r.a1, b0, b1, [&](double s1, double s2) {
             border.push_back(warpDirection(light, f, spot, s1, s2, r.piece));
@@ -389,9 +390,14 @@ bool isSpecular(const PclMaterial& m) {
 
 bool isDiffuse(const PclMaterial& m) { return std::max({m.rhoD[0], m.rhoD[1], m.rhoD[2]}) > 0.0f; }
 
-void buildProjectionMaps(const Scene& scene, const SceneGeometry& geometry, SceneBuffers& buffers) {
-    (void)geometry;  // bounds already live in buffers; the balls come from the scene's objects
-    std::vector<Ball> balls = specularBalls(scene, buffers);
+bool isPureSpecular(const PclMaterial& m) { return isSpecular(m) && !isDiffuse(m); }
+
+namespace {
+
+// Every light's marked cells, aiming at the objects whose material passes `target`.
+std::vector<std::vector<uint32_t>> markAll(const Scene& scene, const SceneBuffers& buffers,
+                                           bool (*target)(const PclMaterial&)) {
+    std::vector<Ball> balls = specularBalls(scene, buffers, target);
     // Triangle lights are split into 4^depth pieces, each with its own cones (tighter than one
     // ball around the whole emitter), as far as the work budget allows.
     size_t triangles = 0;
@@ -399,13 +405,30 @@ void buildProjectionMaps(const Scene& scene, const SceneGeometry& geometry, Scen
     int pieceDepth = 0;
     while (pieceDepth < 3 && triangles * (size_t(1) << (2 * (pieceDepth + 1))) * balls.size() <= kAimBudget)
         ++pieceDepth;
+    std::vector<std::vector<uint32_t>> cells;
+    for (const PclLight& light : buffers.lights) cells.push_back(markCells(light, balls, pieceDepth));
+    return cells;
+}
+
+}  // namespace
+
+void buildProjectionMaps(const Scene& scene, const SceneGeometry& geometry, SceneBuffers& buffers) {
+    (void)geometry;  // bounds already live in buffers; the balls come from the scene's objects
+    std::vector<std::vector<uint32_t>> cells = markAll(scene, buffers, isSpecular);
     buffers.projCells.clear();
-    for (PclLight& light : buffers.lights) {
-        std::vector<uint32_t> cells = markCells(light, balls, pieceDepth);
+    for (size_t i = 0; i < buffers.lights.size(); ++i) {
+        PclLight& light = buffers.lights[i];
         light.projFirst = static_cast<uint32_t>(buffers.projCells.size());
-        light.projCount = static_cast<uint32_t>(cells.size());
-        buffers.projCells.insert(buffers.projCells.end(), cells.begin(), cells.end());
+        light.projCount = static_cast<uint32_t>(cells[i].size());
+        buffers.projCells.insert(buffers.projCells.end(), cells[i].begin(), cells[i].end());
     }
+}
+
+std::vector<uint32_t> reachableCells(const Scene& scene, const SceneBuffers& buffers,
+                                     bool (*target)(const PclMaterial&)) {
+    std::vector<uint32_t> counts;
+    for (const auto& c : markAll(scene, buffers, target)) counts.push_back(static_cast<uint32_t>(c.size()));
+    return counts;
 }
 
 LightSampleRay warpLightSample(const PclLight& light, double s1, double s2, double u1, double u2, double time) {

@@ -9,6 +9,7 @@
 // photons to marked cells and scaling their flux by the marked fraction adds no bias.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "geometry/scene_geometry.h"
 #include "pipeline/scene_buffers.h"
@@ -25,6 +26,14 @@ bool isDiffuse(const PclMaterial& m);  // max ρd > 0
 // k = cy·G + cx, with cx = ⌊s1·G⌋, cy = ⌊s2·G⌋). A scene without specular objects gets
 // projCount 0 everywhere. buffers must come from buildSceneBuffers(scene, geometry).
 void buildProjectionMaps(const Scene& scene, const SceneGeometry& geometry, SceneBuffers& buffers);
+
+// Marked cells per light (as projCount would be) when only objects whose material passes
+// `target` count; buffers are not changed. The plan uses it to ask whether lights reach purely
+// specular objects (isPureSpecular), the only ones a caustic photon can leave towards a
+// diffuse surface (kernels/README.md, trace_photons step 1).
+std::vector<uint32_t> reachableCells(const Scene& scene, const SceneBuffers& buffers,
+                                     bool (*target)(const PclMaterial&));
+bool isPureSpecular(const PclMaterial& m);  // specular with ρd = 0
 
 // The light's warp of kernels/README.md "emit" in double precision: the direction of sample
 // (s1, s2) (point, spot, triangle) and the origin for triangle lights at position numbers

@@ -1,0 +1,353 @@
+// The plan (host/pipeline/plan.h): light paths present and the maps and samplers a scene needs,
+// for every shipped scene and for small scenes built to exercise each rule; and the
+// `photoncl analyze` command.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "pipeline/plan.h"
+#include "scene/load_scene.h"
+
+namespace pcl {
+namespace {
+
+std::string scenePath(const std::string& name) { return std::string(PHOTONCL_SOURCE_DIR) + "/scenes/" + name; }
+
+bool path(const LightPaths& lp, const std::string& notation) {
+    for (const LightPath& p : lp.list)
+        if (p.notation == notation) return p.present;
+    ADD_FAILURE() << "no light path " << notation;
+    return false;
+}
+
+SceneAnalysis analyzeFile(const std::string& name) {
+    Scene s = loadScene(scenePath(name));
+    SceneAnalysis a = analyzeScene(s);
+    std::printf("%s", formatPlan(s, a.paths, a.plan).c_str());
+    return a;
+}
+
+// ---- Scenes built in code -------------------------------------------------------------------
+
+int addMaterial(Scene& s, Vec3 rhoD, Vec3 rhoS = Vec3(0.0f), SpecularKind kind = SpecularKind::None,
+                Vec3 emission = Vec3(0.0f)) {
+    Material m;
+    m.name = "m" + std::to_string(s.materials.size());
+    m.rhoD = rhoD;
+    m.rhoS = rhoS;
+    m.specular = kind;
+    m.phongExponent = 40.0f;
+    m.emission = emission;
+    s.materials.push_back(m);
+    return static_cast<int>(s.materials.size()) - 1;
+}
+
+int addQuad(Scene& s, Vec3 corner, Vec3 u, Vec3 v, int material, Vec3 motion = Vec3(0.0f)) {
+    TriangleMesh m;
+    m.positions = {corner, corner + u, corner + u + v, corner + v};
+    m.indices = {0, 1, 2, 0, 2, 3};
+    m.material = material;
+    m.motion = motion;
+    s.meshes.push_back(m);
+    return static_cast<int>(s.meshes.size()) - 1;
+}
+
+void addSphere(Scene& s, Vec3 c, float r, int material, Vec3 motion = Vec3(0.0f)) {
+    Sphere sp;
+    sp.centre = c;
+    sp.radius = r;
+    sp.material = material;
+    sp.motion = motion;
+    s.spheres.push_back(sp);
+}
+
+Light pointLight(Vec3 p) {
+    Light l;
+    l.type = LightType::Point;
+    l.position = p;
+    l.intensity = Vec3(1.0f);
+    return l;
+}
+
+// An empty scene with a pinhole camera looking down at the origin from above and in front.
+Scene base() {
+    Scene s;
+    s.path = "built-in";
+    s.camera.position = Vec3(0, 2, -4);
+    s.camera.lookAt = Vec3(0, 0, 0);
+    return s;
+}
+
+// A diffuse floor quad (two coplanar triangles) facing up under a point light.
+Scene floorUnderPointLight() {
+    Scene s = base();
+    int white = addMaterial(s, Vec3(0.7f));
+    addQuad(s, Vec3(-2, 0, -2), Vec3(0, 0, 4), Vec3(4, 0, 0), white);
+    s.lights = {pointLight(Vec3(0, 2, 0))};
+    return s;
+}
+
+// A diffuse floor and back wall under a point light: they light each other.
+Scene diffuseRoom() {
+    Scene s = floorUnderPointLight();
+    addQuad(s, Vec3(-2, 0, 2), Vec3(0, 3, 0), Vec3(4, 0, 0), 0);
+    return s;
+}
+
+// ---- Shipped scenes -------------------------------------------------------------------------
+
+TEST(PlanShipped, CornellBox) {
+    SceneAnalysis a = analyzeFile("cornell-box.json");
+    EXPECT_TRUE(path(a.paths, "LE"));
+    EXPECT_TRUE(path(a.paths, "LDE"));
+    EXPECT_FALSE(path(a.paths, "LS+E"));
+    EXPECT_FALSE(path(a.paths, "LS+DE"));
+    EXPECT_TRUE(path(a.paths, "LD(S|D)*DE"));
+    EXPECT_TRUE(a.plan.globalMap);
+    EXPECT_GT(a.plan.globalPhotons, 0u);
+    EXPECT_FALSE(a.plan.causticMap);
+    EXPECT_EQ(a.plan.causticPhotons, 0u);
+    EXPECT_TRUE(a.plan.finalGather);
+    EXPECT_FALSE(a.plan.lensSampling);
+    EXPECT_FALSE(a.plan.timeSampling);
+    EXPECT_TRUE(a.plan.areaLightSampling);
+    EXPECT_FALSE(a.plan.glossySampling);
+}
+
+TEST(PlanShipped, CornellSpheres) {
+    for (const char* name : {"cornell-spheres.json", "cornell-spheres-point.json"}) {
+        SceneAnalysis a = analyzeFile(name);
+        bool area = std::string(name) == "cornell-spheres.json";
+        EXPECT_EQ(path(a.paths, "LE"), area) << name;  // a point light is not visible
+        EXPECT_TRUE(path(a.paths, "LS+E")) << name;
+        EXPECT_TRUE(path(a.paths, "LDS+E")) << name;
+        EXPECT_TRUE(path(a.paths, "LS+DE")) << name;
+        EXPECT_TRUE(a.plan.causticMap) << name;
+        EXPECT_GT(a.plan.causticPhotons, 0u) << name;
+        EXPECT_TRUE(a.plan.globalMap) << name;
+        EXPECT_FALSE(a.plan.lensSampling) << name;
+        EXPECT_FALSE(a.plan.timeSampling) << name;
+        EXPECT_EQ(a.plan.areaLightSampling, area) << name;
+        EXPECT_FALSE(a.plan.glossySampling) << name;
+    }
+}
+
+TEST(PlanShipped, CornellGlossyHasCausticPathsButNoCausticMap) {
+    // The glossy floor also has a diffuse part: the caustic pass stops there, so its LS+D light
+    // is carried by the global map.
+    SceneAnalysis a = analyzeFile("cornell-glossy.json");
+    EXPECT_TRUE(path(a.paths, "LS+DE"));
+    EXPECT_FALSE(a.plan.causticMap);
+    EXPECT_NE(a.plan.reasons[1].find("diffuse part"), std::string::npos) << a.plan.reasons[1];
+    EXPECT_TRUE(a.plan.globalMap);
+    EXPECT_TRUE(a.plan.glossySampling);
+    EXPECT_FALSE(a.plan.lensSampling);
+    EXPECT_FALSE(a.plan.timeSampling);
+}
+
+TEST(PlanShipped, MotionDof) {
+    SceneAnalysis a = analyzeFile("motion-dof.json");
+    EXPECT_TRUE(a.plan.lensSampling);
+    EXPECT_TRUE(a.plan.timeSampling);
+    EXPECT_TRUE(a.plan.causticMap);  // the chrome sphere, in reach of the lamp and the sun
+    EXPECT_TRUE(a.plan.globalMap);
+    EXPECT_TRUE(a.plan.glossySampling);  // gold
+    EXPECT_TRUE(a.plan.areaLightSampling);
+}
+
+#if PHOTONCL_HAVE_GLTF
+TEST(PlanShipped, GltfRoom) {
+    SceneAnalysis a = analyzeFile("gltf-room.gltf");
+    EXPECT_TRUE(a.plan.causticMap);  // mirror, glass
+    EXPECT_TRUE(a.plan.globalMap);
+    EXPECT_TRUE(a.plan.glossySampling);
+    EXPECT_TRUE(a.plan.areaLightSampling);
+    EXPECT_FALSE(a.plan.lensSampling);
+    EXPECT_FALSE(a.plan.timeSampling);
+}
+#endif
+
+// ---- One rule at a time -------------------------------------------------------------------
+
+TEST(PlanRules, NoSpecularSurfacesNoCausticMap) {
+    SceneAnalysis a = analyzeScene(diffuseRoom());
+    EXPECT_FALSE(path(a.paths, "LS+DE"));
+    EXPECT_FALSE(a.plan.causticMap);
+    EXPECT_EQ(a.plan.reasons[1], "no specular surfaces");
+    EXPECT_TRUE(a.plan.globalMap);  // floor and wall light each other
+    EXPECT_FALSE(a.plan.areaLightSampling);
+    EXPECT_FALSE(path(a.paths, "LE"));
+}
+
+TEST(PlanRules, SingleDiffusePlaneNeedsNoGlobalMap) {
+    SceneAnalysis a = analyzeScene(floorUnderPointLight());
+    EXPECT_TRUE(path(a.paths, "LDE"));
+    EXPECT_FALSE(path(a.paths, "LD(S|D)*DE"));
+    EXPECT_FALSE(a.plan.globalMap);
+    EXPECT_EQ(a.plan.globalPhotons, 0u);
+    EXPECT_FALSE(a.plan.finalGather);
+    EXPECT_FALSE(a.plan.causticMap);
+
+    // Two meshes in one plane (a tiled floor) still cannot light each other ...
+    Scene tiled = floorUnderPointLight();
+    addQuad(tiled, Vec3(2, 0, -2), Vec3(0, 0, 4), Vec3(3, 0, 0), 0);
+    EXPECT_FALSE(analyzeScene(tiled).plan.globalMap);
+    // ... nor can a single diffuse sphere (convex) ...
+    Scene ball = base();
+    addSphere(ball, Vec3(0, 0.5f, 0), 0.5f, addMaterial(ball, Vec3(0.5f)));
+    ball.lights = {pointLight(Vec3(0, 3, 0))};
+    EXPECT_FALSE(analyzeScene(ball).plan.globalMap);
+    // ... but a second, tilted plane can.
+    Scene two = floorUnderPointLight();
+    addQuad(two, Vec3(-2, 0, 2), Vec3(0, 2, 0.5f), Vec3(4, 0, 0), 0);
+    EXPECT_TRUE(analyzeScene(two).plan.globalMap);
+}
+
+TEST(PlanRules, MirrorReturningLightToTheFloorNeedsGlobalAndCausticMaps) {
+    Scene s = floorUnderPointLight();
+    addSphere(s, Vec3(0.5f, 0.5f, 0), 0.4f, addMaterial(s, Vec3(0.0f), Vec3(0.9f), SpecularKind::Mirror));
+    SceneAnalysis a = analyzeScene(s);
+    EXPECT_TRUE(path(a.paths, "LS+DE"));
+    EXPECT_TRUE(a.plan.causticMap);
+    EXPECT_TRUE(path(a.paths, "LD(S|D)*DE"));  // floor → mirror → floor
+    EXPECT_TRUE(a.plan.globalMap);
+}
+
+TEST(PlanRules, MirrorAloneNothingDiffuseBuildsNoMaps) {
+    Scene s = base();
+    addSphere(s, Vec3(0, 0.5f, 0), 0.5f, addMaterial(s, Vec3(0.0f), Vec3(0.9f), SpecularKind::Mirror));
+    s.lights = {pointLight(Vec3(0, 3, 0))};
+    SceneAnalysis a = analyzeScene(s);
+    EXPECT_TRUE(path(a.paths, "LS+E"));
+    EXPECT_FALSE(path(a.paths, "LDE"));
+    EXPECT_FALSE(path(a.paths, "LS+DE"));
+    EXPECT_FALSE(a.plan.globalMap);
+    EXPECT_FALSE(a.plan.causticMap);
+    EXPECT_FALSE(a.plan.finalGather);
+    EXPECT_EQ(a.plan.globalPhotons + a.plan.causticPhotons, 0u);
+}
+
+TEST(PlanRules, SpecularOutOfTheLightsReachNoCausticMap) {
+    // A spot light aimed at the floor, a mirror sphere above and behind it.
+    Scene s = diffuseRoom();
+    addSphere(s, Vec3(0, 2.6f, 0), 0.3f, addMaterial(s, Vec3(0.0f), Vec3(0.9f), SpecularKind::Mirror));
+    Light spot;
+    spot.type = LightType::Spot;
+    spot.position = Vec3(0, 2, 0);
+    spot.direction = Vec3(0, -1, 0);
+    spot.intensity = Vec3(1.0f);
+    spot.cosInner = std::cos(0.3f);
+    spot.cosOuter = std::cos(0.6f);
+    s.lights = {spot};
+    SceneAnalysis a = analyzeScene(s);
+    EXPECT_EQ(a.paths.markedCells, 0u);
+    EXPECT_FALSE(path(a.paths, "LS+E"));
+    EXPECT_FALSE(a.plan.causticMap);
+    EXPECT_NE(a.plan.reasons[1].find("projection map"), std::string::npos) << a.plan.reasons[1];
+    // Turned towards it, the same light reaches it.
+    s.lights[0].direction = Vec3(0, 1, 0);
+    EXPECT_TRUE(analyzeScene(s).plan.causticMap);
+}
+
+TEST(PlanRules, GlassRefractingOntoTheFloorNeedsACausticMap) {
+    Scene s = floorUnderPointLight();
+    addSphere(s, Vec3(0, 0.6f, 0), 0.4f, addMaterial(s, Vec3(0.0f), Vec3(1.0f), SpecularKind::Dielectric));
+    EXPECT_TRUE(analyzeScene(s).plan.causticMap);
+}
+
+TEST(PlanRules, ThinLensMeansLensSampling) {
+    Scene s = diffuseRoom();
+    EXPECT_FALSE(analyzeScene(s).plan.lensSampling);
+    s.camera.model = CameraModel::ThinLens;
+    s.camera.apertureRadius = 0.05f;
+    s.camera.focusDistance = 4.0f;
+    RenderPlan p = analyzeScene(s).plan;
+    EXPECT_TRUE(p.lensSampling);
+    EXPECT_NE(p.reasons[3].find("thin lens"), std::string::npos);
+}
+
+TEST(PlanRules, MotionMeansTimeSampling) {
+    Scene s = diffuseRoom();
+    EXPECT_FALSE(analyzeScene(s).plan.timeSampling);
+    addSphere(s, Vec3(0, 0.5f, 0), 0.3f, 0, Vec3(0.5f, 0, 0));
+    s.camera.shutterClose = 0.01f;
+    EXPECT_TRUE(analyzeScene(s).plan.timeSampling);
+    s.camera.shutterClose = 0.0f;  // motion, but the shutter never opens
+    EXPECT_FALSE(analyzeScene(s).plan.timeSampling);
+}
+
+TEST(PlanRules, AreaLightsAndGlossySurfacesTurnOnTheirSamplers) {
+    Scene s = diffuseRoom();
+    int lamp = addMaterial(s, Vec3(0.0f), Vec3(0.0f), SpecularKind::None, Vec3(5.0f));
+    Light area;
+    area.type = LightType::Area;
+    area.mesh = addQuad(s, Vec3(-0.3f, 2.9f, -0.3f), Vec3(0.6f, 0, 0), Vec3(0, 0, 0.6f), lamp);  // faces down
+    s.lights = {area};
+    SceneAnalysis a = analyzeScene(s);
+    EXPECT_TRUE(a.plan.areaLightSampling);
+    EXPECT_FALSE(a.plan.glossySampling);
+    EXPECT_TRUE(path(a.paths, "LE"));  // the camera (y = 2) is below the lamp (y = 2.9), on its lit side
+    addSphere(s, Vec3(0, 0.5f, 0), 0.4f, addMaterial(s, Vec3(0.3f), Vec3(0.4f), SpecularKind::Glossy));
+    a = analyzeScene(s);
+    EXPECT_TRUE(a.plan.glossySampling);
+    EXPECT_FALSE(a.plan.causticMap);  // glossy with a diffuse part only
+}
+
+TEST(PlanFormat, PrintsEveryPathAndOneReasonPerDecision) {
+    Scene s = loadScene(scenePath("cornell-spheres.json"));
+    SceneAnalysis a = analyzeScene(s);
+    ASSERT_EQ(a.plan.reasons.size(), 7u);
+    for (const std::string& r : a.plan.reasons) EXPECT_FALSE(r.empty());
+    std::string text = formatPlan(s, a.paths, a.plan);
+    for (const char* key : {"LE ", "LDE ", "LS+E ", "LDS+E ", "LS+DE ", "LD(S|D)*DE ", "global map", "caustic map",
+                            "final gather", "lens sampling", "time sampling", "area-light sampling", "glossy sampling"})
+        EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
+    for (const std::string& r : a.plan.reasons) EXPECT_NE(text.find(r), std::string::npos) << r;
+}
+
+// ---- photoncl analyze ------------------------------------------------------------------------
+
+struct Result {
+    int status = -1;
+    std::string output;
+};
+
+Result run(const std::string& args) {
+    std::string cmd = std::string(PHOTONCL_BINARY) + " " + args + " 2>&1";
+    Result r;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) return r;
+    std::array<char, 4096> buf;
+    while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.output.append(buf.data(), n);
+    int raw = pclose(pipe);
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return r;
+}
+
+TEST(AnalyzeCommand, PrintsThePlanOfCornellSpheres) {
+    Result r = run("analyze " + scenePath("cornell-spheres.json"));
+    EXPECT_EQ(r.status, 0) << r.output;
+    Scene s = loadScene(scenePath("cornell-spheres.json"));
+    SceneAnalysis a = analyzeScene(s);
+    EXPECT_EQ(r.output, formatPlan(s, a.paths, a.plan));  // the whole output, nothing else
+    EXPECT_NE(r.output.find("LS+DE       yes"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("caustic map          yes, 100000 photons"), std::string::npos) << r.output;
+}
+
+TEST(AnalyzeCommand, BadInputExitsTwo) {
+    Result missing = run("analyze " + scenePath("no-such-scene.json"));
+    EXPECT_EQ(missing.status, 2);
+    EXPECT_NE(missing.output.find("no-such-scene.json"), std::string::npos) << missing.output;
+    EXPECT_EQ(run("analyze").status, 2);
+    EXPECT_EQ(run("analyze " + scenePath("cornell-box.json") + " --global-photons 0").status, 2);
+    EXPECT_EQ(run("analyze " + scenePath("cornell-box.json") + " --bogus").status, 2);
+    EXPECT_EQ(run("analyze --help").status, 0);
+}
+
+}  // namespace
+}  // namespace pcl
