@@ -7,6 +7,14 @@
 
 namespace pcl {
 
+// Work-group size of every photon-pass launch, the global size rounded up to it (the kernels
+// skip work-items past the batch). Fixed because PoCL compiles a kernel for each work-group
+// size on its first launch: a size left to the runtime follows the batch size and recompiles.
+constexpr size_t kPhotonGroup = 64;
+inline cl::NDRange photonGlobalRange(size_t n) {
+    return cl::NDRange((n + kPhotonGroup - 1) / kPhotonGroup * kPhotonGroup);
+}
+
 struct DeviceScene {
     DeviceScene(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers);
     DeviceGeometry geometry;

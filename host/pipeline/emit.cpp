@@ -6,7 +6,7 @@ cl::Event emitPhotons(Device& device, const DeviceScene& scene, const cl::Buffer
                       const PclPhotonParams& params, cl::Buffer& rays) {
     auto kernel = device.kernel<PclPhotonParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "emit", "emit_photons");
-    return device.launch("emit", kernel, cl::NDRange(params.batchSize), params, scene.lights, lightFirst,
+    return device.launchLocal("emit", kernel, photonGlobalRange(params.batchSize), cl::NDRange(kPhotonGroup), params, scene.lights, lightFirst,
                          scene.projCells, rays);
 }
 

@@ -1,0 +1,112 @@
+#include "pipeline/deposit.h"
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+
+#include "core/error.h"
+#include "pipeline/device_scene.h"
+
+namespace pcl {
+namespace {
+
+constexpr size_t kScanGroup = 256;  // PCL_SCAN_GROUP in kernels/deposit.cl
+
+}  // namespace
+
+DevicePhotonMap makeDevicePhotonMap(Device& device, size_t capacity) {
+    DevicePhotonMap map;
+    map.capacity = std::max<size_t>(capacity, 1);
+    map.photons = device.allocate<PclPhoton>(map.capacity);
+    return map;
+}
+
+uint64_t exclusiveScan(Device& device, const cl::Buffer& values, cl::Buffer& exclusive, size_t n,
+                       double* seconds) {
+    auto scan = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint>("deposit", "deposit_scan");
+    auto add = device.kernel<cl::Buffer, cl::Buffer, cl_uint>("deposit", "deposit_scan_add");
+    const size_t groups = (n + kScanGroup - 1) / kScanGroup;
+    cl::Buffer sums = device.allocate<uint32_t>(groups);
+    std::vector<cl::Event> events;
+    events.push_back(device.launchLocal("deposit", scan, cl::NDRange(groups * kScanGroup), cl::NDRange(kScanGroup),
+                                        values, exclusive, sums, cl_uint(n)));
+    uint64_t total = 0;
+    if (groups > 1) {
+        cl::Buffer groupOffsets = device.allocate<uint32_t>(groups);
+        total = exclusiveScan(device, sums, groupOffsets, groups, seconds);
+        events.push_back(device.launchLocal("deposit", add, photonGlobalRange(n), cl::NDRange(kPhotonGroup), exclusive, groupOffsets, cl_uint(n)));
+        device.finish();
+    } else {
+        total = device.download<uint32_t>(sums, 1)[0];
+    }
+    if (seconds)
+        for (const cl::Event& e : events) *seconds += Device::elapsedSeconds(e);
+    return total;
+}
+
+size_t depositPhotons(Device& device, const cl::Buffer& counts, const cl::Buffer& slots, uint32_t paths,
+                      uint32_t slotsPerPath, DevicePhotonMap& map, DepositTiming* timing) {
+    if (paths == 0) return 0;
+    DepositTiming local;
+    DepositTiming& t = timing ? *timing : local;
+    cl::Buffer offsets = device.allocate<uint32_t>(paths);
+    const uint64_t total = exclusiveScan(device, counts, offsets, paths, &t.scanSeconds);
+    if (total == 0) return 0;
+    const uint64_t needed = map.count + total;
+    if (needed > 0xFFFFFFFFull)
+        throw DeviceError("stage deposit: a photon map of " + std::to_string(needed) +
+                          " records exceeds the 32-bit offsets of deposit_scatter");
+    if (needed > map.capacity) {
+        // Grow, never truncate: a larger buffer, the old records copied over, the event counted.
+        size_t capacity = std::max<size_t>(needed, map.capacity * 2);
+        cl::Buffer grown = device.allocate<PclPhoton>(capacity);
+        if (map.count) {
+            cl::Event e;
+            Device::guard("deposit", [&] {
+                device.queue().enqueueCopyBuffer(map.photons, grown, 0, 0, map.count * sizeof(PclPhoton), nullptr, &e);
+            });
+            e.wait();
+            t.growSeconds += Device::elapsedSeconds(e);
+        }
+        map.photons = grown;
+        map.capacity = capacity;
+        ++map.growths;
+    }
+    auto scatter = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl_uint>(
+        "deposit", "deposit_scatter");
+    cl::Event e = device.launchLocal("deposit", scatter, photonGlobalRange(paths), cl::NDRange(kPhotonGroup), counts, offsets, slots,
+                                cl_uint(slotsPerPath), cl_uint(paths), map.photons, cl_uint(map.count));
+    e.wait();
+    t.scatterSeconds += Device::elapsedSeconds(e);
+    map.count += total;
+    return size_t(total);
+}
+
+std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_t>& counts,
+                                       const std::vector<PclPhoton>& slots, uint32_t slotsPerPath,
+                                       size_t initialCapacity, uint32_t* growths) {
+    if (slots.size() != counts.size() * size_t(slotsPerPath))
+        throw InputError("depositOnDevice: " + std::to_string(slots.size()) + " slots for " +
+                         std::to_string(counts.size()) + " paths of " + std::to_string(slotsPerPath));
+    for (size_t i = 0; i < counts.size(); ++i)
+        if (counts[i] > slotsPerPath)
+            throw InputError("depositOnDevice: path " + std::to_string(i) + " claims " + std::to_string(counts[i]) +
+                             " records in " + std::to_string(slotsPerPath) + " slots");
+    const uint64_t total = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
+    DevicePhotonMap map = makeDevicePhotonMap(device, initialCapacity ? initialCapacity : size_t(total));
+    cl::Buffer countBuf = device.upload(counts);
+    cl::Buffer slotBuf = device.upload(slots);
+    depositPhotons(device, countBuf, slotBuf, uint32_t(counts.size()), slotsPerPath, map);
+    if (growths) *growths = map.growths;
+    return device.download<PclPhoton>(map.photons, map.count);
+}
+
+std::vector<uint32_t> exclusiveScanOnDevice(Device& device, const std::vector<uint32_t>& values) {
+    if (values.empty()) return {};
+    cl::Buffer in = device.upload(values);
+    cl::Buffer out = device.allocate<uint32_t>(values.size());
+    exclusiveScan(device, in, out, values.size());
+    return device.download<uint32_t>(out, values.size());
+}
+
+}  // namespace pcl

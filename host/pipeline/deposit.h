@@ -1,0 +1,50 @@
+// Stage 3 of the photon pass: a batch's deposited records appended to a photon map in path
+// order, then hit order, through an exclusive prefix sum of the per-path counts
+// (kernels/deposit.cl, spec in kernels/README.md "deposit"). The twin is
+// host/reference/deposit.cpp.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "device/device.h"
+#include "shared/types.h"
+
+namespace pcl {
+
+// A photon map on the device: `count` records in a buffer of `capacity`. Grown (copied into a
+// larger buffer) before a scatter that would overflow it; `growths` counts those events.
+struct DevicePhotonMap {
+    cl::Buffer photons;
+    size_t count = 0;
+    size_t capacity = 0;
+    uint32_t growths = 0;
+};
+
+DevicePhotonMap makeDevicePhotonMap(Device& device, size_t capacity);
+
+// Device seconds of one deposit, from event profiling.
+struct DepositTiming {
+    double scanSeconds = 0.0, growSeconds = 0.0, scatterSeconds = 0.0;
+};
+
+// Exclusive prefix sum of n values into `exclusive` (device buffers, n >= 1); returns the total
+// (a small blocking read). Work-groups of 256 scanned by deposit_scan, their sums scanned
+// recursively and added back by deposit_scan_add.
+uint64_t exclusiveScan(Device& device, const cl::Buffer& values, cl::Buffer& exclusive, size_t n,
+                       double* seconds = nullptr);
+
+// Appends the records of `paths` paths (counts[i] valid records in slots[i*S .. i*S+S)) to map:
+// scan, grow the map if base + total exceeds its capacity, scatter. Returns the records added.
+size_t depositPhotons(Device& device, const cl::Buffer& counts, const cl::Buffer& slots, uint32_t paths,
+                      uint32_t slotsPerPath, DevicePhotonMap& map, DepositTiming* timing = nullptr);
+
+// Deposit alone, for checks and tests: counts.size() paths, slots.size() == paths × slotsPerPath.
+// The map starts with `initialCapacity` records (0: exactly the total) and is downloaded.
+std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_t>& counts,
+                                       const std::vector<PclPhoton>& slots, uint32_t slotsPerPath,
+                                       size_t initialCapacity = 0, uint32_t* growths = nullptr);
+
+// The scan alone (tests).
+std::vector<uint32_t> exclusiveScanOnDevice(Device& device, const std::vector<uint32_t>& values);
+
+}  // namespace pcl

@@ -1,0 +1,118 @@
+#include "pipeline/photon_pass.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "core/error.h"
+#include "pipeline/deposit.h"
+#include "pipeline/device_scene.h"
+#include "pipeline/emit.h"
+#include "pipeline/photon_allocation.h"
+#include "pipeline/trace_photons.h"
+
+namespace pcl {
+namespace {
+
+void tallyEnds(const std::vector<uint32_t>& ends, PhotonPassKindStats& s) {
+    for (uint32_t e : ends) {
+        s.bounces += e & 0xFFu;
+        switch (e >> 8) {
+            case PCL_END_ESCAPED: ++s.escaped; break;
+            case PCL_END_ABSORBED: ++s.absorbed; break;
+            case PCL_END_MAX_DEPTH: ++s.maxDepth; break;
+            case PCL_END_STORED: ++s.stored; break;
+            default: break;
+        }
+    }
+}
+
+// One map: every batch of one pass kind through emit → trace → deposit.
+std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const SceneGeometry& geometry,
+                                const SceneBuffers& buffers, const PhotonPassOptions& options, uint32_t passKind,
+                                uint32_t photons, PhotonPassStats& stats, PhotonPassKindStats& s) {
+    const std::vector<uint32_t> first = lightFirstPhoton(buffers, photons, passKind);
+    const uint32_t total = first.back();  // 0 when no light has power (or no marked cell)
+    if (total == 0) return {};
+    emittedFlux(buffers, first, passKind, s.emittedFlux);
+    const uint64_t passSeed = photonPassSeed(options.seed, options.pass);
+    PclPhotonParams params = makePhotonParams(geometry, buffers, passKind, passSeed, options.maxDepth, 0, 0);
+    const uint32_t slotsPerPath = photonSlotsPerPath(params);
+    const uint32_t batch = std::min(total, options.batchSize ? options.batchSize : defaultPhotonBatch(device, slotsPerPath));
+    stats.batchSize = batch;
+
+    cl::Buffer lightFirst = device.upload(first);
+    cl::Buffer rays = device.allocate<PclPhotonRay>(batch);
+    cl::Buffer slots = device.allocate<PclPhoton>(size_t(batch) * slotsPerPath);
+    cl::Buffer counts = device.allocate<uint32_t>(batch);
+    cl::Buffer ends = device.allocate<uint32_t>(batch);
+    // A caustic path deposits at most once; a global one about 1/(1 - albedo) times.
+    size_t capacity = options.initialCapacity ? options.initialCapacity
+                                              : (passKind == PCL_PASS_CAUSTIC ? size_t(total) : size_t(total) * 2);
+    DevicePhotonMap map = makeDevicePhotonMap(device, capacity);
+
+    for (uint32_t firstPhoton = 0; firstPhoton < total; firstPhoton += batch) {
+        params.firstPhoton = firstPhoton;
+        params.batchSize = std::min(batch, total - firstPhoton);
+        cl::Event emitted = emitPhotons(device, scene, lightFirst, params, rays);
+        cl::Event traced = tracePhotons(device, scene, params, rays, slots, counts, ends);
+        DepositTiming timing;
+        depositPhotons(device, counts, slots, params.batchSize, slotsPerPath, map, &timing);
+        tallyEnds(device.download<uint32_t>(ends, params.batchSize), s);
+        stats.emitSeconds += Device::elapsedSeconds(emitted);
+        stats.traceSeconds += Device::elapsedSeconds(traced);
+        stats.depositSeconds += timing.scanSeconds + timing.growSeconds + timing.scatterSeconds;
+        s.emitted += params.batchSize;
+        ++s.batches;
+    }
+    s.deposits = map.count;
+    s.growths = map.growths;
+    s.capacity = map.capacity;
+    return device.download<PclPhoton>(map.photons, map.count);
+}
+
+}  // namespace
+
+uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath) {
+    size_t budget = std::min<size_t>(size_t(256) << 20, device.info().maxAlloc / 4);
+    size_t paths = budget / (size_t(std::max(1u, slotsPerPath)) * sizeof(PclPhoton));
+    paths = std::min<size_t>(paths, size_t(1) << 18);
+    paths = std::max<size_t>(paths / 1024 * 1024, 1024);
+    return uint32_t(paths);
+}
+
+std::string PhotonPassStats::summary() const {
+    char buf[768];
+    auto line = [](const char* name, const PhotonPassKindStats& s) {
+        char l[320];
+        std::snprintf(l, sizeof l,
+                      "%s: %llu paths in %u batches, %llu records (%u growths); ends: %llu escaped, %llu absorbed, "
+                      "%llu stored, %llu at max depth; flux %.6g %.6g %.6g W\n",
+                      name, (unsigned long long)s.emitted, s.batches, (unsigned long long)s.deposits, s.growths,
+                      (unsigned long long)s.escaped, (unsigned long long)s.absorbed, (unsigned long long)s.stored,
+                      (unsigned long long)s.maxDepth, s.emittedFlux[0], s.emittedFlux[1], s.emittedFlux[2]);
+        return std::string(l);
+    };
+    std::snprintf(buf, sizeof buf, "device seconds: emit %.4f, trace %.4f, deposit %.4f; wall %.4f s\n", emitSeconds,
+                  traceSeconds, depositSeconds, wallSeconds);
+    return line("global", global) + line("caustic", caustic) + buf;
+}
+
+PhotonMaps runPhotonPass(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                         const PhotonPassOptions& options) {
+    if (options.maxDepth < 1 || options.maxDepth > 255)
+        throw InputError("photon pass: maxDepth " + std::to_string(options.maxDepth) + ": expected 1..255");
+    const auto start = std::chrono::steady_clock::now();
+    PhotonMaps maps;
+    DeviceScene scene(device, geometry, buffers);
+    if (options.buildGlobal && options.globalPhotons > 0)
+        maps.global = buildMap(device, scene, geometry, buffers, options, PCL_PASS_GLOBAL, options.globalPhotons,
+                               maps.stats, maps.stats.global);
+    if (options.buildCaustic && options.causticPhotons > 0)
+        maps.caustic = buildMap(device, scene, geometry, buffers, options, PCL_PASS_CAUSTIC, options.causticPhotons,
+                                maps.stats, maps.stats.caustic);
+    maps.stats.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return maps;
+}
+
+}  // namespace pcl

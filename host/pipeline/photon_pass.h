@@ -1,0 +1,63 @@
+// The photon pass (Jensen 2001, ch. 5; DESIGN.md stages 1-3): for each pass kind the scene
+// needs (global, caustic) and each batch of photons: emit → trace → deposit, on the device.
+// Returns the two maps and what happened on the way.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "device/device.h"
+#include "geometry/scene_geometry.h"
+#include "pipeline/scene_buffers.h"
+#include "shared/types.h"
+
+namespace pcl {
+
+struct PhotonPassOptions {
+    uint32_t globalPhotons = 100000;   // paths emitted for the global map
+    uint32_t causticPhotons = 100000;  // paths emitted for the caustic map (through projection maps)
+    uint32_t maxDepth = 64;            // bounces per path (1..255)
+    uint32_t batchSize = 0;            // paths per launch; 0: defaultPhotonBatch()
+    uint64_t seed = 1;                 // render seed
+    uint32_t pass = 0;                 // progressive pass index (mixed into the seed)
+    bool buildGlobal = true;
+    bool buildCaustic = true;
+    size_t initialCapacity = 0;        // records per map before growth; 0: an estimate
+};
+
+// Per map (pass kind).
+struct PhotonPassKindStats {
+    uint64_t emitted = 0;              // paths emitted
+    uint64_t escaped = 0, absorbed = 0, maxDepth = 0, stored = 0;  // ends by PCL_END_* cause
+    uint64_t bounces = 0;              // Σ bounce field of ends: segments traced
+    uint64_t deposits = 0;             // records in the map
+    double emittedFlux[3] = {0, 0, 0}; // Σ flux of the emitted photons (computed as emit does)
+    uint32_t batches = 0;
+    uint32_t growths = 0;              // map buffer growth events
+    size_t capacity = 0;               // final buffer capacity (records)
+};
+
+struct PhotonPassStats {
+    PhotonPassKindStats global, caustic;
+    double emitSeconds = 0, traceSeconds = 0, depositSeconds = 0;  // device time (event profiling)
+    double wallSeconds = 0;
+    uint32_t batchSize = 0;
+    std::string summary() const;  // a few lines for logs
+};
+
+struct PhotonMaps {
+    std::vector<PclPhoton> global, caustic;
+    PhotonPassStats stats;
+};
+
+// Paths per batch: at most 2^18 (a GPU launch stays well under 0.5 s and PoCL keeps every core
+// busy), fewer when the slot buffer (paths × slots × 20 bytes) would pass a quarter of the
+// device's largest allocation or 256 MiB.
+uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath);
+
+// Runs the photon pass. The caustic pass uses buffers.projCells / light.projFirst/projCount;
+// lights with no marked cell emit no caustic photons, and a scene without any gets no caustic map.
+PhotonMaps runPhotonPass(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                         const PhotonPassOptions& options);
+
+}  // namespace pcl

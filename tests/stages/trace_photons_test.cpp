@@ -1,0 +1,275 @@
+// trace_photons (kernels/trace_photons.cl) with emit and deposit around it: properties with
+// analytic answers, no twin needed. A closed grey diffuse box of albedo ρ lit by a point light:
+// every photon lands first on a wall and the records per path average 1/(1 - ρ) (Jensen's
+// roulette keeps a grey photon's power, so every record carries Φ/N); maximum depth is counted;
+// a mirror above a diffuse floor gives the image-source caustic flux, with and without
+// projection maps; glass never absorbs; records decode to points on the surfaces.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "device_fixture.h"
+#include "photon_test_scenes.h"
+#include "pipeline/emit.h"
+#include "pipeline/photon_pass.h"
+#include "pipeline/projection_map.h"
+#include "pipeline/trace_photons.h"
+#include "shared/sampling.h"
+
+namespace pcl {
+namespace {
+
+constexpr uint32_t kPhotons = 100000;
+
+test::BuiltScene greyBox(float rho) {
+    Scene s;
+    int m = test::addMaterial(s, Vec3(rho));
+    s.meshes.push_back(test::closedBox(1.0f, m));
+    s.lights.push_back(test::pointLight(Vec3(0.1f, 0.2f, -0.15f), Vec3(1.0f)));
+    return test::build(s);
+}
+
+PhotonMaps globalOnly(const test::BuiltScene& b, uint32_t photons, uint32_t maxDepth = 64, uint32_t batch = 0) {
+    PhotonPassOptions o;
+    o.globalPhotons = photons;
+    o.buildCaustic = false;
+    o.maxDepth = maxDepth;
+    o.batchSize = batch;
+    o.seed = 11;
+    return runPhotonPass(test::testDevice(), b.geometry, b.buffers, o);
+}
+
+uint32_t bounceOf(const PclPhoton& p) { return (p.packed >> PCL_PHOTON_BOUNCE_SHIFT) & 0xFFu; }
+uint32_t flagsOf(const PclPhoton& p) { return p.packed & 0xFF000000u; }
+
+TEST(TracePhotons, ClosedDiffuseBoxDepositsPhiAtFirstHitsAndPhiOverOneMinusRhoInAll) {
+    const float rho = 0.5f;
+    test::BuiltScene b = greyBox(rho);
+    PhotonMaps maps = globalOnly(b, kPhotons, 255);
+    const PhotonPassKindStats& s = maps.stats.global;
+    std::printf("%s", maps.stats.summary().c_str());
+    EXPECT_EQ(s.emitted, kPhotons);
+    EXPECT_LE(s.escaped, kPhotons / 10000) << "photons leaked out of a closed box";
+    EXPECT_EQ(s.escaped + s.absorbed + s.maxDepth, kPhotons);
+    ASSERT_EQ(maps.global.size(), s.deposits);
+
+    size_t firstHits = 0;
+    const uint32_t rgbe = maps.global.empty() ? 0 : maps.global[0].rgbe;
+    for (const PclPhoton& p : maps.global) {
+        // On a wall of the box.
+        float m = std::max(std::fabs(p.x), std::max(std::fabs(p.y), std::fabs(p.z)));
+        ASSERT_NEAR(m, 1.0f, 1e-5f);
+        // A grey photon keeps its power through roulette: every record carries Φ/N.
+        ASSERT_EQ(p.rgbe, rgbe);
+        uint32_t bounce = bounceOf(p);
+        if (bounce == 0) {
+            ++firstHits;
+            EXPECT_EQ(flagsOf(p), 0u);
+        } else {
+            EXPECT_EQ(flagsOf(p), PCL_PHOTON_AFTER_DIFFUSE);
+        }
+        // The incoming direction points back into the box, off the wall it lies on.
+        PclV3 w = photon_dir_decode(p.packed);
+        float inward = std::fabs(p.x) == m ? -p.x * w.x : std::fabs(p.y) == m ? -p.y * w.y : -p.z * w.z;
+        EXPECT_GT(inward, -0.03f);
+    }
+    // Flux at first hits: Φ (every photon hits a wall first).
+    EXPECT_GE(firstHits, kPhotons - kPhotons / 10000);
+    EXPECT_LE(firstHits, kPhotons);
+    double perPhoton = test::decodedPower(maps.global[0]);
+    double phi = scalarPower(b.buffers.lights[0]);
+    EXPECT_NEAR(perPhoton * kPhotons, phi, phi / 128.0);  // RGBE keeps 8 bits
+    // All bounces: Φ/(1 - ρ). Records per path are geometric: mean 1/(1-ρ), variance ρ/(1-ρ)².
+    double mean = double(maps.global.size()) / kPhotons;
+    double se = std::sqrt(rho / ((1 - rho) * (1 - rho)) / kPhotons);
+    std::printf("records per path %.5f, expected %.5f ± %.5f (1 se)\n", mean, 1 / (1 - rho), se);
+    EXPECT_NEAR(mean, 1.0 / (1.0 - rho), 3.0 * se);
+}
+
+TEST(TracePhotons, MaximumDepthEndsPathsAndIsCounted) {
+    const float rho = 0.9f;
+    const uint32_t depth = 3;
+    test::BuiltScene b = greyBox(rho);
+    PhotonMaps maps = globalOnly(b, kPhotons, depth);
+    const PhotonPassKindStats& s = maps.stats.global;
+    // A path reaches the cap when it survives roulette at hits 1..3: probability ρ³.
+    double p = std::pow(rho, depth);
+    EXPECT_NEAR(double(s.maxDepth), kPhotons * p, 5.0 * std::sqrt(kPhotons * p * (1 - p)));
+    EXPECT_EQ(s.escaped + s.absorbed + s.maxDepth, kPhotons);
+    for (const PclPhoton& ph : maps.global) ASSERT_LT(bounceOf(ph), depth);
+    // Every path deposits once per hit: maxDepth paths deposit exactly `depth` records.
+    EXPECT_GE(maps.global.size(), size_t(s.maxDepth) * depth);
+
+    // The per-path view: ends carry the bounce at which the path stopped.
+    std::vector<uint32_t> first = lightFirstPhoton(b.buffers, 20000, PCL_PASS_GLOBAL);
+    PclPhotonParams params = makePhotonParams(b.geometry, b.buffers, PCL_PASS_GLOBAL, 5, depth, 0, first.back());
+    auto rays = emitOnDevice(test::testDevice(), b.geometry, b.buffers, first, params);
+    PhotonTraceResult t = tracePhotonsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, params);
+    ASSERT_EQ(t.slotsPerPath, depth);
+    size_t capped = 0;
+    for (size_t i = 0; i < t.ends.size(); ++i) {
+        uint32_t bounce = t.ends[i] & 0xFFu, cause = t.ends[i] >> 8;
+        ASSERT_GE(bounce, 1u);
+        ASSERT_LE(bounce, depth);
+        if (cause == PCL_END_MAX_DEPTH) {
+            ++capped;
+            EXPECT_EQ(bounce, depth);
+            EXPECT_EQ(t.counts[i], depth);
+        } else if (cause == PCL_END_ABSORBED) {
+            EXPECT_EQ(t.counts[i], bounce);  // one record per hit, the last at the absorbing hit
+        }
+        for (uint32_t k = 0; k < t.counts[i]; ++k) EXPECT_EQ(bounceOf(t.slots[i * depth + k]), k);
+    }
+    EXPECT_GT(capped, 0u);
+}
+
+// Floor y = 0 (diffuse), a downward mirror square of half-size 0.5 at y = 2, a point light at
+// y = 1 between them. Caustic flux (image source): Φ ρs Ω/(4π), Ω the mirror's solid angle.
+test::BuiltScene mirrorAboveFloor(float rhoS) {
+    Scene s;
+    int floorM = test::addMaterial(s, Vec3(0.5f));
+    int mirrorM = test::addMaterial(s, Vec3(0.0f), Vec3(rhoS), SpecularKind::Mirror);
+    TriangleMesh floor;
+    floor.material = floorM;
+    test::addQuad(floor, Vec3(-50, 0, -50), Vec3(-50, 0, 50), Vec3(50, 0, 50), Vec3(50, 0, -50));
+    s.meshes.push_back(floor);
+    TriangleMesh mirror;
+    mirror.material = mirrorM;
+    test::addQuad(mirror, Vec3(-0.5f, 2, -0.5f), Vec3(0.5f, 2, -0.5f), Vec3(0.5f, 2, 0.5f), Vec3(-0.5f, 2, 0.5f));
+    s.meshes.push_back(mirror);
+    s.lights.push_back(test::pointLight(Vec3(0, 1, 0), Vec3(1.0f)));
+    return test::build(s);
+}
+
+PhotonMaps causticOnly(const test::BuiltScene& b, uint32_t photons, uint64_t seed = 3) {
+    PhotonPassOptions o;
+    o.buildGlobal = false;
+    o.causticPhotons = photons;
+    o.seed = seed;
+    return runPhotonPass(test::testDevice(), b.geometry, b.buffers, o);
+}
+
+double mapFlux(const std::vector<PclPhoton>& m) {
+    double f = 0;
+    for (const PclPhoton& p : m) f += test::decodedPower(p);
+    return f;
+}
+
+TEST(TracePhotons, MirrorAboveFloorGivesTheImageSourceCausticFlux) {
+    const float rhoS = 0.8f;
+    test::BuiltScene b = mirrorAboveFloor(rhoS);
+    const double phi = scalarPower(b.buffers.lights[0]);
+    const double omega = 4.0 * std::atan(0.25 / std::sqrt(1.5));  // 4 atan(ab / (d √(a²+b²+d²)))
+    const double p = rhoS * omega / (4.0 * 3.14159265358979323846);
+    const double want = phi * p;
+
+    // Unrestricted emission: every projection cell marked.
+    test::markAllProjectionCells(b.buffers);
+    PhotonMaps all = causticOnly(b, kPhotons);
+    for (const PclPhoton& ph : all.caustic) {
+        ASSERT_EQ(flagsOf(ph), PCL_PHOTON_CAUSTIC | PCL_PHOTON_AFTER_SPECULAR);
+        ASSERT_EQ(bounceOf(ph), 1u);
+        ASSERT_NEAR(ph.y, 0.0f, 1e-5f);
+        ASSERT_LE(std::fabs(ph.x), 1.5f + 1e-4f);  // the image source at y = 3 through the mirror
+    }
+    EXPECT_EQ(all.stats.caustic.stored, all.caustic.size());
+    double se = phi * std::sqrt(p * (1 - p) / kPhotons);
+    double got = mapFlux(all.caustic);
+    std::printf("caustic flux, all cells: %.6f, image source %.6f ± %.6f (1 se)\n", got, want, se);
+    EXPECT_NEAR(got, want, 3.0 * se + want / 128.0);
+
+    // Projection maps: photons only towards the mirror, flux scaled by the marked fraction.
+    test::BuiltScene pm = mirrorAboveFloor(rhoS);
+    buildProjectionMaps(pm.scene, pm.geometry, pm.buffers);
+    ASSERT_GT(pm.buffers.lights[0].projCount, 0u);
+    ASSERT_LT(pm.buffers.lights[0].projCount, PCL_PROJ_GRID * PCL_PROJ_GRID);
+    PhotonMaps restricted = causticOnly(pm, kPhotons);
+    double f = projectionFraction(pm.buffers.lights[0]);
+    double pr = p / f;  // the chance a restricted photon makes a caustic
+    double seR = phi * f * std::sqrt(pr * (1 - pr) / kPhotons);
+    double gotR = mapFlux(restricted.caustic);
+    std::printf("caustic flux, projection map (f = %.4f): %.6f ± %.6f; %zu records vs %zu\n", f, gotR, seR,
+                restricted.caustic.size(), all.caustic.size());
+    EXPECT_NEAR(gotR, want, 3.0 * std::sqrt(se * se + seR * seR) + want / 128.0);
+    EXPECT_GT(restricted.caustic.size(), 3 * all.caustic.size());
+}
+
+// A glass sphere (ρs = 1) over a diffuse floor: the dielectric reflects or refracts, never
+// absorbs, so a caustic path is absorbed only at a first hit on the floor.
+TEST(TracePhotons, GlassNeverAbsorbsAndCausticsLandOnTheFloor) {
+    Scene s;
+    int floorM = test::addMaterial(s, Vec3(0.5f));
+    int glass = test::addMaterial(s, Vec3(0.0f), Vec3(1.0f), SpecularKind::Dielectric, 0.0f, 1.5f);
+    TriangleMesh floor;
+    floor.material = floorM;
+    test::addQuad(floor, Vec3(-20, 0, -20), Vec3(-20, 0, 20), Vec3(20, 0, 20), Vec3(20, 0, -20));
+    s.meshes.push_back(floor);
+    Sphere sp;
+    sp.centre = Vec3(0, 1, 0);
+    sp.radius = 0.5f;
+    sp.material = glass;
+    s.spheres.push_back(sp);
+    s.lights.push_back(test::pointLight(Vec3(0, 3, 0), Vec3(1.0f)));
+    test::BuiltScene b = test::build(s);
+    test::markAllProjectionCells(b.buffers);
+
+    std::vector<uint32_t> first = lightFirstPhoton(b.buffers, kPhotons, PCL_PASS_CAUSTIC);
+    PclPhotonParams params = makePhotonParams(b.geometry, b.buffers, PCL_PASS_CAUSTIC, 9, 64, 0, first.back());
+    auto rays = emitOnDevice(test::testDevice(), b.geometry, b.buffers, first, params);
+    PhotonTraceResult t = tracePhotonsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, params);
+    ASSERT_EQ(t.slotsPerPath, 1u);
+    size_t stored = 0, refracted = 0;
+    const uint32_t emittedRgbe = photon_rgbe_encode(rays[0].power[0], rays[0].power[1], rays[0].power[2]);
+    for (size_t i = 0; i < t.ends.size(); ++i) {
+        uint32_t bounce = t.ends[i] & 0xFFu, cause = t.ends[i] >> 8;
+        if (cause == PCL_END_ABSORBED) EXPECT_EQ(bounce, 1u) << "path " << i;
+        if (cause == PCL_END_STORED) {
+            ASSERT_EQ(t.counts[i], 1u);
+            const PclPhoton& ph = t.slots[i];
+            ++stored;
+            refracted += bounceOf(ph) >= 2;
+            EXPECT_EQ(bounceOf(ph) + 1, bounce);
+            EXPECT_EQ(flagsOf(ph), PCL_PHOTON_CAUSTIC | PCL_PHOTON_AFTER_SPECULAR);
+            EXPECT_NEAR(ph.y, 0.0f, 1e-5f);
+            EXPECT_EQ(ph.rgbe, emittedRgbe);  // ρs = 1: the power is kept
+        } else {
+            EXPECT_EQ(t.counts[i], 0u);
+        }
+    }
+    // The sphere subtends (1 - cos α)/2 of the sphere of directions, sin α = 0.5/2.
+    double pHit = (1.0 - std::sqrt(1.0 - 0.0625)) / 2.0;
+    EXPECT_GT(stored, size_t(0.5 * pHit * kPhotons));
+    EXPECT_GT(refracted, stored / 2);  // most light goes through glass at these angles
+}
+
+TEST(TracePhotons, RecordsOnSpheresLieOnTheirSurface) {
+    Scene s;
+    int white = test::addMaterial(s, Vec3(0.6f, 0.5f, 0.4f));
+    s.meshes.push_back(test::closedBox(2.0f, white));
+    for (int k = 0; k < 3; ++k) {
+        Sphere sp;
+        sp.centre = Vec3(-1.0f + k, -1.0f + 0.3f * k, 0.5f * k - 0.5f);
+        sp.radius = 0.3f + 0.1f * k;
+        sp.material = white;
+        s.spheres.push_back(sp);
+    }
+    s.lights.push_back(test::pointLight(Vec3(0.5f, 1.5f, 0.0f), Vec3(1.0f)));
+    test::BuiltScene b = test::build(s);
+    PhotonMaps maps = globalOnly(b, 20000);
+    size_t onSpheres = 0;
+    for (const PclPhoton& p : maps.global) {
+        Vec3 q(p.x, p.y, p.z);
+        bool onBox = std::fabs(std::max(std::fabs(q.x), std::max(std::fabs(q.y), std::fabs(q.z))) - 2.0f) < 1e-5f;
+        bool onSphere = false;
+        for (const Sphere& sp : s.spheres) onSphere |= std::fabs(length(q - sp.centre) - sp.radius) < 1e-4f * sp.radius + 1e-6f;
+        ASSERT_TRUE(onBox || onSphere) << q.x << " " << q.y << " " << q.z;
+        onSpheres += onSphere;
+    }
+    EXPECT_GT(onSpheres, maps.global.size() / 50);
+    // Coloured walls: the roulette keeps the expected power per channel, so records after a
+    // bounce lean to red (ρ = 0.6, 0.5, 0.4) in power but not in count.
+}
+
+}  // namespace
+}  // namespace pcl
