@@ -254,11 +254,14 @@ Cone cellCone(const PclLight& light, const Frame& f, const SpotWarp& spot, int c
         double a0, a1;
         int piece;
     };
+    // The kernel decides s1 < P_in in float, so a cell within a hair of P_in gets both branches.
     Rect rects[2] = {{a0, a1, light.type == PCL_LIGHT_SPOT ? spot.piece(ac) : 0}, {a0, a1, 0}};
     int count = 1;
-    if (light.type == PCL_LIGHT_SPOT && spot.pIn < 1.0 && a0 < spot.pIn && spot.pIn < a1) {
-        rects[0] = {a0, spot.pIn, 0};
-        rects[1] = {spot.pIn, a1, 1};
+    const double hair = 1e-5;
+    if (light.type == PCL_LIGHT_SPOT && spot.pIn > 0.0 && spot.pIn < 1.0 && a0 <= spot.pIn + hair &&
+        spot.pIn - hair <= a1) {
+        rects[0] = {a0, std::clamp(spot.pIn, a0, a1), 0};
+        rects[1] = {std::clamp(spot.pIn, a0, a1), a1, 1};
         count = 2;
     }
     for (int i = 0; i < count; ++i) {

@@ -91,7 +91,8 @@ Prepared prepare(Scene scene) {
     return p;
 }
 
-// Shoots `samples` uniform samples through each light's warp and traces their first hit.
+// Shoots `samples` samples, uniform over the light's sample square, through its warp and traces
+// their first hit.
 std::vector<LightResult> bruteForce(const Prepared& p, int samples, uint64_t seed) {
     std::vector<LightResult> out;
     std::mt19937_64 rng(seed);
@@ -104,8 +105,22 @@ std::vector<LightResult> bruteForce(const Prepared& p, int samples, uint64_t see
         std::vector<char> marked(G * G, 0), hit(G * G, 0);
         for (uint32_t k = 0; k < l.projCount; ++k) marked.at(p.buffers.projCells.at(l.projFirst + k)) = 1;
         r.marked = l.projCount;
+        std::uniform_int_distribution<int> cell(0, G * G - 1), edge(0, 7);
+        const float below1 = std::nextafter(1.0f, 0.0f);
         for (int i = 0; i < samples; ++i) {
-            float s1 = U(rng), s2 = U(rng), u1 = U(rng), u2 = U(rng);
+            // As the caustic pass samples a cell (kernels/README.md "emit"): s = (c + s')/G in
+            // float, which may round onto the cell's far edge. One sample in four sits on a
+            // cell edge (s' = 0 or the largest float below 1) in s1 or s2.
+            int k = cell(rng), cx = k % G, cy = k / G;
+            float a = U(rng), b = U(rng), u1 = U(rng), u2 = U(rng);
+            switch (edge(rng)) {
+                case 0: a = 0.0f; break;
+                case 1: a = below1; break;
+                case 2: b = 0.0f; break;
+                case 3: b = below1; break;
+                default: break;
+            }
+            float s1 = (float(cx) + a) / float(G), s2 = (float(cy) + b) / float(G);
             float time = p.buffers.hasMotion ? U(rng) : 0.0f;
             Vec3 o, d;
             testRay(l, s1, s2, u1, u2, time, o, d);
@@ -118,7 +133,6 @@ std::vector<LightResult> bruteForce(const Prepared& p, int samples, uint64_t see
             }
             if (!any) continue;
             if (!isSpecular(p.buffers.materials[p.buffers.primInfo[h.prim].material])) continue;
-            int cx = std::min(G - 1, int(s1 * G)), cy = std::min(G - 1, int(s2 * G));
             ++r.specularHits;
             hit[cy * G + cx] = 1;
             if (!marked[cy * G + cx]) ++r.misses;
