@@ -1,0 +1,161 @@
+// kernels/shared/sampling.h compiled for the host: the warps and encodings the photon kernels
+// use, checked against their definitions (kernels/README.md) without a device.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "shared/sampling.h"
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double len(PclV3 v) { return std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z); }
+
+PclV3 randomUnit(std::mt19937& rng) {
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    return sampling_uniform_sphere(u(rng), u(rng));
+}
+
+TEST(SharedSampling, BasisIsOrthonormalEverywhereIncludingTheSouthPole) {
+    std::mt19937 rng(1);
+    for (int i = 0; i < 10000; ++i) {
+        PclV3 n = i == 0 ? sampling_v3(0, 0, -1) : i == 1 ? sampling_v3(0, 0, 1) : randomUnit(rng);
+        PclV3 t, b;
+        sampling_basis(n, &t, &b);
+        ASSERT_NEAR(len(t), 1.0, 1e-5);
+        ASSERT_NEAR(len(b), 1.0, 1e-5);
+        ASSERT_NEAR(sampling_dot(t, b), 0.0, 1e-5);
+        ASSERT_NEAR(sampling_dot(t, n), 0.0, 1e-5);
+        ASSERT_NEAR(sampling_dot(b, n), 0.0, 1e-5);
+        // Right-handed: t × b = n.
+        ASSERT_NEAR(t.y * b.z - t.z * b.y, n.x, 1e-5);
+    }
+}
+
+TEST(SharedSampling, ConcentricDiskIsAreaPreservingAndCosineLobeIsAHemisphere) {
+    const int n = 256;
+    double r2 = 0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            float x, y;
+            sampling_concentric_disk((i + 0.5f) / n, (j + 0.5f) / n, &x, &y);
+            ASSERT_LE(x * x + y * y, 1.0f + 1e-6f);
+            r2 += x * x + y * y;
+        }
+    EXPECT_NEAR(r2 / (n * n), 0.5, 1e-4);  // uniform on the disk: E[r²] = 1/2
+    PclV3 axis = sampling_v3(0.6f, 0.0f, 0.8f);
+    double c = 0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            PclV3 d = sampling_cosine_hemisphere(axis, (i + 0.5f) / n, (j + 0.5f) / n);
+            ASSERT_NEAR(len(d), 1.0, 1e-5);
+            ASSERT_GE(sampling_dot(d, axis), -1e-6f);
+            c += sampling_dot(d, axis);
+        }
+    EXPECT_NEAR(c / (n * n), 2.0 / 3.0, 1e-3);  // E[cosθ] under cosθ/π
+}
+
+TEST(SharedSampling, SpotCosThetaInvertsTheFalloffCdf) {
+    const float cosInner = 0.9f, cosOuter = 0.3f;
+    const double wIn = 1.0 - cosInner, wFall = (cosInner - cosOuter) / 2.0, pIn = wIn / (wIn + wFall);
+    for (int i = 0; i < 1000; ++i) {
+        float s1 = (i + 0.5f) / 1000.0f;
+        double c = sampling_spot_cos_theta(s1, cosInner, cosOuter);
+        ASSERT_GE(c, cosOuter - 1e-6);
+        ASSERT_LE(c, 1.0 + 1e-6);
+        // The CDF from the axis outwards in the core, from the outer edge inwards in the falloff.
+        double back;
+        if (c >= cosInner && s1 < pIn) {
+            back = (1.0 - c) / (wIn + wFall);
+        } else {
+            double t = (c - cosOuter) / (cosInner - cosOuter);
+            back = pIn + (1.0 - pIn) * (2 * t * t * t - t * t * t * t);
+        }
+        ASSERT_NEAR(back, s1, 2e-6) << "s1 " << s1;
+    }
+}
+
+TEST(SharedSampling, FresnelAndRefractionFollowSnell) {
+    const float ior = 1.5f;
+    EXPECT_NEAR(sampling_fresnel_dielectric(1.0f, 1.0f / ior), 0.04, 1e-6);  // ((1-n)/(1+n))²
+    EXPECT_NEAR(sampling_fresnel_dielectric(1.0f, ior), 0.04, 1e-6);
+    EXPECT_EQ(sampling_fresnel_dielectric(0.5f, ior), 1.0f);  // beyond the critical angle
+    EXPECT_NEAR(sampling_fresnel_dielectric(1e-4f, 1.0f / ior), 1.0, 1e-3);  // grazing
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<float> u(0.05f, 0.999f);
+    PclV3 n = sampling_v3(0, 0, 1);
+    for (int i = 0; i < 1000; ++i) {
+        float cosI = u(rng), phi = 6.2831853f * u(rng);
+        float sinI = std::sqrt(1 - cosI * cosI);
+        PclV3 d = sampling_v3(sinI * std::cos(phi), sinI * std::sin(phi), -cosI);  // arriving from above
+        float eta = 1.0f / ior;
+        PclV3 t = sampling_refract(d, n, cosI, eta);
+        ASSERT_NEAR(len(t), 1.0, 1e-5);
+        ASSERT_LT(t.z, 0.0f);
+        double sinT = std::sqrt(1.0 - double(t.z) * t.z);
+        ASSERT_NEAR(sinT, eta * sinI, 1e-5);
+        // Reciprocity: the reflectance is the same going back out along the refracted ray.
+        ASSERT_NEAR(sampling_fresnel_dielectric(-t.z, ior), sampling_fresnel_dielectric(cosI, eta), 1e-4);
+        PclV3 r = sampling_reflect(d, n);
+        ASSERT_NEAR(r.z, -d.z, 1e-6);
+        ASSERT_NEAR(r.x, d.x, 1e-6);
+    }
+}
+
+TEST(SharedSampling, PhongLobeStaysAroundItsAxis) {
+    PclV3 r = sampling_v3(0.0f, 0.6f, 0.8f);
+    const float e = 20.0f;
+    const int n = 200;
+    double c = 0;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            PclV3 d = sampling_phong_lobe(r, e, (i + 0.5f) / n, (j + 0.5f) / n);
+            ASSERT_NEAR(len(d), 1.0, 1e-5);
+            c += sampling_dot(d, r);
+        }
+    EXPECT_NEAR(c / (n * n), (e + 1) / (e + 2), 1e-3);  // E[cosα] under (n+1)/(2π) cosⁿα
+}
+
+TEST(SharedSampling, RgbeKeepsEightBitsOfTheLargestChannel) {
+    EXPECT_EQ(photon_rgbe_encode(0, 0, 0), 0u);
+    EXPECT_EQ(photon_rgbe_encode(1e-33f, 0, 0), 0u);
+    float r, g, b;
+    photon_rgbe_decode(0u, &r, &g, &b);
+    EXPECT_EQ(r + g + b, 0.0f);
+    // 1.0: frexp gives (0.5, 1), bytes 128, exponent 129; decode 128 · 2^-7 = 1.
+    uint32_t one = photon_rgbe_encode(1.0f, 0.5f, 0.25f);
+    EXPECT_EQ(one, 128u | (64u << 8) | (32u << 16) | (129u << 24));
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f), ex(-30.0f, 30.0f);
+    for (int i = 0; i < 100000; ++i) {
+        float scale = std::pow(2.0f, ex(rng));
+        float c[3] = {u(rng) * scale, u(rng) * scale, u(rng) * scale};
+        float m = std::max(c[0], std::max(c[1], c[2]));
+        photon_rgbe_decode(photon_rgbe_encode(c[0], c[1], c[2]), &r, &g, &b);
+        ASSERT_NEAR(r, c[0], m / 256.0f);
+        ASSERT_NEAR(g, c[1], m / 256.0f);
+        ASSERT_NEAR(b, c[2], m / 256.0f);
+    }
+}
+
+TEST(SharedSampling, DirectionBytesRoundTripWithinABin) {
+    std::mt19937 rng(4);
+    for (int i = 0; i < 100000; ++i) {
+        PclV3 w = randomUnit(rng);
+        uint32_t packed = photon_dir_encode(w.x, w.y, w.z);
+        ASSERT_EQ(packed >> 16, 0u);
+        PclV3 back = photon_dir_decode(packed);
+        // θ bins are π/256 wide, φ bins π/128: the bin centre is within about 1° of w.
+        ASSERT_GT(sampling_dot(w, back), std::cos(1.2 * kPi / 180.0)) << w.x << " " << w.y << " " << w.z;
+    }
+    // A z a rounding error past 1 still encodes θ = 0, not NaN.
+    EXPECT_EQ(photon_dir_encode(0.0f, 0.0f, 1.0000001f) & 255u, 0u);
+    EXPECT_EQ(photon_dir_encode(0.0f, 0.0f, -1.0f) & 255u, 255u);
+    // φ wraps two's-complement: atan2 just below 0 lands in byte 255.
+    EXPECT_EQ((photon_dir_encode(1.0f, -1e-3f, 0.0f) >> 8) & 255u, 255u);
+    EXPECT_EQ((photon_dir_encode(1.0f, 1e-3f, 0.0f) >> 8) & 255u, 0u);
+}
+
+}  // namespace
