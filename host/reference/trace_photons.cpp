@@ -155,7 +155,7 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
             } else {
                 const bool lsd = b > 1 && !(flags & PCL_PHOTON_AFTER_DIFFUSE);
                 if (lsd) deposit(p, b, PCL_PHOTON_CAUSTIC);
-                if (hits) hits->push_back({b, ReferenceScatter::Absorbed, 0, 0, power, power});
+                if (hits) hits->push_back({b, ReferenceScatter::Absorbed, 0, 0, power, power, hit.prim, p, d, n, Vec3(0.0f)});
                 return b | (lsd ? PCL_END_STORED : PCL_END_ABSORBED) << 8;
             }
         }
@@ -165,7 +165,7 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         rng_block(seed, j, b, 0, stream, w);
         const float u[4] = {rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3])};
         const ReferenceScatter s = scatterPhotonReference(m, d, n, power, u);
-        if (hits) hits->push_back({b, s.kind, s.pDiffuse, s.pSpecular, power, s.power});
+        if (hits) hits->push_back({b, s.kind, s.pDiffuse, s.pSpecular, power, s.power, hit.prim, p, d, n, s.direction});
         if (s.kind == ReferenceScatter::Absorbed || s.kind == ReferenceScatter::GlossyBelow)
             return b | PCL_END_ABSORBED << 8;
         flags |= s.kind == ReferenceScatter::Diffuse ? PCL_PHOTON_AFTER_DIFFUSE : PCL_PHOTON_AFTER_SPECULAR;

@@ -25,6 +25,8 @@ struct ReferencePhotonHit {
     uint32_t event = 0;    // ReferenceScatter::Kind
     float pDiffuse = 0, pSpecular = 0;  // roulette probabilities before normalisation
     Vec3 powerIn, powerOut;
+    uint32_t prim = 0;
+    Vec3 position, directionIn, normal, directionOut;  // normal: geometric, as the primitive has it
 };
 
 // One roulette-and-scatter step at a hit (step 2 of the spec), exposed for the sampling tests.
