@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <functional>
 #include <numeric>
+#include <string>
 #include <vector>
 
 #include "pipeline/scene_buffers.h"
@@ -735,6 +736,44 @@ TEST(PhotonTwinBounce, DielectricSplitsByFresnel) {
         ++chiTests;
     }
     EXPECT_EQ(chiTests, 4);
+}
+
+// Russian roulette with Jensen's per-channel probabilities is unbiased per channel:
+// E[Φ'] = (ρd + ρs) Φ for mirror and dielectric surfaces, whatever the colours — including a
+// surface whose diffuse and specular colours peak in different channels, where P_d + P_s > 1 is
+// normalised and a surviving photon's largest channel grows (here by 2).
+TEST(PhotonTwinBounce, RouletteIsUnbiasedPerChannel) {
+    struct Case { Vec3 rhoD, rhoS; uint32_t kind; Vec3 power; const char* name; };
+    const Case cases[] = {
+        {Vec3(0.63f, 0.065f, 0.05f), Vec3(0.0f), PCL_SPECULAR_NONE, Vec3(1.0f), "red diffuse"},
+        {Vec3(0.2f, 0.3f, 0.1f), Vec3(0.5f, 0.1f, 0.6f), PCL_SPECULAR_MIRROR, Vec3(0.3f, 1.0f, 0.5f), "mixed mirror"},
+        {Vec3(1.0f, 0.0f, 0.0f), Vec3(0.0f, 1.0f, 0.0f), PCL_SPECULAR_MIRROR, Vec3(1.0f), "split colours"},
+        {Vec3(0.0f), Vec3(0.9f, 0.8f, 0.7f), PCL_SPECULAR_DIELECTRIC, Vec3(2.0f, 1.0f, 0.5f), "tinted glass"},
+    };
+    const uint32_t N = 200000;
+    for (const Case& c : cases) {
+        const PclMaterial m = material(c.rhoD, c.rhoS, c.kind);
+        const Vec3 n(0.0f, 0.0f, 1.0f), d = normalize(Vec3(0.3f, 0.1f, -1.0f));
+        double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0}, grown = 0;
+        for (uint32_t i = 0; i < N; ++i) {
+            float u[4];
+            numbers(i + 1000003u * uint32_t(&c - cases), u);
+            ReferenceScatter s = scatterPhotonReference(m, d, n, c.power, u);
+            if (maxComponent(s.power) > maxComponent(c.power) * (1 + 1e-6f)) ++grown;
+            for (int k = 0; k < 3; ++k) {
+                sum[k] += s.power[k];
+                sum2[k] += double(s.power[k]) * s.power[k];
+            }
+        }
+        for (int k = 0; k < 3; ++k) {
+            const double meanK = sum[k] / N, se = std::sqrt(std::max(0.0, sum2[k] / N - meanK * meanK) / N);
+            const double expect = (double(c.rhoD[k]) + double(c.rhoS[k])) * c.power[k];
+            std::printf("[roulette] %-13s channel %d: E[P'] %.5f (want %.5f, SE %.5f)\n", c.name, k, meanK, expect, se);
+            EXPECT_NEAR(meanK, expect, 3.0 * se + 1e-6) << c.name << " channel " << k;
+        }
+        if (std::string(c.name) == "split colours") EXPECT_EQ(grown, double(N));  // each survivor carries 2Φ in one channel
+        else EXPECT_EQ(grown, 0.0) << c.name;
+    }
 }
 
 // ---- The whole pass: deterministic whatever the thread count -------------------------------
