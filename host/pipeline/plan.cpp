@@ -76,8 +76,11 @@ std::string names(const Scene& scene, const std::vector<Prim>& prims, bool (*pic
     std::string s;
     for (uint32_t m : used) {
         std::string name = m < scene.materials.size() ? scene.materials[m].name : std::string();
-        // glTF materials are named "<file>:<name>": the file is on the first line already.
-        if (!scene.path.empty() && name.rfind(scene.path + ":", 0) == 0) name = name.substr(scene.path.size() + 1);
+        // glTF materials are named "<file>.gltf:<name>" (or .glb): keep the name.
+        for (const char* ext : {".gltf:", ".glb:"}) {
+            size_t at = name.find(ext);
+            if (at != std::string::npos) name = name.substr(at + std::char_traits<char>::length(ext));
+        }
         if (name.empty()) name = "material " + std::to_string(m);
         s += (s.empty() ? "" : ", ") + name;
     }
