@@ -1,9 +1,11 @@
 // Projection maps: which cells of a light's sample square can send a photon straight at a
 // specular object (Jensen 1996 §3.1). Conservative by construction:
 //
-//  * every specular object is covered by bounding spheres (one per sphere; per mesh, one per
-//    group of at most 1/256 of its triangles), each covering the object's motion over the
-//    shutter and inflated a little for float rounding in the tracer;
+//  * every specular object is covered by bounding balls, each covering the object's motion over
+//    the shutter and inflated a little for float rounding in the tracer: one per sphere; for
+//    meshes up to 512 triangles, one per piece of each triangle split (four ways, up to four
+//    times) towards 1/32 of the scene's radius; for larger meshes, one per run of at most 1/256
+//    of the mesh's triangles;
 //  * a cell of a direction warp (point, spot, triangle) is covered by a cone of directions: axis
 //    the direction at the cell centre, half-angle the largest angle to directions sampled densely
 //    on the cell border plus the largest gap between neighbouring border samples (a point between
@@ -14,7 +16,10 @@
 //  * a ray from an emission point e, |e − p| ≤ r_light, hits a ball (C, ρ) only if the half-line
 //    from p in the same direction passes within ρ + r_light of C, i.e. only if its direction lies
 //    in the cone around C − p of half-angle asin((ρ + r_light)/|C − p|). Two cones meet iff the
-//    angle between their axes is at most the sum of their half-angles;
+//    angle between their axes is at most the sum of their half-angles. Point and spot lights have
+//    r_light = 0; a triangle light is covered by pieces (p, r_light): one ball around the whole
+//    triangle over the shutter (a quick rejection), then its sub-triangles (up to 64), and a
+//    cell is marked when some piece's cone meets some ball's. A piece touching a ball marks all;
 //  * directional lights: all rays of a disc patch are parallel to the axis, so the patch hits a
 //    ball iff its footprint on the disc plane comes within ρ of the ball centre's projection; the
 //    footprint is covered by a circle found the same way as the cones.
@@ -271,9 +276,9 @@ Cone cellCone(const PclLight& light, const Frame& f, const SpotWarp& spot, int c
             border.push_back(warpDirection(light, f, spot, s1, s2, r.piece));
         });
         double widest = 0.0, gap = 0.0;
-        for (size_t i = 0; i < border.size(); ++i) {
-            widest = std::max(widest, angle(cone.axis, border[i]));
-            gap = std::max(gap, angle(border[i], border[(i + 1) % border.size()]));
+        for (size_t k = 0; k < border.size(); ++k) {
+            widest = std::max(widest, angle(cone.axis, border[k]));
+            gap = std::max(gap, angle(border[k], border[(k + 1) % border.size()]));
         }
         cone.half = std::max(cone.half, widest + kGapFactor * gap + 1e-6);
     }
