@@ -1,0 +1,154 @@
+// The whole device photon pass (pipeline/photon_pass) on every shipped scene, with projection
+// maps: emitted flux equals the lights' power (1e-4), every path ends one way, every record is
+// well formed (inside the scene, flags and bounce consistent with its map), no record carries
+// more power than its photon left the light with (up to RGBE rounding and the Phong lobe's
+// (n+2)/(n+1)), and scenes with purely specular surfaces get a caustic map while others get none.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "device_fixture.h"
+#include "photon_test_scenes.h"
+#include "pipeline/photon_pass.h"
+#include "pipeline/projection_map.h"
+#include "scene/load_scene.h"
+
+namespace pcl {
+namespace {
+
+double maxDecoded(const PclPhoton& p) {
+    uint32_t e = p.rgbe >> 24;
+    if (e == 0) return 0.0;
+    uint32_t m = std::max(p.rgbe & 255u, std::max((p.rgbe >> 8) & 255u, (p.rgbe >> 16) & 255u));
+    return std::ldexp(double(m), int(e) - 136);
+}
+
+void checkScene(const std::string& path) {
+    SCOPED_TRACE(path);
+    Scene scene = loadScene(path);
+    SceneGeometry geometry = SceneGeometry::build(scene);
+    SceneBuffers buffers = buildSceneBuffers(scene, geometry);
+    buildProjectionMaps(scene, geometry, buffers);
+    PhotonPassOptions o;
+    o.globalPhotons = 20000;
+    o.causticPhotons = 20000;
+    o.seed = 5;
+    PhotonMaps maps = runPhotonPass(test::testDevice(), geometry, buffers, o);
+    std::printf("%s\n%s", std::filesystem::path(path).filename().c_str(), maps.stats.summary().c_str());
+
+    double want[3] = {0, 0, 0}, wantCaustic[3] = {0, 0, 0};
+    double maxPerPhoton = 0, maxPerCaustic = 0;
+    std::vector<uint32_t> first = lightFirstPhoton(buffers, o.globalPhotons, PCL_PASS_GLOBAL);
+    std::vector<uint32_t> firstC = lightFirstPhoton(buffers, o.causticPhotons, PCL_PASS_CAUSTIC);
+    bool anyMarked = false;
+    for (size_t l = 0; l < buffers.lights.size(); ++l) {
+        const PclLight& L = buffers.lights[l];
+        double f = projectionFraction(L);
+        anyMarked |= L.projCount > 0;
+        for (int c = 0; c < 3; ++c) {
+            want[c] += L.power[c];
+            wantCaustic[c] += L.power[c] * f;
+            if (first[l + 1] > first[l]) maxPerPhoton = std::max(maxPerPhoton, double(L.power[c]) / (first[l + 1] - first[l]));
+            if (firstC[l + 1] > firstC[l])
+                maxPerCaustic = std::max(maxPerCaustic, double(L.power[c]) * f / (firstC[l + 1] - firstC[l]));
+        }
+    }
+    const PhotonPassKindStats& g = maps.stats.global;
+    const PhotonPassKindStats& c = maps.stats.caustic;
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(g.emittedFlux[k], want[k], 1e-4 * want[k]);
+        EXPECT_NEAR(c.emittedFlux[k], wantCaustic[k], 1e-4 * want[k]);
+    }
+    EXPECT_EQ(g.emitted, o.globalPhotons);
+    EXPECT_EQ(g.escaped + g.absorbed + g.maxDepth + g.stored, g.emitted);
+    EXPECT_EQ(g.stored, 0u);
+    EXPECT_EQ(c.escaped + c.absorbed + c.maxDepth + c.stored, c.emitted);
+    EXPECT_EQ(c.stored, maps.caustic.size());
+    EXPECT_EQ(g.deposits, maps.global.size());
+    EXPECT_GT(maps.global.size(), o.globalPhotons / 4);
+    // A caustic path ends at the first surface with a diffuse part (kernels/README.md), so only
+    // purely specular surfaces (ρd = 0) make caustics; a mixed glossy floor does not.
+    bool pureSpecular = false;
+    for (const PclMaterial& m : buffers.materials)
+        pureSpecular |= m.specular != PCL_SPECULAR_NONE && std::max({m.rhoS[0], m.rhoS[1], m.rhoS[2]}) > 0.0f &&
+                        std::max({m.rhoD[0], m.rhoD[1], m.rhoD[2]}) == 0.0f;
+    if (anyMarked) {
+        EXPECT_EQ(c.emitted, o.causticPhotons);
+        if (pureSpecular) EXPECT_GT(maps.caustic.size(), 0u) << "specular surfaces but an empty caustic map";
+        else EXPECT_EQ(maps.caustic.size(), 0u);
+    } else {
+        EXPECT_EQ(c.emitted, 0u);
+        EXPECT_TRUE(maps.caustic.empty());
+    }
+
+    Bounds3 bounds = geometry.bounds();
+    const float slack = 1e-3f * length(bounds.extent());
+    auto inside = [&](const PclPhoton& p) {
+        return p.x >= bounds.lo.x - slack && p.x <= bounds.hi.x + slack && p.y >= bounds.lo.y - slack &&
+               p.y <= bounds.hi.y + slack && p.z >= bounds.lo.z - slack && p.z <= bounds.hi.z + slack;
+    };
+    const double growth = 1.02 * (1.0 + 1.0 / 128.0);  // Phong (n+2)/(n+1) for n ≥ 60, RGBE rounding
+    for (const PclPhoton& p : maps.global) {
+        ASSERT_TRUE(inside(p)) << p.x << " " << p.y << " " << p.z;
+        uint32_t bounce = (p.packed >> PCL_PHOTON_BOUNCE_SHIFT) & 0xFFu, flags = p.packed & 0xFF000000u;
+        ASSERT_LT(bounce, o.maxDepth);
+        ASSERT_EQ(flags & PCL_PHOTON_CAUSTIC, 0u);
+        if (bounce == 0) ASSERT_EQ(flags, 0u);
+        else ASSERT_NE(flags, 0u);
+        ASSERT_LE(maxDecoded(p), maxPerPhoton * growth);
+    }
+    for (const PclPhoton& p : maps.caustic) {
+        ASSERT_TRUE(inside(p));
+        uint32_t bounce = (p.packed >> PCL_PHOTON_BOUNCE_SHIFT) & 0xFFu, flags = p.packed & 0xFF000000u;
+        ASSERT_GE(bounce, 1u);
+        ASSERT_EQ(flags, PCL_PHOTON_CAUSTIC | PCL_PHOTON_AFTER_SPECULAR);
+        ASSERT_LE(maxDecoded(p), maxPerCaustic * growth);
+    }
+}
+
+TEST(PhotonPass, EveryShippedSceneGivesWellFormedMaps) {
+    namespace fs = std::filesystem;
+    fs::path dir = fs::path(PHOTONCL_SOURCE_DIR) / "scenes";
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        if (e.path().extension() == ".json") files.push_back(e.path());
+#ifdef PHOTONCL_HAVE_GLTF
+        if (e.path().extension() == ".gltf") files.push_back(e.path());
+#endif
+    }
+    std::sort(files.begin(), files.end());
+    ASSERT_GE(files.size(), 5u);
+    for (const auto& f : files) checkScene(f.string());
+}
+
+TEST(PhotonPass, RejectsAMaximumDepthTheRecordCannotHold) {
+    test::BuiltScene b = test::build([] {
+        Scene s;
+        s.lights.push_back(test::pointLight(Vec3(0.0f), Vec3(1.0f)));
+        return s;
+    }());
+    PhotonPassOptions o;
+    o.maxDepth = 256;
+    EXPECT_THROW(runPhotonPass(test::testDevice(), b.geometry, b.buffers, o), InputError);
+    o.maxDepth = 0;
+    EXPECT_THROW(runPhotonPass(test::testDevice(), b.geometry, b.buffers, o), InputError);
+}
+
+TEST(PhotonPass, AnEmptySceneLetsEveryPhotonEscape) {
+    test::BuiltScene b = test::build([] {
+        Scene s;
+        s.lights.push_back(test::pointLight(Vec3(0.0f), Vec3(1.0f)));
+        return s;
+    }());
+    PhotonPassOptions o;
+    o.globalPhotons = 1000;
+    PhotonMaps maps = runPhotonPass(test::testDevice(), b.geometry, b.buffers, o);
+    EXPECT_EQ(maps.stats.global.escaped, 1000u);
+    EXPECT_TRUE(maps.global.empty());
+    EXPECT_TRUE(maps.caustic.empty());  // no projection cells: no caustic photons
+}
+
+}  // namespace
+}  // namespace pcl
