@@ -257,7 +257,7 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
 
     plan.glossySampling = lp.glossyPrims > 0;
     plan.reasons.push_back(plan.glossySampling
-                               ? plural(lp.glossyPrims, "glossy primitive") + ": their lobes are sampled"
+                               ? plural(lp.glossyPrims, "glossy primitive") + ": glossy lobes are sampled"
                                : "no glossy surfaces");
     return plan;
 }
