@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "pipeline/deposit.h"
 #include "pipeline/emit.h"
+#include "pipeline/photon_pass.h"
 #include "pipeline/projection_map.h"
 #include "pipeline/trace_photons.h"
 #include "reference/deposit.h"
@@ -64,6 +65,49 @@ bool rgbeClose(uint32_t a, uint32_t b) {
     const double step = std::ldexp(1.0, E - 136);
     const Vec3 da = referenceDecodeRgbe(a), db = referenceDecodeRgbe(b);
     return maxAbs(da - db) <= step * (1.0 + 1e-6);
+}
+
+bool recordsAgree(const PclPhoton& a, const PclPhoton& b, float radius) {
+    return positionError({a.x, a.y, a.z}, {b.x, b.y, b.z}, radius) <= kPositionTolerance && a.packed == b.packed &&
+           rgbeClose(a.rgbe, b.rgbe);
+}
+
+// Aligns the device map with the twin's, path by path (see check_photons.h, "pass").
+void alignMaps(const std::vector<PclPhoton>& twin, const std::vector<uint32_t>& counts,
+               const std::vector<PclPhoton>& dev, uint32_t slotsPerPath, float radius, PhotonCheckRow& row) {
+    auto pathMatches = [&](size_t t, size_t d, uint32_t c) {
+        if (d + c > dev.size()) return false;
+        for (uint32_t k = 0; k < c; ++k)
+            if (!recordsAgree(twin[t + k], dev[d + k], radius)) return false;
+        return true;
+    };
+    const size_t window = 2 * size_t(slotsPerPath) + 2;
+    size_t t = 0, d = 0;
+    bool lost = false;  // the previous path diverged: search for this one
+    for (size_t i = 0; i < counts.size(); ++i) {
+        const uint32_t c = counts[i];
+        row.items++;
+        if (c == 0) continue;  // nothing to compare (a lost cursor stays lost)
+        size_t found = SIZE_MAX;
+        if (pathMatches(t, d, c)) {
+            found = d;
+        } else if (lost) {
+            for (size_t dd = d; dd < std::min(dev.size(), d + window) && found == SIZE_MAX; ++dd)
+                if (pathMatches(t, dd, c)) found = dd;
+        }
+        if (found == SIZE_MAX) {
+            // The device's version of this path has some other length: the next path is
+            // searched within a window from here.
+            row.divergent++;
+            lost = true;
+            t += c;
+            continue;
+        }
+        lost = false;
+        for (uint32_t k = 0; k < c; ++k) row.identicalRecords += std::memcmp(&twin[t + k], &dev[found + k], sizeof(PclPhoton)) == 0;
+        t += c;
+        d = found + c;
+    }
 }
 
 }  // namespace
@@ -141,12 +185,50 @@ PhotonCheckReport checkPhotonStage(Device& device, const Scene& scene, const std
 
 PhotonCheckReport checkPhotonStage(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
                                    const std::string& stage, const PhotonCheckOptions& options) {
-    if (stage != "emit" && stage != "trace" && stage != "deposit")
-        throw InputError("check: unknown photon stage '" + stage + "' (expected emit, trace or deposit)");
+    if (stage != "emit" && stage != "trace" && stage != "deposit" && stage != "pass")
+        throw InputError("check: unknown photon stage '" + stage + "' (expected emit, trace, deposit or pass)");
     PhotonCheckReport report;
     report.stage = stage;
     report.maxDivergentFraction = options.maxDivergentFraction;
     const float radius = buffers.sceneRadius;
+
+    if (stage == "pass") {
+        ReferencePhotonPassSettings twin;
+        twin.seed = options.seed;
+        twin.globalPhotons = options.photons;
+        twin.causticPhotons = options.photons;
+        twin.maxDepth = options.maxDepth;
+        PhotonPassOptions dev;
+        dev.seed = options.seed;
+        dev.globalPhotons = options.photons;
+        dev.causticPhotons = options.photons;
+        dev.maxDepth = options.maxDepth;
+        dev.batchSize = std::max(1u, options.photons / 3 + 7);  // several batches, unlike the twin's one
+        auto t = Clock::now();
+        PhotonMaps devMaps = runPhotonPass(device, geometry, buffers, dev);
+        report.deviceSeconds = since(t);
+        for (uint32_t pass : {PCL_PASS_GLOBAL, PCL_PASS_CAUSTIC}) {
+            const bool global = pass == PCL_PASS_GLOBAL;
+            PhotonCheckRow row;
+            row.pass = global ? "global" : "caustic";
+            std::vector<uint32_t> counts;
+            ReferencePhotonStats stats;
+            t = Clock::now();
+            std::vector<PclPhoton> map = referencePhotonMap(buffers, geometry, twin, pass, &stats, &counts);
+            report.hostSeconds += since(t);
+            const std::vector<PclPhoton>& devMap = global ? devMaps.global : devMaps.caustic;
+            const PhotonPassKindStats& ds = global ? devMaps.stats.global : devMaps.stats.caustic;
+            for (int c = 0; c < 5; ++c) row.ends[c] = stats.ends[c];
+            row.hostDeposits = map.size();
+            row.deviceDeposits = devMap.size();
+            row.deviceBatches = ds.batches;
+            row.slotsPerPath = global ? options.maxDepth : 1u;
+            alignMaps(map, counts, devMap, row.slotsPerPath, radius, row);
+            row.countMismatches = ds.emitted != stats.paths;  // paths emitted differ: fails
+            report.rows.push_back(row);
+        }
+        return report;
+    }
 
     for (const CheckPass& pass : checkPasses(geometry, buffers, options)) {
         PhotonCheckRow row;
@@ -213,6 +295,12 @@ bool PhotonCheckReport::passed() const {
         if (stage == "trace" && r.items > 0 && double(r.divergent) > maxDivergentFraction * double(r.items))
             return false;
         if (stage == "deposit" && r.byteMismatches) return false;
+        if (stage == "pass") {
+            const double allowed = maxDivergentFraction * double(r.items);
+            const double recordGap = std::fabs(double(r.hostDeposits) - double(r.deviceDeposits));
+            if (r.countMismatches || double(r.divergent) > allowed || recordGap > allowed * r.slotsPerPath)
+                return false;
+        }
     }
     return true;
 }
@@ -254,6 +342,21 @@ std::string PhotonCheckReport::table() const {
                       "a path diverges on any difference: end cause, bounces, deposits, a position beyond %.0e "
                       "relative, packed bits, RGBE beyond one mantissa step; fails above %.2f %% per pass\n",
                       kPositionTolerance, 100.0 * maxDivergentFraction);
+        out += line;
+    } else if (stage == "pass") {
+        std::snprintf(line, sizeof line, "%-8s %8s %9s %8s %10s %10s %10s %8s %8s\n", "map", "paths", "divergent", "%",
+                      "rec twin", "rec dev", "identical", "batches", "paths!=");
+        out += line;
+        for (const auto& r : rows) {
+            std::snprintf(line, sizeof line, "%-8s %8zu %9zu %8.4f %10zu %10zu %10zu %8zu %8zu\n", r.pass.c_str(),
+                          r.items, r.divergent, r.items ? 100.0 * r.divergent / r.items : 0.0, r.hostDeposits,
+                          r.deviceDeposits, r.identicalRecords, r.deviceBatches, r.countMismatches);
+            out += line;
+        }
+        std::snprintf(line, sizeof line,
+                      "maps aligned path by path; a path diverges when its records differ from the device's as for "
+                      "trace; fails above %.2f %% or when the paths emitted differ\n",
+                      100.0 * maxDivergentFraction);
         out += line;
     } else {
         std::snprintf(line, sizeof line, "%-8s %10s %10s %10s %8s\n", "pass", "twin", "device", "bytes!=", "growths");

@@ -52,6 +52,10 @@ struct PhotonCheckRow {
     // deposit
     size_t byteMismatches = 0;        // records differing in any byte (or missing)
     uint32_t growths = 0;             // device map growths during the check
+    // pass (whole photon pass; divergent, hostDeposits, deviceDeposits as for trace)
+    size_t identicalRecords = 0;      // records of agreeing paths equal byte for byte
+    size_t deviceBatches = 0;
+    uint32_t slotsPerPath = 0;
 };
 
 struct PhotonCheckReport {
@@ -63,7 +67,14 @@ struct PhotonCheckReport {
     std::string table() const;        // printable, one line per pass, then the verdict's reason
 };
 
-// stage: "emit", "trace" or "deposit". Builds the geometry, buffers and projection maps itself.
+// stage: "emit", "trace", "deposit" or "pass". Builds the geometry, buffers and projection maps
+// itself. "pass" runs the whole photon pass both ways (pipeline/photon_pass with small device
+// batches against reference/photon_pass) and aligns the two maps path by path with the twin's
+// per-path deposit counts: a path agrees when its records match the device's at the aligned
+// place within the trace tolerances; after a divergent path the device cursor resynchronises
+// on the next path that matches within 2 S + 2 records. Fails above 0.1 % divergent paths, when
+// the emitted path counts differ, or when the record counts differ by more than 0.1 % of the
+// paths times S (paths the twin deposits nothing for can only diverge that way).
 PhotonCheckReport checkPhotonStage(Device& device, const Scene& scene, const std::string& stage,
                                    const PhotonCheckOptions& options = {});
 // The same on already built geometry and buffers (projection maps included, if wanted).

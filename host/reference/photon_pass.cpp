@@ -32,7 +32,7 @@ std::vector<uint32_t> referenceLightFirstPhoton(const SceneBuffers& buffers, uin
 
 std::vector<PclPhoton> referencePhotonMap(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                           const ReferencePhotonPassSettings& settings, uint32_t pass,
-                                          ReferencePhotonStats* stats) {
+                                          ReferencePhotonStats* stats, std::vector<uint32_t>* pathCounts) {
     const uint32_t photons = pass == PCL_PASS_CAUSTIC ? settings.causticPhotons : settings.globalPhotons;
     const std::vector<uint32_t> first = referenceLightFirstPhoton(buffers, pass, photons);
     const uint32_t total = first.back();  // 0 when no light has power (or no marked cells)
@@ -45,6 +45,7 @@ std::vector<PclPhoton> referencePhotonMap(const SceneBuffers& buffers, const Sce
         const std::vector<PclPhotonRay> rays = emitPhotonsReference(buffers, first, params, settings.threads);
         const ReferencePhotonBatch batch = tracePhotonsReference(buffers, geometry, params, rays, settings.threads);
         depositPhotonsReference(batch.counts, batch.slots, batch.slotsPerPath, map);
+        if (pathCounts) pathCounts->insert(pathCounts->end(), batch.counts.begin(), batch.counts.end());
         if (stats) {
             stats->paths += n;
             for (uint32_t end : batch.ends) stats->ends[std::min(4u, referenceEndCause(end))]++;

@@ -44,9 +44,11 @@ PclPhotonParams referencePhotonParams(const SceneBuffers& buffers, const SceneGe
 std::vector<uint32_t> referenceLightFirstPhoton(const SceneBuffers& buffers, uint32_t pass, uint32_t photons);
 
 // One map: emit, trace and deposit `photons` paths of the pass in batches.
+// pathCounts, when given, receives every path's deposit count (for checks that align maps by path).
 std::vector<PclPhoton> referencePhotonMap(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                           const ReferencePhotonPassSettings& settings, uint32_t pass,
-                                          ReferencePhotonStats* stats = nullptr);
+                                          ReferencePhotonStats* stats = nullptr,
+                                          std::vector<uint32_t>* pathCounts = nullptr);
 
 ReferencePhotonMaps runPhotonPassReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                            const ReferencePhotonPassSettings& settings);

@@ -1,6 +1,6 @@
 // The photon-pass kernels (emit, trace_photons, deposit) against their CPU twin
 // (host/reference/) on every shipped scene, through the same checks `photoncl check --stage
-// emit|trace|deposit` runs (pipeline/check_photons.h states the tolerances): emit with no
+// emit|trace|deposit|pass` runs (pipeline/check_photons.h states the tolerances): emit with no
 // mismatch, trace with at most 0.1 % divergent paths per pass, deposit byte for byte. Photon
 // counts are modest so the file stays within ~30 s on PoCL with two busy cores. And the check
 // can fail: corrupted device results are caught.
@@ -99,6 +99,17 @@ TEST_P(PhotonCheck, DepositMatchesTheTwinByteForByte) {
             EXPECT_GT(row.growths, 0u) << row.pass << ": the small map must have grown";
         }
     }
+}
+
+// The whole pass both ways: pipeline/photon_pass in several device batches against the twin's
+// one batch, maps aligned path by path.
+TEST_P(PhotonCheck, WholePassMatchesTheTwin) {
+    PhotonCheckReport r = run(GetParam(), "pass", 10000);
+    EXPECT_TRUE(r.passed());
+    ASSERT_EQ(r.rows.size(), 2u);
+    EXPECT_EQ(r.rows[0].items, 10000u);
+    EXPECT_GE(r.rows[0].deviceBatches, 3u);
+    EXPECT_GT(r.rows[0].identicalRecords, r.rows[0].hostDeposits / 2) << "most records should agree to the byte";
 }
 
 INSTANTIATE_TEST_SUITE_P(ShippedScenes, PhotonCheck, ::testing::ValuesIn(shippedScenes()),
