@@ -24,10 +24,7 @@
 #include "scene/load_scene.h"
 #include "shared/rng.h"
 
-#if __has_include("pipeline/projection_map.h")
 #include "pipeline/projection_map.h"
-#define PCL_HAVE_PROJECTION_MAP 1
-#endif
 
 using namespace pcl;
 
@@ -330,7 +327,6 @@ TEST(PhotonTwinFlux, MirrorCausticMatchesImageSource) {
     EXPECT_LT(se, 0.02 * expect);
 }
 
-#ifdef PCL_HAVE_PROJECTION_MAP
 // Projection maps restrict caustic photons to the marked cells and scale their flux by the
 // marked fraction: the caustic map's total flux equals unrestricted emission's within 3 SE
 // (the two estimates are independent; SE of the difference).
@@ -352,7 +348,6 @@ TEST(PhotonTwinFlux, ProjectionMapsKeepCausticFlux) {
                 sa, sp, projected.lights[0].projCount, PCL_PROJ_GRID * PCL_PROJ_GRID, (sp - sa) / se, se);
     EXPECT_NEAR(sp, sa, 3.0 * se);
 }
-#endif
 
 // ---- Energy along a path ------------------------------------------------------------------
 // Per-channel roulette keeps a photon's largest channel: max_c Φ' = max_c(ρ_c Φ_c)/P = max_c Φ.
