@@ -192,9 +192,6 @@ public:
 
     GltfImportResult read() {
         materialIndex_.assign(model_.materials.size(), -1);
-        if (!options_.geometryOnly && !model_.extensionsUsed.empty()) {
-            // Nothing to do: used-but-not-required extensions may be ignored per the spec.
-        }
         walkNodes();
         return result_;
     }
