@@ -61,6 +61,16 @@ inline bool hitChild(const PclBvhNode& n, int i, const RayFrame& f, float tfarLi
     return t0 <= t1 * kFarScale;
 }
 
+// Start loading a pushed child while the rest is traversed: large scenes wait on memory
+// (as in kernels/shared/bvh.h).
+inline void prefetchChild(const SceneGeometry& g, uint32_t word) {
+    const char* p = nullptr;
+    if (!(word & PCL_CHILD_LEAF)) p = reinterpret_cast<const char*>(&g.nodes[word]);
+    else if (!(word & PCL_CHILD_SPHERES)) p = reinterpret_cast<const char*>(&g.packets[word & PCL_CHILD_INDEX_MASK]);
+    if (!p) return;
+    for (int line = 0; line < 4; ++line) __builtin_prefetch(p + 64 * line);
+}
+
 // Visits the tree; `leaf` is called for each leaf word whose box is hit, nearest first, and
 // returns true to stop. `limit` reads the current far limit (best hit so far).
 template <class Limit, class Leaf>
@@ -112,6 +122,7 @@ void traverse(const SceneGeometry& g, const RayFrame& f, Limit limit, Leaf leaf)
             stackWord[sp] = hitWord[k];
             stackNear[sp] = hitNear[k];
             ++sp;
+            prefetchChild(g, hitWord[k]);
         }
     }
 }
