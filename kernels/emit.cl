@@ -45,9 +45,9 @@ __kernel void emit_photons(const PclPhotonParams params, __global const PclLight
     const uint n = lightFirst[l + 1u] - lightFirst[l];
     const PclLight L = lights[l];
 
-    uint w0[4], w1[4];
+    uint w0[4], w1[4] = {0u, 0u, 0u, 0u};
     rng_block(seed, j, 0u, 0u, stream, w0);
-    rng_block(seed, j, 0u, 1u, stream, w1);
+    if (L.type != PCL_LIGHT_DIRECTIONAL) rng_block(seed, j, 0u, 1u, stream, w1);  /* (u4, u5) unused there */
     const float u0 = rng_u01(w0[0]), u1 = rng_u01(w0[1]), u2 = rng_u01(w0[2]), u3 = rng_u01(w0[3]);
     const float u4 = rng_u01(w1[0]), u5 = rng_u01(w1[1]);
     const float tau = params.hasMotion ? u3 : 0.0f;

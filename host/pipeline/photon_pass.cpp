@@ -39,7 +39,7 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
     PclPhotonParams params = makePhotonParams(geometry, buffers, passKind, passSeed, options.maxDepth, 0, 0);
     const uint32_t slotsPerPath = photonSlotsPerPath(params);
     const uint32_t batch = std::min(total, options.batchSize ? options.batchSize : defaultPhotonBatch(device, slotsPerPath));
-    stats.batchSize = batch;
+    s.batchSize = batch;
 
     cl::Buffer lightFirst = device.upload(first);
     cl::Buffer rays = device.allocate<PclPhotonRay>(batch);
@@ -84,11 +84,11 @@ uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath) {
 std::string PhotonPassStats::summary() const {
     char buf[768];
     auto line = [](const char* name, const PhotonPassKindStats& s) {
-        char l[320];
+        char l[512];
         std::snprintf(l, sizeof l,
-                      "%s: %llu paths in %u batches, %llu records (%u growths); ends: %llu escaped, %llu absorbed, "
+                      "%s: %llu paths in %u batches of %u, %llu records (%u growths); ends: %llu escaped, %llu absorbed, "
                       "%llu stored, %llu at max depth; flux %.6g %.6g %.6g W\n",
-                      name, (unsigned long long)s.emitted, s.batches, (unsigned long long)s.deposits, s.growths,
+                      name, (unsigned long long)s.emitted, s.batches, s.batchSize, (unsigned long long)s.deposits, s.growths,
                       (unsigned long long)s.escaped, (unsigned long long)s.absorbed, (unsigned long long)s.stored,
                       (unsigned long long)s.maxDepth, s.emittedFlux[0], s.emittedFlux[1], s.emittedFlux[2]);
         return std::string(l);

@@ -33,6 +33,7 @@ struct PhotonPassKindStats {
     uint64_t deposits = 0;             // records in the map
     double emittedFlux[3] = {0, 0, 0}; // Σ flux of the emitted photons (computed as emit does)
     uint32_t batches = 0;
+    uint32_t batchSize = 0;            // paths per batch (launch)
     uint32_t growths = 0;              // map buffer growth events
     size_t capacity = 0;               // final buffer capacity (records)
 };
@@ -41,7 +42,6 @@ struct PhotonPassStats {
     PhotonPassKindStats global, caustic;
     double emitSeconds = 0, traceSeconds = 0, depositSeconds = 0;  // device time (event profiling)
     double wallSeconds = 0;
-    uint32_t batchSize = 0;
     std::string summary() const;  // a few lines for logs
 };
 
