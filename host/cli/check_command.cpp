@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "device/device.h"
 #include "pipeline/check_intersect.h"
+#include "pipeline/check_photons.h"
 #include "scene/load_scene.h"
 
 namespace pcl::cli {
@@ -14,6 +15,7 @@ Run addCheckCommand(CLI::App& app) {
     struct Options {
         std::string scene, device = "auto", stage = "all";
         size_t rays = 100000;
+        uint32_t photons = 50000;
         uint64_t seed = 1;
     };
     auto o = std::make_shared<Options>();
@@ -22,10 +24,13 @@ Run addCheckCommand(CLI::App& app) {
     sub->add_option("SCENE", o->scene, "Scene file (.json, .gltf, .glb)")->required();
     sub->add_option("--device", o->device, "OpenCL device: auto|cpu|gpu|<index>|<name substring>")
         ->capture_default_str();
-    sub->add_option("--stage", o->stage, "Stage to check (more arrive with the photon stages)")
-        ->check(CLI::IsMember({"all", "trace"}))
+    sub->add_option("--stage", o->stage,
+                    "trace: BVH traversal; emit, trace_photons, deposit: the photon pass stage by stage on the "
+                    "same inputs; pass: the whole photon pass; all: every one")
+        ->check(CLI::IsMember({"all", "trace", "emit", "trace_photons", "deposit", "pass"}))
         ->capture_default_str();
     sub->add_option("--rays", o->rays, "Rays for the trace check")->capture_default_str();
+    sub->add_option("--photons", o->photons, "Photon paths per pass for the photon checks")->capture_default_str();
     sub->add_option("--seed", o->seed, "Seed of the random inputs")->capture_default_str();
     return [o] {
         if (o->device == "ref") throw InputError("check: --device ref has no kernels to check; pick an OpenCL device");
@@ -38,6 +43,18 @@ Run addCheckCommand(CLI::App& app) {
             IntersectCheckReport report = checkIntersect(device, scene, o->rays, o->seed);
             std::printf("stage trace: kernel vs host BVH traversal\n%s", report.table().c_str());
             std::printf("stage trace: %s\n", report.passed() ? "PASSED" : "FAILED");
+            ok = ok && report.passed();
+        }
+        PhotonCheckOptions photonOptions;
+        photonOptions.photons = o->photons;
+        photonOptions.seed = o->seed;
+        for (const char* stage : {"emit", "trace_photons", "deposit", "pass"}) {
+            if (o->stage != "all" && o->stage != stage) continue;
+            // The photon tracing stage is "trace" inside the photon check (its own name space).
+            std::string inner = std::string(stage) == "trace_photons" ? "trace" : stage;
+            PhotonCheckReport report = checkPhotonStage(device, scene, inner, photonOptions);
+            std::printf("stage %s: kernel vs CPU twin\n%s", stage, report.table().c_str());
+            std::printf("stage %s: %s\n", stage, report.passed() ? "PASSED" : "FAILED");
             ok = ok && report.passed();
         }
         return ok ? kExitOk : kExitCheckFailed;

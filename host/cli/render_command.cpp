@@ -12,6 +12,9 @@
 #include "core/progress.h"
 #include "geometry/scene_geometry.h"
 #include "image/image_io.h"
+#include "pipeline/plan.h"
+#include "pipeline/projection_map.h"
+#include "pipeline/scene_buffers.h"
 #include "reference/path_tracer.h"
 #include "scene/load_scene.h"
 
@@ -42,9 +45,12 @@ int runRender(const RenderOptions& o) {
         throw InputError(output + ": output folder does not exist");
 
     Scene scene = loadScene(o.scene);
-    if (o.width > 0) scene.camera.width = o.width;
-    if (o.height > 0) scene.camera.height = o.height;
-    if (o.width > 0 && o.height <= 0) scene.camera.height = o.width * scene.camera.height / std::max(1, scene.camera.width);
+    // One of --width/--height alone keeps the camera's aspect ratio.
+    const Camera& cam = scene.camera;
+    int width = o.width > 0 ? o.width : (o.height > 0 ? std::max(1, o.height * cam.width / cam.height) : cam.width);
+    int height = o.height > 0 ? o.height : (o.width > 0 ? std::max(1, o.width * cam.height / cam.width) : cam.height);
+    scene.camera.width = width;
+    scene.camera.height = height;
 
     auto start = std::chrono::steady_clock::now();
     SceneGeometry geometry = SceneGeometry::build(scene);
@@ -52,6 +58,17 @@ int runRender(const RenderOptions& o) {
         std::fprintf(stderr, "scene %s: %zu triangles, %zu spheres, %zu lights; BVH %zu nodes in %.2fs\n",
                      o.scene.c_str(), scene.triangleCount(), scene.spheres.size(), scene.lights.size(),
                      geometry.stats().nodes, geometry.stats().buildSeconds);
+
+    // The plan (photoncl analyze) decides which maps and samplers a render uses. The path
+    // tracer builds no photon maps; its lens and time samplers follow the camera and the motion
+    // in the scene exactly as the plan's do.
+    SceneBuffers buffers = buildSceneBuffers(scene, geometry);
+    buildProjectionMaps(scene, geometry, buffers);
+    LightPaths paths = classifyLightPaths(scene, geometry, buffers);
+    RenderPlan plan = makePlan(scene, paths);
+    if (!o.quiet)
+        std::fprintf(stderr, "%smethod %s: reference path tracer, no photon maps\n",
+                     formatPlan(scene, paths, plan).c_str(), o.method.c_str());
 
     PathTracerSettings settings;
     settings.seed = o.seed;

@@ -160,4 +160,29 @@ TEST_F(CliTest, CheckTraceOnAShippedScenePasses) {
     EXPECT_NE(r.output.find("stage trace: PASSED"), std::string::npos) << r.output;
 }
 
+TEST_F(CliTest, WidthAloneKeepsTheCameraAspectRatio) {
+    fs::path out = dir / "md.exr";
+    ASSERT_EQ(run("render " + scene("motion-dof.json") + " -o " + out.string() + " --width 32 --passes 1 -q --no-png").status, 0);
+    pcl::Image img = pcl::readImage(out.string());
+    EXPECT_EQ(img.width, 32);
+    EXPECT_EQ(img.height, 24);  // motion-dof is 4:3
+}
+
+TEST_F(CliTest, RenderLogsThePlan) {
+    Result r = run("render " + scene("cornell-spheres.json") + " -o " + (dir / "cs.exr").string() +
+                   " --width 16 --height 16 --passes 1 --no-png");
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("caustic map"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("LS+DE"), std::string::npos) << r.output;
+}
+
+TEST_F(CliTest, CheckPhotonStagesPassOnAShippedScene) {
+    for (const char* stage : {"emit", "trace_photons", "deposit", "pass"}) {
+        Result r = run("check " + scene("cornell-spheres-point.json") + " --device cpu --stage " + stage + " --photons 4000");
+        EXPECT_EQ(r.status, 0) << r.output;
+        EXPECT_NE(r.output.find(std::string("stage ") + stage + ": PASSED"), std::string::npos) << r.output;
+    }
+    EXPECT_EQ(run("check " + scene("cornell-box.json") + " --stage nonsense").status, 2);
+}
+
 }  // namespace
