@@ -10,6 +10,7 @@
 #include "device_fixture.h"
 #include "photon_test_scenes.h"
 #include "pipeline/emit.h"
+#include "shared/sampling.h"
 
 namespace pcl {
 namespace {
@@ -172,6 +173,84 @@ TEST(Emit, SpotFalloffFollowsSmoothstep) {
     double var = 8.0 / 15.0 - 0.49;
     EXPECT_NEAR(sum / n, 0.7, 5.0 * std::sqrt(var / n));
     EXPECT_NEAR(sum2 / n, 8.0 / 15.0, 0.01);
+}
+
+// Pearson's chi-square of counts against equal expected counts, and its p-value by the
+// Wilson–Hilferty cube-root normal approximation (accurate to ~1e-3 at these degrees of freedom).
+double chiSquarePValue(const std::vector<size_t>& counts) {
+    size_t n = 0;
+    for (size_t c : counts) n += c;
+    double expected = double(n) / counts.size(), chi2 = 0;
+    for (size_t c : counts) chi2 += (c - expected) * (c - expected) / expected;
+    double k = double(counts.size() - 1);
+    double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
+    return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+// Each light's warp maps the unit square onto its distribution; mapped back through the
+// analytic CDF (an equal-probability 16 × 16 grid), emitted photons must be uniform.
+// Chi-square at α = 0.01 over the four light types with Šidák's correction (pbrt-v4 and
+// Mitsuba test their warps this way).
+TEST(Emit, EveryLightTypePassesChiSquareOnItsEqualProbabilityGrid) {
+    test::BuiltScene b = lightsScene(true);
+    std::vector<PclPhotonRay> rays = emit(b, PCL_PASS_GLOBAL, 400000, nullptr, 21);
+    const int G = 16;
+    std::vector<std::vector<size_t>> bins(4, std::vector<size_t>(G * G, 0));
+    for (const PclPhotonRay& r : rays) {
+        const PclLight& L = b.buffers.lights[r.light];
+        PclV3 axis = sampling_v3(L.axis[0], L.axis[1], L.axis[2]), t, bb;
+        sampling_basis(axis, &t, &bb);
+        PclV3 d = sampling_v3(r.dx, r.dy, r.dz);
+        double u = 0, v = 0;  // the two CDF coordinates, each uniform on [0, 1)
+        auto azimuth = [&](PclV3 w) {
+            double phi = std::atan2(double(sampling_dot(w, bb)), double(sampling_dot(w, t)));
+            return (phi < 0 ? phi + 2 * 3.14159265358979323846 : phi) / (2 * 3.14159265358979323846);
+        };
+        switch (L.type) {
+            case PCL_LIGHT_POINT:  // uniform sphere: z uniform on [-1, 1]
+                u = (1.0 - d.z) / 2.0;
+                v = azimuth(d);
+                break;
+            case PCL_LIGHT_SPOT: {  // the falloff CDF of kernels/README.md
+                double c = sampling_dot(d, axis);
+                double wIn = 1.0 - L.cosInner, wFall = (L.cosInner - L.cosOuter) / 2.0, pIn = wIn / (wIn + wFall);
+                if (c >= L.cosInner) {
+                    u = (1.0 - c) / (wIn + wFall);
+                } else {
+                    double x = std::max(0.0, (c - L.cosOuter) / (L.cosInner - L.cosOuter));
+                    u = pIn + (1.0 - pIn) * (2 * x * x * x - x * x * x * x);
+                }
+                v = azimuth(d);
+                break;
+            }
+            case PCL_LIGHT_TRIANGLE: {  // cosine lobe: sin²θ uniform
+                double c = std::min(1.0, double(sampling_dot(d, axis)));
+                u = 1.0 - c * c;
+                v = azimuth(d);
+                break;
+            }
+            case PCL_LIGHT_DIRECTIONAL: {  // uniform disc: r² uniform
+                PclV3 q = sampling_v3(r.ox - L.p[0], r.oy - L.p[1], r.oz - L.p[2]);
+                double x = sampling_dot(q, t) / L.radius, y = sampling_dot(q, bb) / L.radius;
+                u = x * x + y * y;
+                double phi = std::atan2(y, x);
+                v = (phi < 0 ? phi + 2 * 3.14159265358979323846 : phi) / (2 * 3.14159265358979323846);
+                break;
+            }
+        }
+        int iu = std::min(G - 1, std::max(0, int(u * G))), iv = std::min(G - 1, std::max(0, int(v * G)));
+        ++bins[L.type][iu * G + iv];
+    }
+    const double alpha = 1.0 - std::pow(1.0 - 0.01, 1.0 / 4.0);  // Šidák over the four tests
+    const char* names[4] = {"point", "spot", "triangle", "directional"};
+    for (int type = 0; type < 4; ++type) {
+        size_t n = 0;
+        for (size_t c : bins[type]) n += c;
+        ASSERT_GT(n, size_t(G * G * 20)) << names[type] << ": too few photons for the test";
+        double p = chiSquarePValue(bins[type]);
+        std::printf("%s light: %zu photons, chi-square p = %.4f\n", names[type], n, p);
+        EXPECT_GT(p, alpha) << names[type];
+    }
 }
 
 TEST(Emit, BatchesEmitTheSamePhotonsAsOneLaunch) {
