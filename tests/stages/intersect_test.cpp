@@ -101,15 +101,24 @@ TEST(Intersect, ChunkedLaunchCoversEveryRay) {
     EXPECT_EQ(wrong, 0u);
 }
 
+// Every shipped scene file: JSON, and glTF where the build can load it.
+bool isSceneFile(const std::filesystem::path& p) {
+    if (p.extension() == ".json") return true;
+#ifdef PHOTONCL_HAVE_GLTF
+    if (p.extension() == ".gltf" || p.extension() == ".glb") return true;
+#endif
+    return false;
+}
+
 TEST(Intersect, KernelMatchesHostOnShippedScenes) {
     namespace fs = std::filesystem;
     fs::path dir = fs::path(PHOTONCL_SOURCE_DIR) / "scenes";
     std::vector<fs::path> files;
     if (fs::is_directory(dir))
         for (const auto& e : fs::directory_iterator(dir))
-            if (e.path().extension() == ".json") files.push_back(e.path());
+            if (isSceneFile(e.path())) files.push_back(e.path());
     std::sort(files.begin(), files.end());
-    if (files.empty()) GTEST_SKIP() << "no scenes/*.json shipped yet";
+    if (files.empty()) GTEST_SKIP() << "no scenes shipped yet";
     uint64_t seed = 100;
     for (const auto& path : files)
         expectKernelMatchesHost(loadScene(path.string()), path.filename().c_str(), seed++);
