@@ -243,6 +243,141 @@ TEST(TracePhotons, GlassNeverAbsorbsAndCausticsLandOnTheFloor) {
     EXPECT_GT(refracted, stored / 2);  // most light goes through glass at these angles
 }
 
+// Bounce sampling on the device: a spot light shines down on a small quad of the material
+// under test at y = 0 inside a large diffuse catcher sphere. Each bounce direction is recovered
+// from the emitted ray (the hit on the quad) and the record on the catcher, then mapped through
+// its analytic CDF onto an equal-probability 16 × 16 grid and chi-square tested (α = 0.01,
+// Šidák over the two lobes); the dielectric's reflected share is tested against the mean
+// Fresnel term and its refracted directions against Snell's law.
+struct Bounce {
+    Vec3 in, hit, out;  // incoming direction, point on the quad, outgoing direction
+};
+
+std::vector<Bounce> bouncesOffQuad(Material quad, uint32_t photons) {
+    Scene s;
+    s.materials.push_back(quad);
+    int catcher = test::addMaterial(s, Vec3(0.5f));
+    TriangleMesh q;
+    q.material = 0;
+    test::addQuad(q, Vec3(-0.3f, 0, -0.3f), Vec3(-0.3f, 0, 0.3f), Vec3(0.3f, 0, 0.3f), Vec3(0.3f, 0, -0.3f));
+    s.meshes.push_back(q);
+    Sphere c;
+    c.radius = 100.0f;
+    c.material = catcher;
+    s.spheres.push_back(c);
+    s.lights.push_back(test::spotLight(Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(1.0f), 0.93f, 0.92f));
+    test::BuiltScene b = test::build(s);
+    std::vector<uint32_t> first = lightFirstPhoton(b.buffers, photons, PCL_PASS_GLOBAL);
+    PclPhotonParams p = makePhotonParams(b.geometry, b.buffers, PCL_PASS_GLOBAL, 17, 2, 0, first.back());
+    auto rays = emitOnDevice(test::testDevice(), b.geometry, b.buffers, first, p);
+    PhotonTraceResult t = tracePhotonsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, p);
+    std::vector<Bounce> out;
+    const float eps = b.buffers.rayEpsilon;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        Vec3 o(rays[i].ox, rays[i].oy, rays[i].oz), d(rays[i].dx, rays[i].dy, rays[i].dz);
+        float th = -o.y / d.y;
+        Vec3 hit = o + d * th;
+        if (std::fabs(hit.x) > 0.29f || std::fabs(hit.z) > 0.29f) continue;  // missed the quad (or its edge)
+        // The record on the catcher is the path's last one, made at bounce 1.
+        if (t.counts[i] == 0) continue;
+        const PclPhoton& r = t.slots[i * t.slotsPerPath + t.counts[i] - 1];
+        if (((r.packed >> PCL_PHOTON_BOUNCE_SHIFT) & 0xFFu) != 1u) continue;
+        Vec3 p2(r.x, r.y, r.z);
+        Vec3 spawn = hit + Vec3(0, p2.y > 0 ? eps : -eps, 0);
+        out.push_back({d, hit, normalize(p2 - spawn)});
+    }
+    return out;
+}
+
+double uniformGridPValue(const std::vector<std::pair<double, double>>& uv) {
+    const int G = 16;
+    std::vector<double> bins(G * G, 0.0);
+    for (auto [u, v] : uv) {
+        int iu = std::min(G - 1, std::max(0, int(u * G))), iv = std::min(G - 1, std::max(0, int(v * G)));
+        bins[iu * G + iv] += 1;
+    }
+    double e = double(uv.size()) / (G * G), chi2 = 0;
+    for (double c : bins) chi2 += (c - e) * (c - e) / e;
+    double k = G * G - 1;
+    double z = (std::cbrt(chi2 / k) - (1.0 - 2.0 / (9.0 * k))) / std::sqrt(2.0 / (9.0 * k));
+    return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+double azimuth01(Vec3 w, Vec3 axis) {
+    PclV3 t, b;
+    sampling_basis(sampling_v3(axis.x, axis.y, axis.z), &t, &b);
+    double phi = std::atan2(double(w.x * b.x + w.y * b.y + w.z * b.z), double(w.x * t.x + w.y * t.y + w.z * t.z));
+    return (phi < 0 ? phi + 2 * 3.14159265358979323846 : phi) / (2 * 3.14159265358979323846);
+}
+
+const double kSidak2 = 1.0 - std::sqrt(1.0 - 0.01);
+
+TEST(TracePhotons, DiffuseBounceIsCosineDistributed) {
+    Material m;
+    m.rhoD = Vec3(1.0f);  // P_d = 1: every photon bounces
+    std::vector<Bounce> bs = bouncesOffQuad(m, 60000);
+    ASSERT_GT(bs.size(), 30000u);
+    std::vector<std::pair<double, double>> uv;
+    const Vec3 n(0, 1, 0);
+    for (const Bounce& b : bs) {
+        ASSERT_GT(b.out.y, -1e-4f);
+        double c = std::min(1.0, double(b.out.y));
+        uv.push_back({1.0 - c * c, azimuth01(b.out, n)});  // sin²θ uniform under cosθ/π
+    }
+    double p = uniformGridPValue(uv);
+    std::printf("diffuse bounce: %zu directions, chi-square p = %.4f\n", uv.size(), p);
+    EXPECT_GT(p, kSidak2);
+}
+
+TEST(TracePhotons, GlossyBounceFollowsThePhongLobe) {
+    Material m;
+    m.rhoS = Vec3(1.0f);
+    m.specular = SpecularKind::Glossy;
+    m.phongExponent = 30.0f;
+    std::vector<Bounce> bs = bouncesOffQuad(m, 60000);
+    ASSERT_GT(bs.size(), 30000u);
+    std::vector<std::pair<double, double>> uv;
+    for (const Bounce& b : bs) {
+        Vec3 r = b.in - Vec3(0, 2 * b.in.y, 0);  // mirror about y
+        r = normalize(r);
+        double c = std::min(1.0, double(dot(b.out, r)));
+        uv.push_back({std::pow(c, 31.0), azimuth01(b.out, r)});  // cos^(n+1) α uniform
+    }
+    double p = uniformGridPValue(uv);
+    std::printf("glossy bounce: %zu directions, chi-square p = %.4f\n", uv.size(), p);
+    EXPECT_GT(p, kSidak2);
+}
+
+TEST(TracePhotons, DielectricSplitsByFresnelAndRefractsBySnell) {
+    Material m;
+    m.rhoS = Vec3(1.0f);
+    m.specular = SpecularKind::Dielectric;
+    m.ior = 1.5f;
+    std::vector<Bounce> bs = bouncesOffQuad(m, 100000);
+    ASSERT_GT(bs.size(), 50000u);
+    double reflected = 0, expected = 0, variance = 0;
+    for (const Bounce& b : bs) {
+        double cosI = -b.in.y;
+        double F = sampling_fresnel_dielectric(float(cosI), 1.0f / 1.5f);
+        expected += F;
+        variance += F * (1 - F);
+        // Sines from the horizontal parts: √(1 - cos²) loses them near normal incidence.
+        double sinI = std::sqrt(double(b.in.x) * b.in.x + double(b.in.z) * b.in.z);
+        if (b.out.y > 0) {
+            ++reflected;
+            EXPECT_NEAR(b.out.y, cosI, 1e-4);  // mirror
+        } else {
+            double sinT = std::sqrt(double(b.out.x) * b.out.x + double(b.out.z) * b.out.z);
+            EXPECT_NEAR(sinT, sinI / 1.5, 1e-4);  // Snell
+            // In the plane of incidence: the horizontal parts point the same way.
+            EXPECT_GT(b.out.x * b.in.x + b.out.z * b.in.z, -1e-6f);
+        }
+    }
+    std::printf("dielectric: reflected %.0f of %zu, Fresnel expects %.1f ± %.1f\n", reflected, bs.size(), expected,
+                std::sqrt(variance));
+    EXPECT_NEAR(reflected, expected, 5.0 * std::sqrt(variance));
+}
+
 TEST(TracePhotons, RecordsOnSpheresLieOnTheirSurface) {
     Scene s;
     int white = test::addMaterial(s, Vec3(0.6f, 0.5f, 0.4f));
