@@ -73,14 +73,6 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
 
 }  // namespace
 
-uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath) {
-    size_t budget = std::min<size_t>(size_t(256) << 20, device.info().maxAlloc / 4);
-    size_t paths = budget / (size_t(std::max(1u, slotsPerPath)) * sizeof(PclPhoton));
-    paths = std::min<size_t>(paths, size_t(1) << 18);
-    paths = std::max<size_t>(paths / 1024 * 1024, 1024);
-    return uint32_t(paths);
-}
-
 std::string PhotonPassStats::summary() const {
     char buf[768];
     auto line = [](const char* name, const PhotonPassKindStats& s) {

@@ -9,6 +9,7 @@
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
 #include "pipeline/scene_buffers.h"
+#include "pipeline/trace_photons.h"
 #include "shared/types.h"
 
 namespace pcl {
@@ -49,11 +50,6 @@ struct PhotonMaps {
     std::vector<PclPhoton> global, caustic;
     PhotonPassStats stats;
 };
-
-// Paths per batch: at most 2^18 (a GPU launch stays well under 0.5 s and PoCL keeps every core
-// busy), fewer when the slot buffer (paths × slots × 20 bytes) would pass a quarter of the
-// device's largest allocation or 256 MiB.
-uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath);
 
 // Runs the photon pass. The caustic pass uses buffers.projCells / light.projFirst/projCount;
 // lights with no marked cell emit no caustic photons, and a scene without any gets no caustic map.

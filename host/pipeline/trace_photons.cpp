@@ -1,8 +1,18 @@
 #include "pipeline/trace_photons.h"
 
+#include <algorithm>
+
 #include "core/error.h"
 
 namespace pcl {
+
+uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath) {
+    size_t budget = std::min<size_t>(size_t(256) << 20, device.info().maxAlloc / 4);
+    size_t paths = budget / (size_t(std::max(1u, slotsPerPath)) * sizeof(PclPhoton));
+    paths = std::min<size_t>(paths, size_t(1) << 18);
+    paths = std::max<size_t>(paths / 1024 * 1024, 1024);
+    return uint32_t(paths);
+}
 
 uint32_t photonSlotsPerPath(const PclPhotonParams& params) {
     return params.pass == PCL_PASS_CAUSTIC ? 1u : params.maxDepth;
@@ -18,9 +28,9 @@ cl::Event tracePhotons(Device& device, const DeviceScene& scene, const PclPhoton
         "trace_photons", params.pass == PCL_PASS_CAUSTIC ? "trace_photons_caustic" : "trace_photons_global",
         scene.geometry.programOptions());
     return device.launchLocal("trace_photons", kernel, photonGlobalRange(params.batchSize),
-                              cl::NDRange(kPhotonGroup), params, rays,
-                         scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres, scene.primInfo,
-                         scene.materials, slots, counts, ends);
+                              cl::NDRange(kPhotonGroup), params, rays, scene.geometry.nodes,
+                              scene.geometry.packets, scene.geometry.spheres, scene.primInfo, scene.materials,
+                              slots, counts, ends);
 }
 
 PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geometry,
@@ -32,17 +42,34 @@ PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geom
     DeviceScene scene(device, geometry, buffers);
     PhotonTraceResult r;
     r.slotsPerPath = photonSlotsPerPath(params);
-    const size_t n = params.batchSize;
-    cl::Buffer rayBuf = device.upload(rays);
-    cl::Buffer slots = device.allocate<PclPhoton>(n * r.slotsPerPath);
-    cl::Buffer counts = device.allocate<uint32_t>(n);
-    cl::Buffer ends = device.allocate<uint32_t>(n);
-    tracePhotons(device, scene, params, rayBuf, slots, counts, ends);
-    r.slots = device.download<PclPhoton>(slots, n * r.slotsPerPath);
-    r.counts = device.download<uint32_t>(counts, n);
-    r.ends = device.download<uint32_t>(ends, n);
+    const size_t n = params.batchSize, S = r.slotsPerPath;
+    r.slots.resize(n * S);
+    r.counts.resize(n);
+    r.ends.resize(n);
+    // In launches of at most a pass's batch, so a large check neither outgrows a buffer nor
+    // runs one long launch; photon indices (and so the random numbers) are unchanged.
+    const size_t chunk = std::min<size_t>(std::max<size_t>(n, 1), defaultPhotonBatch(device, uint32_t(S)));
+    cl::Buffer rayBuf = device.allocate<PclPhotonRay>(chunk);
+    cl::Buffer slots = device.allocate<PclPhoton>(chunk * S);
+    cl::Buffer counts = device.allocate<uint32_t>(chunk);
+    cl::Buffer ends = device.allocate<uint32_t>(chunk);
+    for (size_t first = 0; first < n; first += chunk) {
+        const size_t m = std::min(chunk, n - first);
+        Device::guard("upload", [&] {
+            device.queue().enqueueWriteBuffer(rayBuf, CL_TRUE, 0, m * sizeof(PclPhotonRay), rays.data() + first);
+        });
+        PclPhotonParams p = params;
+        p.firstPhoton = params.firstPhoton + uint32_t(first);
+        p.batchSize = uint32_t(m);
+        tracePhotons(device, scene, p, rayBuf, slots, counts, ends);
+        Device::guard("download", [&] {
+            device.queue().enqueueReadBuffer(slots, CL_TRUE, 0, m * S * sizeof(PclPhoton), r.slots.data() + first * S);
+            device.queue().enqueueReadBuffer(counts, CL_TRUE, 0, m * sizeof(uint32_t), r.counts.data() + first);
+            device.queue().enqueueReadBuffer(ends, CL_TRUE, 0, m * sizeof(uint32_t), r.ends.data() + first);
+        });
+    }
     for (size_t i = 0; i < n; ++i)
-        for (uint32_t k = r.counts[i]; k < r.slotsPerPath; ++k) r.slots[i * r.slotsPerPath + k] = PclPhoton{};
+        for (uint32_t k = r.counts[i]; k < S; ++k) r.slots[i * S + k] = PclPhoton{};
     return r;
 }
 

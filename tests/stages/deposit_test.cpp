@@ -12,6 +12,8 @@
 #include "device_fixture.h"
 #include "photon_test_scenes.h"
 #include "pipeline/deposit.h"
+#include "pipeline/emit.h"
+#include "pipeline/trace_photons.h"
 #include "pipeline/photon_pass.h"
 
 namespace pcl {
@@ -158,6 +160,22 @@ TEST(Deposit, PhotonMapsAreByteIdenticalRunToRunAndAcrossBatchSizes) {
     const PhotonPassKindStats& c = one.stats.caustic;
     EXPECT_EQ(c.escaped + c.absorbed + c.maxDepth + c.stored, c.emitted);
     EXPECT_EQ(c.stored, one.caustic.size());
+}
+
+// The per-stage entry points a check calls (emitOnDevice → tracePhotonsOnDevice →
+// depositOnDevice) give the very map the pipeline builds.
+TEST(Deposit, StageByStageEqualsThePipeline) {
+    test::BuiltScene b = cornellLike();
+    test::markAllProjectionCells(b.buffers);
+    PhotonMaps whole = pass(b, 0);
+    for (uint32_t kind : {PCL_PASS_GLOBAL, PCL_PASS_CAUSTIC}) {
+        std::vector<uint32_t> first = lightFirstPhoton(b.buffers, 30000, kind);
+        PclPhotonParams p = makePhotonParams(b.geometry, b.buffers, kind, photonPassSeed(77, 0), 64, 0, first.back());
+        auto rays = emitOnDevice(test::testDevice(), b.geometry, b.buffers, first, p);
+        PhotonTraceResult t = tracePhotonsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, p);
+        std::vector<PclPhoton> map = depositOnDevice(test::testDevice(), t.counts, t.slots, t.slotsPerPath);
+        EXPECT_TRUE(sameBytes(map, kind == PCL_PASS_GLOBAL ? whole.global : whole.caustic)) << "pass " << kind;
+    }
 }
 
 }  // namespace
