@@ -9,7 +9,10 @@ namespace pcl {
 uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath) {
     size_t budget = std::min<size_t>(size_t(256) << 20, device.info().maxAlloc / 4);
     size_t paths = budget / (size_t(std::max(1u, slotsPerPath)) * sizeof(PclPhoton));
-    paths = std::min<size_t>(paths, size_t(1) << 18);
+    // A GPU needs many paths in flight; a CPU is as busy with fewer, and a smaller slot buffer
+    // spends less on first-touch page faults (PoCL: ~10 % faster at 2^16 than at 2^18).
+    const bool gpu = (device.info().type & CL_DEVICE_TYPE_GPU) != 0;
+    paths = std::min<size_t>(paths, size_t(1) << (gpu ? 18 : 16));
     paths = std::max<size_t>(paths / 1024 * 1024, 1024);
     return uint32_t(paths);
 }

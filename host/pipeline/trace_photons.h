@@ -10,8 +10,8 @@
 
 namespace pcl {
 
-// Paths per batch: at most 2^18 (a GPU launch stays well under 0.5 s and PoCL keeps every core
-// busy), fewer when the slot buffer (paths × slots × 20 bytes) would pass a quarter of the
+// Paths per batch: at most 2^18 on a GPU (every SM busy, a launch well under 0.5 s) and 2^16
+// on a CPU, fewer when the slot buffer (paths × slots × 20 bytes) would pass a quarter of the
 // device's largest allocation or 256 MiB.
 uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath);
 
