@@ -18,6 +18,8 @@
     X(PclLight)               \
     X(PclPhotonRay)           \
     X(PclPhoton)              \
-    X(PclPhotonParams)
+    X(PclPhotonParams)        \
+    X(PclGridParams)          \
+    X(PclKnnQuery)
 
 #endif /* PCL_STRUCT_LIST_H */

@@ -179,4 +179,31 @@ typedef struct PclPhotonParams {
 } PclPhotonParams;
 PCL_STATIC_ASSERT(sizeof(PclPhotonParams) == 48, PclPhotonParams_size);
 
+/* ---- Photon maps: balanced kd-tree, hash grid, k nearest neighbours ---------------------
+ * kd-tree: Jensen's left-balanced tree stored implicitly as a heap over the photon array
+ * itself (node i has children 2i+1 and 2i+2; no pointers). The split axis of node i (0 x,
+ * 1 y, 2 z) is in bits 27..28 of its photon's `packed` word. kernels/README.md, "Photon maps". */
+#define PCL_PHOTON_AXIS_SHIFT 27
+#define PCL_PHOTON_AXIS_MASK 0x18000000u
+
+/* Hash grid (as SmallVCM's): photons sorted by hashed cell; cellStart/cellEnd per table entry. */
+typedef struct PclGridParams {
+    pcl_f32 ox, oy, oz;   /* grid origin: the map's bounds minimum */
+    pcl_f32 cellSize;     /* tied to the search radius: 2 r_max, so a query reads 2x2x2 cells */
+    pcl_f32 invCellSize;
+    pcl_u32 tableSize;    /* hashed cells (a power of two) */
+    pcl_u32 photonCount;
+    pcl_u32 pad0;
+} PclGridParams;
+PCL_STATIC_ASSERT(sizeof(PclGridParams) == 32, PclGridParams_size);
+
+/* One k-nearest-neighbour query: the k photons nearest (x, y, z) within sqrt(maxRadius2). */
+typedef struct PclKnnQuery {
+    pcl_f32 x, y, z, maxRadius2;
+    pcl_u32 k;            /* 1 .. PCL_KNN_MAX_K */
+    pcl_u32 pad0, pad1, pad2;
+} PclKnnQuery;
+PCL_STATIC_ASSERT(sizeof(PclKnnQuery) == 32, PclKnnQuery_size);
+#define PCL_KNN_MAX_K 500u
+
 #endif /* PCL_TYPES_H */
