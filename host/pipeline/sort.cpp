@@ -1,0 +1,115 @@
+#include "pipeline/sort.h"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+
+#include "core/error.h"
+
+namespace pcl {
+namespace {
+
+constexpr size_t kSortGroup = 256;                 // PCL_SORT_GROUP in kernels/sort.cl
+constexpr size_t kSortTile = kSortGroup * 16;      // PCL_SORT_TILE
+constexpr int kRadixBits = 4;                      // PCL_SORT_RADIX = 16
+
+const char* options(int keyBits) { return keyBits == 64 ? "-DPCL_SORT_KEY64=1" : ""; }
+
+}  // namespace
+
+void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, size_t n, int keyBits,
+                       int sortBits, double* seconds, SortWorkspace* workspace) {
+    if (keyBits != 32 && keyBits != 64)
+        throw InputError("sortPairsOnDevice: keys of " + std::to_string(keyBits) + " bits (32 or 64 expected)");
+    if (sortBits == 0) sortBits = keyBits;
+    if (sortBits < 1 || sortBits > keyBits)
+        throw InputError("sortPairsOnDevice: " + std::to_string(sortBits) + " bits to sort of " +
+                         std::to_string(keyBits) + "-bit keys");
+    if (n >= (size_t(1) << 31))
+        throw InputError("sortPairsOnDevice: " + std::to_string(n) + " pairs (at most 2^31 - 1)");
+    if (n < 2) return;
+    const size_t keySize = keyBits == 64 ? 8 : 4;
+    const size_t tiles = (n + kSortTile - 1) / kSortTile;
+    const size_t histSize = tiles * 16;
+
+    SortWorkspace local;
+    SortWorkspace& ws = workspace ? *workspace : local;
+    if (ws.capacity < n || ws.keyBits != keyBits) {
+        ws.keys = keyBits == 64 ? device.allocate<uint64_t>(n) : device.allocate<uint32_t>(n);
+        ws.values = device.allocate<uint32_t>(n);
+        ws.capacity = n;
+        ws.keyBits = keyBits;
+    }
+    if (ws.histCapacity < histSize) {
+        ws.hist = device.allocate<uint32_t>(histSize);
+        ws.histCapacity = histSize;
+    }
+    const char* opts = options(keyBits);
+    auto histogram = device.kernel<cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer>("sort", "sort_histogram", opts);
+    auto scan = device.kernel<cl::Buffer, cl_uint>("sort", "sort_scan", opts);
+    auto scatter = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer>(
+        "sort", "sort_scatter", opts);
+
+    const cl::NDRange global(tiles * kSortGroup), group(kSortGroup);
+    cl::Buffer* kin = &keys;
+    cl::Buffer* vin = &values;
+    cl::Buffer* kout = &ws.keys;
+    cl::Buffer* vout = &ws.values;
+    std::vector<cl::Event> events;
+    const int passes = (sortBits + kRadixBits - 1) / kRadixBits;
+    for (int p = 0; p < passes; ++p) {
+        const cl_uint shift = cl_uint(p * kRadixBits);
+        const cl_uint mask = (1u << std::min(kRadixBits, sortBits - p * kRadixBits)) - 1u;
+        events.push_back(device.launchLocal("sort", histogram, global, group, *kin, cl_uint(n), shift, mask, ws.hist));
+        events.push_back(device.launchLocal("sort", scan, cl::NDRange(kSortGroup), group, ws.hist, cl_uint(histSize)));
+        events.push_back(device.launchLocal("sort", scatter, global, group, *kin, *vin, cl_uint(n), shift, mask, ws.hist,
+                                            *kout, *vout));
+        std::swap(kin, kout);
+        std::swap(vin, vout);
+    }
+    if (kin != &keys) {  // an odd number of passes: the result is in the scratch buffers
+        cl::Event ek, ev;
+        Device::guard("sort", [&] {
+            device.queue().enqueueCopyBuffer(*kin, keys, 0, 0, n * keySize, nullptr, &ek);
+            device.queue().enqueueCopyBuffer(*vin, values, 0, 0, n * sizeof(uint32_t), nullptr, &ev);
+        });
+        events.push_back(ek);
+        events.push_back(ev);
+    }
+    device.finish();
+    if (seconds)
+        for (const cl::Event& e : events) *seconds += Device::elapsedSeconds(e);
+}
+
+void sortPairsOnDevice(Device& device, std::vector<uint32_t>& keys, std::vector<uint32_t>& values) {
+    if (keys.size() != values.size())
+        throw InputError("sortPairsOnDevice: " + std::to_string(keys.size()) + " keys, " +
+                         std::to_string(values.size()) + " values");
+    cl::Buffer k = device.upload(keys, CL_MEM_READ_WRITE), v = device.upload(values, CL_MEM_READ_WRITE);
+    sortPairsOnDevice(device, k, v, keys.size(), 32);
+    keys = device.download<uint32_t>(k, keys.size());
+    values = device.download<uint32_t>(v, values.size());
+}
+
+void sortPairsOnDevice(Device& device, std::vector<uint64_t>& keys, std::vector<uint32_t>& values, int sortBits) {
+    if (keys.size() != values.size())
+        throw InputError("sortPairsOnDevice: " + std::to_string(keys.size()) + " keys, " +
+                         std::to_string(values.size()) + " values");
+    cl::Buffer k = device.upload(keys, CL_MEM_READ_WRITE), v = device.upload(values, CL_MEM_READ_WRITE);
+    sortPairsOnDevice(device, k, v, keys.size(), 64, sortBits);
+    keys = device.download<uint64_t>(k, keys.size());
+    values = device.download<uint32_t>(v, values.size());
+}
+
+void floatSortKeysOnDevice(Device& device, const std::vector<float>& x, std::vector<uint32_t>& keys,
+                           std::vector<uint32_t>& values) {
+    const size_t n = x.size();
+    cl::Buffer in = device.upload(x);
+    cl::Buffer k = device.allocate<uint32_t>(n), v = device.allocate<uint32_t>(n);
+    auto flip = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>("sort", "sort_float_keys");
+    device.launchLocal("sort", flip, cl::NDRange((n + 63) / 64 * 64), cl::NDRange(64), in, cl_uint(n), k, v);
+    keys = device.download<uint32_t>(k, n);
+    values = device.download<uint32_t>(v, n);
+}
+
+}  // namespace pcl

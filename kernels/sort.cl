@@ -1,0 +1,141 @@
+/* sort.cl: stable LSD radix sort of (key, value) pairs, 4 bits per pass (kernels/README.md,
+ * "Photon maps", sort). Keys are uint, or ulong with -DPCL_SORT_KEY64=1; values are uint.
+ *
+ * One pass over digit d = (key >> shift) & mask (mask = 15, or fewer bits in a last pass that
+ * reaches the caller's sortBits) is three launches:
+ *   sort_histogram  per tile of PCL_SORT_TILE keys: hist[d * tiles + t] = keys of digit d in tile t
+ *   sort_scan       one work-group: offsets = exclusive prefix sum of hist (digit-major, so
+ *                   offsets[d * tiles + t] is where tile t's first key of digit d goes)
+ *   sort_scatter    per tile: every key goes to offsets[d * tiles + t] + (keys of digit d before
+ *                   it in the tile)
+ * Work-item l of a tile owns the PCL_SORT_ITEMS consecutive keys l*ITEMS .. l*ITEMS+ITEMS-1, so
+ * "keys of digit d before it in the tile" = Σ counts[d][l' < l] + the keys of digit d this
+ * work-item has already placed: a scan of the per-work-item digit counts. Every position is a
+ * function of the input alone (integer counts, no atomics), so the sort is stable and
+ * deterministic by construction, on any device and with any scheduling. */
+#include "shared/types.h"
+
+#ifndef PCL_SORT_KEY64
+#define PCL_SORT_KEY64 0
+#endif
+#if PCL_SORT_KEY64
+typedef ulong sort_key;
+#else
+typedef uint sort_key;
+#endif
+
+#define PCL_SORT_GROUP 256
+#define PCL_SORT_ITEMS 16
+#define PCL_SORT_TILE (PCL_SORT_GROUP * PCL_SORT_ITEMS)
+#define PCL_SORT_RADIX 16
+
+/* counts[d * GROUP + l]: keys of digit d among work-item l's items. */
+static inline void sort_count_items(__global const sort_key* keys, uint n, uint shift, uint mask,
+                                    __local uint* counts, uint l, uint tile) {
+    for (uint d = 0u; d < PCL_SORT_RADIX; ++d) counts[d * PCL_SORT_GROUP + l] = 0u;
+    const uint begin = tile * (uint)PCL_SORT_TILE + l * (uint)PCL_SORT_ITEMS;
+    const uint end = min(begin + (uint)PCL_SORT_ITEMS, n);
+    for (uint i = begin; i < end; ++i) counts[(uint)((keys[i] >> shift) & mask) * PCL_SORT_GROUP + l] += 1u;
+}
+
+__kernel __attribute__((reqd_work_group_size(PCL_SORT_GROUP, 1, 1)))
+void sort_histogram(__global const sort_key* keys, uint n, uint shift, uint mask, __global uint* hist) {
+    __local uint counts[PCL_SORT_RADIX * PCL_SORT_GROUP];
+    const uint l = (uint)get_local_id(0);
+    const uint t = (uint)get_group_id(0);
+    const uint tiles = (uint)get_num_groups(0);
+    sort_count_items(keys, n, shift, mask, counts, l, t);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (l < PCL_SORT_RADIX) {
+        uint s = 0u;
+        for (uint k = 0u; k < PCL_SORT_GROUP; ++k) s += counts[l * PCL_SORT_GROUP + k];
+        hist[l * tiles + t] = s;
+    }
+}
+
+/* Exclusive prefix sum of m values in place, by one work-group: work-item l sums a contiguous
+ * chunk, a Hillis & Steele scan of the chunk sums, then each chunk rewritten. */
+__kernel __attribute__((reqd_work_group_size(PCL_SORT_GROUP, 1, 1)))
+void sort_scan(__global uint* values, uint m) {
+    __local uint buf[2][PCL_SORT_GROUP];
+    const uint l = (uint)get_local_id(0);
+    const uint chunk = (m + PCL_SORT_GROUP - 1u) / PCL_SORT_GROUP;
+    const uint begin = min(l * chunk, m);
+    const uint end = min(begin + chunk, m);
+    uint s = 0u;
+    for (uint i = begin; i < end; ++i) s += values[i];
+    int src = 0;
+    buf[0][l] = s;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (uint step = 1u; step < PCL_SORT_GROUP; step <<= 1) {
+        const uint x = buf[src][l] + (l >= step ? buf[src][l - step] : 0u);
+        buf[1 - src][l] = x;
+        src = 1 - src;
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    uint run = buf[src][l] - s;
+    for (uint i = begin; i < end; ++i) {
+        const uint v = values[i];
+        values[i] = run;
+        run += v;
+    }
+}
+
+__kernel __attribute__((reqd_work_group_size(PCL_SORT_GROUP, 1, 1)))
+void sort_scatter(__global const sort_key* keysIn, __global const uint* valuesIn, uint n, uint shift, uint mask,
+                  __global const uint* offsets, __global sort_key* keysOut, __global uint* valuesOut) {
+    __local uint counts[PCL_SORT_RADIX * PCL_SORT_GROUP];
+    __local uint buf[2][PCL_SORT_GROUP];
+    __local uint base[PCL_SORT_RADIX];
+    const uint l = (uint)get_local_id(0);
+    const uint t = (uint)get_group_id(0);
+    const uint tiles = (uint)get_num_groups(0);
+    sort_count_items(keysIn, n, shift, mask, counts, l, t);
+    barrier(CLK_LOCAL_MEM_FENCE);
+
+    /* Exclusive scan of counts in its digit-major order: work-item l scans entries
+     * l*RADIX .. l*RADIX+RADIX-1 (GROUP * RADIX entries in all). */
+    uint s = 0u;
+    for (uint j = 0u; j < PCL_SORT_RADIX; ++j) s += counts[l * PCL_SORT_RADIX + j];
+    int src = 0;
+    buf[0][l] = s;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (uint step = 1u; step < PCL_SORT_GROUP; step <<= 1) {
+        const uint x = buf[src][l] + (l >= step ? buf[src][l - step] : 0u);
+        buf[1 - src][l] = x;
+        src = 1 - src;
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    uint run = buf[src][l] - s;
+    for (uint j = 0u; j < PCL_SORT_RADIX; ++j) {
+        const uint v = counts[l * PCL_SORT_RADIX + j];
+        counts[l * PCL_SORT_RADIX + j] = run;
+        run += v;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    /* counts[d*GROUP + l] is now the tile-local rank of work-item l's first key of digit d,
+     * counting every smaller digit of the tile; base[d] turns it into a global position. */
+    if (l < PCL_SORT_RADIX) base[l] = offsets[l * tiles + t] - counts[l * PCL_SORT_GROUP];
+    barrier(CLK_LOCAL_MEM_FENCE);
+
+    const uint begin = t * (uint)PCL_SORT_TILE + l * (uint)PCL_SORT_ITEMS;
+    const uint end = min(begin + (uint)PCL_SORT_ITEMS, n);
+    for (uint i = begin; i < end; ++i) {
+        const sort_key k = keysIn[i];
+        const uint d = (uint)((k >> shift) & mask);
+        const uint dst = base[d] + counts[d * PCL_SORT_GROUP + l];
+        counts[d * PCL_SORT_GROUP + l] += 1u;
+        keysOut[dst] = k;
+        valuesOut[dst] = valuesIn[i];
+    }
+}
+
+/* Order-preserving float → uint key (kernels/README.md, sort): sign clear → b ^ 0x80000000,
+ * sign set → ~b. values[i] = i, ready for an index-stable sort. */
+__kernel void sort_float_keys(__global const float* x, uint n, __global uint* keys, __global uint* values) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= n) return;
+    const uint b = as_uint(x[i]);
+    keys[i] = (b & 0x80000000u) ? ~b : (b ^ 0x80000000u);
+    values[i] = i;
+}
