@@ -1,0 +1,100 @@
+#include "pipeline/kdtree.h"
+
+#include <algorithm>
+#include <string>
+
+#include "core/error.h"
+#include "pipeline/sort.h"
+
+namespace pcl {
+namespace {
+
+constexpr size_t kGroup = 64;
+constexpr size_t kChunk = 64;  // PCL_KD_CHUNK in kernels/kdtree.cl
+
+cl::NDRange range(size_t n) { return cl::NDRange((n + kGroup - 1) / kGroup * kGroup); }
+
+int bitLength(uint64_t v) {
+    int b = 0;
+    while (v) {
+        ++b;
+        v >>= 1;
+    }
+    return b;
+}
+
+}  // namespace
+
+DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing) {
+    if (n >= (size_t(1) << 31))
+        throw InputError("buildKdTree: " + std::to_string(n) + " photons (at most 2^31 - 1)");
+    DeviceKdTree tree;
+    tree.count = n;
+    tree.photons = device.allocate<PclPhoton>(n);
+    tree.index = device.allocate<uint32_t>(n);
+    if (n == 0) return tree;
+
+    const std::string stage = "kdtree";
+    auto init = device.kernel<cl_uint, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_init");
+    auto boundsInit = device.kernel<cl::Buffer, cl_uint, cl_uint>(stage, "kdtree_bounds_init");
+    auto bounds = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_bounds");
+    auto keysK = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(
+        stage, "kdtree_keys");
+    auto segments = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_segments");
+    auto assign = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer,
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_assign");
+
+    cl::Buffer sub = device.allocate<uint32_t>(n);
+    cl::Buffer node = device.allocate<uint32_t>(n);
+    cl::Buffer keys = device.allocate<uint64_t>(n);
+    cl::Buffer values = device.allocate<uint32_t>(n);   // photon order for kdtree_init, then sorted
+    cl::Buffer boxes = device.allocate<uint32_t>(6 * n);
+    cl::Buffer segStart = device.allocate<uint32_t>(n);
+    cl::Buffer segEnd = device.allocate<uint32_t>(n);
+    SortWorkspace workspace;
+
+    std::vector<cl::Event> events;
+    const cl::NDRange group(kGroup);
+    const cl_uint N = cl_uint(n);
+    events.push_back(device.launchLocal(stage, init, range(n), group, N, sub, values, node));
+    events.push_back(device.launchLocal(stage, boundsInit, range(1), group, boxes, cl_uint(0), cl_uint(1)));
+    const cl::NDRange chunks = range((n + kChunk - 1) / kChunk);
+    events.push_back(device.launchLocal(stage, bounds, chunks, group, photons, values, node, N, boxes));
+
+    double sortSeconds = 0.0;
+    uint32_t levels = 0;
+    for (uint64_t first = 0; first < n; first = 2 * first + 1, ++levels) {
+        const uint64_t count = std::min<uint64_t>(first + 1, n - first);  // nodes on this level
+        events.push_back(device.launchLocal(stage, keysK, range(n), group, photons, sub, N, boxes, cl_uint(first),
+                                            cl_uint(count), keys, values));
+        sortPairsOnDevice(device, keys, values, n, 64, 32 + bitLength(count), &sortSeconds, &workspace);
+        events.push_back(device.launchLocal(stage, segments, range(n), group, keys, N, cl_uint(count), segStart, segEnd));
+        events.push_back(device.launchLocal(stage, assign, range(n), group, photons, keys, values, N, cl_uint(first),
+                                            cl_uint(count), segStart, segEnd, boxes, sub, node, tree.photons,
+                                            tree.index));
+        const uint64_t childFirst = 2 * first + 1;
+        if (childFirst >= n) continue;
+        const uint64_t childCount = std::min<uint64_t>(2 * count, n - childFirst);
+        events.push_back(device.launchLocal(stage, boundsInit, range(childCount), group, boxes, cl_uint(childFirst),
+                                            cl_uint(childCount)));
+        events.push_back(device.launchLocal(stage, bounds, chunks, group, photons, values, node, N, boxes));
+    }
+    device.finish();
+    tree.levels = levels;
+    if (timing) {
+        timing->sortSeconds += sortSeconds;
+        for (const cl::Event& e : events) timing->otherSeconds += Device::elapsedSeconds(e);
+    }
+    return tree;
+}
+
+KdTree buildKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& photons, KdTreeTiming* timing) {
+    cl::Buffer in = device.upload(photons);
+    DeviceKdTree t = buildKdTree(device, in, photons.size(), timing);
+    KdTree out;
+    out.photons = device.download<PclPhoton>(t.photons, t.count);
+    out.index = device.download<uint32_t>(t.index, t.count);
+    return out;
+}
+
+}  // namespace pcl

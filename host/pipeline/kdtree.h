@@ -1,0 +1,40 @@
+// Jensen's left-balanced kd-tree built on the device (kernels/kdtree.cl; kernels/README.md,
+// "Photon maps", kd-tree): level by level, each level one stable 64-bit radix sort of
+// (subtree << 32 | coordinate key) over all photons. The result is the photon array in heap
+// order (node h's children at 2h+1, 2h+2) with each node's split axis in bits 27..28 of
+// `packed`, and index[h] = the map position of the photon at node h. The twin is
+// host/reference/kdtree.h; both give the same tree byte for byte.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "device/device.h"
+#include "shared/types.h"
+
+namespace pcl {
+
+struct DeviceKdTree {
+    cl::Buffer photons;   // PclPhoton[count], heap order, axis bits set
+    cl::Buffer index;     // uint32[count]: heap position → photon index in the input map
+    size_t count = 0;
+    uint32_t levels = 0;  // ⌊log2 count⌋ + 1 (0 for an empty map)
+};
+
+struct KdTreeTiming {
+    double sortSeconds = 0.0;   // device time in the radix sorts
+    double otherSeconds = 0.0;  // device time in the kd-tree kernels
+};
+
+// Builds the tree of the first n photons of `photons` (left untouched). n < 2^31.
+DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing = nullptr);
+
+struct KdTree {
+    std::vector<PclPhoton> photons;  // heap order, axis bits set
+    std::vector<uint32_t> index;     // heap position → input photon index
+};
+
+// Upload, build, download.
+KdTree buildKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& photons, KdTreeTiming* timing = nullptr);
+
+}  // namespace pcl

@@ -1,0 +1,162 @@
+/* kdtree.cl: Jensen's left-balanced kd-tree built on the device level by level by sorting
+ * (kernels/README.md, "Photon maps", kd-tree; Jensen 2001 §6.3). The tree is a heap over the
+ * photon array: node h has children 2h+1 and 2h+2, split axis in bits 27..28 of `packed`.
+ *
+ * State between levels: sub[i] = the heap node whose subtree photon i is in (PCL_KD_DONE once
+ * the photon is a node). One level L (nodes levelFirst = 2^L − 1 .. levelFirst + 2^L − 1):
+ *   kdtree_keys     photon order i: key = (sub[i] − levelFirst) << 32 | flip(coordinate on the
+ *                   subtree's split axis), or levelCount << 32 for placed photons; value = i
+ *   (radix sort)    stable, so each subtree's photons end up contiguous, ordered by
+ *                   (coordinate key, photon index)
+ *   kdtree_segments first and one-past-last sorted position of each subtree
+ *   kdtree_assign   position r in its subtree of n photons: r = left(n) → the photon is node h;
+ *                   r < left → sub = 2h+1, r > left → sub = 2h+2. node[k] = the new subtree of
+ *                   sorted position k: the children's photons are contiguous in sorted order.
+ *   kdtree_bounds   bounding boxes of the children from those contiguous runs (atomic min/max
+ *                   on flipped keys: min and max do not depend on the order they are applied).
+ * The split axis of a subtree is the axis of largest float extent max − min, ties x, y, z. */
+#include "shared/types.h"
+
+#define PCL_KD_DONE 0xFFFFFFFFu
+#define PCL_KD_CHUNK 64u
+
+/* The order-preserving float → uint flip of the sort (README, "sort"). */
+static inline uint kd_float_key(float x) {
+    const uint b = as_uint(x);
+    return (b & 0x80000000u) ? ~b : (b ^ 0x80000000u);
+}
+static inline float kd_key_float(uint k) { return as_float((k & 0x80000000u) ? (k ^ 0x80000000u) : ~k); }
+
+static inline float kd_coord(__global const PclPhoton* p, uint axis) {
+    return axis == 0u ? p->x : (axis == 1u ? p->y : p->z);
+}
+
+/* bounds[h*6 + a] = min key on axis a, bounds[h*6 + 3 + a] = max key. */
+static inline uint kd_axis(__global const uint* bounds, uint h) {
+    __global const uint* b = bounds + (size_t)h * 6u;
+    const float ex = kd_key_float(b[3]) - kd_key_float(b[0]);
+    const float ey = kd_key_float(b[4]) - kd_key_float(b[1]);
+    const float ez = kd_key_float(b[5]) - kd_key_float(b[2]);
+    uint axis = 0u;
+    float e = ex;
+    if (ey > e) { axis = 1u; e = ey; }
+    if (ez > e) axis = 2u;
+    return axis;
+}
+
+/* Left-balanced median: the size of the left subtree of a complete binary tree of n nodes. */
+static inline uint kd_left_size(uint n) {
+    if (n <= 1u) return 0u;
+    const uint h = 31u - clz(n);  /* full levels above the last */
+    const uint halfLevel = 1u << (h - 1u);
+    return halfLevel - 1u + min(halfLevel, n - ((1u << h) - 1u));
+}
+
+__kernel void kdtree_init(uint n, __global uint* sub, __global uint* order, __global uint* node) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= n) return;
+    sub[i] = 0u;
+    order[i] = i;
+    node[i] = 0u;
+}
+
+__kernel void kdtree_bounds_init(__global uint* bounds, uint first, uint count) {
+    const uint j = (uint)get_global_id(0);
+    if (j >= count) return;
+    __global uint* b = bounds + (size_t)(first + j) * 6u;
+    b[0] = b[1] = b[2] = 0xFFFFFFFFu;
+    b[3] = b[4] = b[5] = 0u;
+}
+
+static inline void kd_flush(__global uint* bounds, uint h, const uint* lo, const uint* hi) {
+    volatile __global uint* b = (volatile __global uint*)(bounds + (size_t)h * 6u);
+    for (uint a = 0u; a < 3u; ++a) {
+        atomic_min(b + a, lo[a]);
+        atomic_max(b + 3u + a, hi[a]);
+    }
+}
+
+/* Work-item w reduces sorted positions [w*CHUNK, w*CHUNK + CHUNK): one flush per run of equal
+ * node[k], so the atomics number about n/CHUNK + subtrees. */
+__kernel void kdtree_bounds(__global const PclPhoton* photons, __global const uint* order,
+                            __global const uint* node, uint n, __global uint* bounds) {
+    const uint begin = (uint)get_global_id(0) * PCL_KD_CHUNK;
+    if (begin >= n) return;
+    const uint end = min(begin + PCL_KD_CHUNK, n);
+    uint cur = PCL_KD_DONE;
+    uint lo[3], hi[3];
+    for (uint k = begin; k < end; ++k) {
+        const uint h = node[k];
+        if (h != cur) {
+            if (cur != PCL_KD_DONE) kd_flush(bounds, cur, lo, hi);
+            cur = h;
+            lo[0] = lo[1] = lo[2] = 0xFFFFFFFFu;
+            hi[0] = hi[1] = hi[2] = 0u;
+        }
+        if (h == PCL_KD_DONE) continue;
+        __global const PclPhoton* p = photons + order[k];
+        const uint kx = kd_float_key(p->x), ky = kd_float_key(p->y), kz = kd_float_key(p->z);
+        lo[0] = min(lo[0], kx); hi[0] = max(hi[0], kx);
+        lo[1] = min(lo[1], ky); hi[1] = max(hi[1], ky);
+        lo[2] = min(lo[2], kz); hi[2] = max(hi[2], kz);
+    }
+    if (cur != PCL_KD_DONE) kd_flush(bounds, cur, lo, hi);
+}
+
+__kernel void kdtree_keys(__global const PclPhoton* photons, __global const uint* sub, uint n,
+                          __global const uint* bounds, uint levelFirst, uint levelCount,
+                          __global ulong* keys, __global uint* values) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= n) return;
+    const uint h = sub[i];
+    ulong key;
+    if (h == PCL_KD_DONE) {
+        key = (ulong)levelCount << 32;
+    } else {
+        const uint axis = kd_axis(bounds, h);
+        key = (ulong)(h - levelFirst) << 32 | (ulong)kd_float_key(kd_coord(photons + i, axis));
+    }
+    keys[i] = key;
+    values[i] = i;
+}
+
+__kernel void kdtree_segments(__global const ulong* keys, uint n, uint levelCount,
+                              __global uint* segStart, __global uint* segEnd) {
+    const uint k = (uint)get_global_id(0);
+    if (k >= n) return;
+    const uint rel = (uint)(keys[k] >> 32);
+    if (rel >= levelCount) return;
+    if (k == 0u || (uint)(keys[k - 1u] >> 32) != rel) segStart[rel] = k;
+    if (k == n - 1u || (uint)(keys[k + 1u] >> 32) != rel) segEnd[rel] = k + 1u;
+}
+
+__kernel void kdtree_assign(__global const PclPhoton* photons, __global const ulong* keys,
+                            __global const uint* values, uint n, uint levelFirst, uint levelCount,
+                            __global const uint* segStart, __global const uint* segEnd,
+                            __global const uint* bounds, __global uint* sub, __global uint* node,
+                            __global PclPhoton* tree, __global uint* index) {
+    const uint k = (uint)get_global_id(0);
+    if (k >= n) return;
+    const uint rel = (uint)(keys[k] >> 32);
+    if (rel >= levelCount) {
+        node[k] = PCL_KD_DONE;
+        return;
+    }
+    const uint h = levelFirst + rel;
+    const uint start = segStart[rel];
+    const uint left = kd_left_size(segEnd[rel] - start);
+    const uint r = k - start;
+    const uint i = values[k];
+    if (r == left) {
+        PclPhoton p = photons[i];
+        p.packed = (p.packed & ~PCL_PHOTON_AXIS_MASK) | (kd_axis(bounds, h) << PCL_PHOTON_AXIS_SHIFT);
+        tree[h] = p;
+        index[h] = i;
+        sub[i] = PCL_KD_DONE;
+        node[k] = PCL_KD_DONE;
+    } else {
+        const uint child = r < left ? 2u * h + 1u : 2u * h + 2u;
+        sub[i] = child;
+        node[k] = child;
+    }
+}

@@ -1,0 +1,248 @@
+// kdtree_* (kernels/kdtree.cl) against the twin (host/reference/kdtree): the device tree equals
+// the twin's byte for byte (photons with axis bits, and the heap → photon index permutation) on
+// real maps of the shipped scenes and on random points; every tree is a valid left-balanced
+// kd-tree (a permutation of the input; each node's split axis the largest extent of its
+// subtree's box; every left-subtree photon ≤ node ≤ every right-subtree photon on the node's
+// axis, ordered by (coordinate key, photon index)); degenerate maps (0 and 1 photon, 1M
+// identical photons, two dense clusters, collinear photons) build in ⌊log2 n⌋ + 1 levels.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <string>
+
+#include "device_fixture.h"
+#include "pipeline/kdtree.h"
+#include "pipeline/photon_pass.h"
+#include "pipeline/projection_map.h"
+#include "reference/kdtree.h"
+#include "scene/load_scene.h"
+
+namespace pcl {
+namespace {
+
+PclPhoton photonAt(float x, float y, float z, uint32_t tag) {
+    PclPhoton p;
+    p.x = x;
+    p.y = y;
+    p.z = z;
+    p.rgbe = tag * 2654435761u;
+    p.packed = (tag & 0xFFFFFFu) | PCL_PHOTON_AXIS_MASK;  // stale axis bits must be overwritten
+    return p;
+}
+
+uint32_t key(float f) {  // the flip, written out again here
+    uint32_t b;
+    std::memcpy(&b, &f, 4);
+    return (b >> 31) ? ~b : (b | 0x80000000u);
+}
+float coord(const PclPhoton& p, uint32_t a) { return a == 0 ? p.x : (a == 1 ? p.y : p.z); }
+uint32_t axisOf(const PclPhoton& p) { return (p.packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT; }
+
+// The first way the tree breaks its definition, or "" — independent of both builders.
+std::string treeDefect(const std::vector<PclPhoton>& in, const std::vector<PclPhoton>& tree,
+                       const std::vector<uint32_t>& index) {
+    const size_t n = in.size();
+    auto at = [](const std::string& what, size_t h) { return what + " at node " + std::to_string(h); };
+    if (tree.size() != n || index.size() != n) return "wrong size";
+    std::vector<char> seen(n, 0);
+    for (size_t h = 0; h < n; ++h) {
+        if (index[h] >= n || seen[index[h]]) return at("not a permutation", h);
+        seen[index[h]] = 1;
+        const PclPhoton& a = in[index[h]];
+        const PclPhoton& b = tree[h];
+        if (!(a.x == b.x && a.y == b.y && a.z == b.z && a.rgbe == b.rgbe) ||
+            (a.packed & ~PCL_PHOTON_AXIS_MASK) != (b.packed & ~PCL_PHOTON_AXIS_MASK))
+            return at("photon differs from input[index]", h);
+        if (axisOf(b) > 2) return at("axis 3", h);
+    }
+    // Subtree boxes bottom-up; the axis is the largest extent (ties x, y, z).
+    std::vector<float> lo(3 * n), hi(3 * n);
+    for (size_t h = n; h-- > 0;) {
+        for (uint32_t a = 0; a < 3; ++a) lo[3 * h + a] = hi[3 * h + a] = coord(tree[h], a);
+        for (size_t c : {2 * h + 1, 2 * h + 2})
+            if (c < n)
+                for (uint32_t a = 0; a < 3; ++a) {
+                    lo[3 * h + a] = std::min(lo[3 * h + a], lo[3 * c + a]);
+                    hi[3 * h + a] = std::max(hi[3 * h + a], hi[3 * c + a]);
+                }
+        const float e[3] = {hi[3 * h] - lo[3 * h], hi[3 * h + 1] - lo[3 * h + 1], hi[3 * h + 2] - lo[3 * h + 2]};
+        const uint32_t want = e[1] > e[0] ? (e[2] > e[1] ? 2 : 1) : (e[2] > e[0] ? 2 : 0);
+        if (axisOf(tree[h]) != want) return at("not the axis of largest extent", h);
+    }
+    // Every node against each ancestor: left subtree below, right subtree above, on the
+    // ancestor's axis by (key, photon index).
+    for (size_t h = 1; h < n; ++h)
+        for (size_t child = h; child > 0; child = (child - 1) / 2) {
+            const size_t parent = (child - 1) / 2;
+            const uint32_t a = axisOf(tree[parent]);
+            const uint64_t kh = uint64_t(key(coord(tree[h], a))) << 32 | index[h];
+            const uint64_t kp = uint64_t(key(coord(tree[parent], a))) << 32 | index[parent];
+            if (child == 2 * parent + 1 ? kh >= kp : kh <= kp)
+                return at("order broken against ancestor " + std::to_string(parent), h);
+        }
+    return "";
+}
+
+void expectValidTree(const std::vector<PclPhoton>& in, const std::vector<PclPhoton>& tree,
+                     const std::vector<uint32_t>& index) {
+    EXPECT_EQ(treeDefect(in, tree, index), "");
+}
+
+void expectDeviceEqualsTwin(const std::vector<PclPhoton>& in, const char* what, bool validate = true) {
+    SCOPED_TRACE(what);
+    KdTree dev = buildKdTreeOnDevice(test::testDevice(), in);
+    ReferenceKdTree ref = referenceBuildKdTree(in);
+    ASSERT_EQ(dev.photons.size(), in.size());
+    ASSERT_EQ(dev.index, ref.index);
+    ASSERT_EQ(0, std::memcmp(dev.photons.data(), ref.photons.data(), in.size() * sizeof(PclPhoton)));
+    if (validate) expectValidTree(in, dev.photons, dev.index);
+}
+
+TEST(KdTree, LeftSizeIsTheCompleteTreesLeftSubtree) {
+    // Count the heap positions under child 1 of a complete tree of n nodes.
+    for (uint32_t n = 1; n < 2000; ++n) {
+        uint32_t left = 0;
+        for (uint64_t first = 1, width = 1; first < n; first = 2 * first + 1, width *= 2)
+            left += uint32_t(std::min<uint64_t>(width, n - first));
+        ASSERT_EQ(referenceKdLeftSize(n), left) << n;
+    }
+}
+
+// The validator is a check that can fail: swapped nodes, a wrong axis, a tie broken the wrong way.
+TEST(KdTree, ValidatorCatchesBrokenTrees) {
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<PclPhoton> in;
+    for (uint32_t i = 0; i < 1000; ++i) in.push_back(photonAt(u(rng), u(rng), u(rng), i));
+    ReferenceKdTree t = referenceBuildKdTree(in);
+    ASSERT_EQ(treeDefect(in, t.photons, t.index), "");
+    ReferenceKdTree swapped = t;
+    std::swap(swapped.photons[1], swapped.photons[2]);
+    std::swap(swapped.index[1], swapped.index[2]);
+    EXPECT_NE(treeDefect(in, swapped.photons, swapped.index), "");
+    ReferenceKdTree axis = t;
+    axis.photons[0].packed ^= 1u << PCL_PHOTON_AXIS_SHIFT;
+    EXPECT_NE(treeDefect(in, axis.photons, axis.index), "");
+    // Two identical photons: the lower index must be on the left.
+    std::vector<PclPhoton> two = {photonAt(1, 1, 1, 0), photonAt(1, 1, 1, 1)};
+    ReferenceKdTree t2 = referenceBuildKdTree(two);
+    EXPECT_EQ(t2.index, (std::vector<uint32_t>{1, 0}));
+    EXPECT_EQ(treeDefect(two, t2.photons, t2.index), "");
+    std::swap(t2.photons[0], t2.photons[1]);
+    std::swap(t2.index[0], t2.index[1]);
+    EXPECT_NE(treeDefect(two, t2.photons, t2.index), "");
+}
+
+TEST(KdTree, RandomPointsMatchTwin) {
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(-10.0f, 10.0f);
+    for (size_t n : {2, 3, 4, 5, 7, 8, 9, 100, 255, 256, 257, 4097, 50000}) {
+        std::vector<PclPhoton> in;
+        for (size_t i = 0; i < n; ++i) in.push_back(photonAt(u(rng), 0.3f * u(rng), 2.0f * u(rng), uint32_t(i)));
+        expectDeviceEqualsTwin(in, ("random n = " + std::to_string(n)).c_str());
+    }
+    // Coarse coordinates: many ties on every axis, broken by the photon index.
+    std::vector<PclPhoton> in;
+    std::uniform_int_distribution<int> g(-3, 3);
+    for (uint32_t i = 0; i < 30000; ++i) in.push_back(photonAt(float(g(rng)), float(g(rng)), -0.0f * float(g(rng)), i));
+    expectDeviceEqualsTwin(in, "lattice with ties and signed zeros");
+}
+
+TEST(KdTree, EmptyAndSinglePhoton) {
+    KdTree empty = buildKdTreeOnDevice(test::testDevice(), {});
+    EXPECT_TRUE(empty.photons.empty());
+    EXPECT_TRUE(referenceBuildKdTree({}).photons.empty());
+    std::vector<PclPhoton> one = {photonAt(1, 2, 3, 7)};
+    expectDeviceEqualsTwin(one, "one photon");
+    KdTree t = buildKdTreeOnDevice(test::testDevice(), one);
+    EXPECT_EQ(axisOf(t.photons[0]), 0u);
+    EXPECT_EQ(t.index[0], 0u);
+}
+
+// 1M photons at one point: every comparison is a tie broken by index; the build is still
+// ⌊log2 n⌋ + 1 sorted levels (linear work per level), not a quadratic partition.
+TEST(KdTree, MillionIdenticalPhotons) {
+    const size_t n = 1000000;
+    std::vector<PclPhoton> in(n);
+    for (size_t i = 0; i < n; ++i) in[i] = photonAt(0.5f, -1.25f, 3.0f, uint32_t(i));
+    cl::Buffer buf = test::testDevice().upload(in);
+    DeviceKdTree t = buildKdTree(test::testDevice(), buf, n);
+    EXPECT_EQ(t.levels, 20u);  // ⌊log2 1e6⌋ + 1
+    std::vector<uint32_t> index = test::testDevice().download<uint32_t>(t.index, n);
+    ReferenceKdTree ref = referenceBuildKdTree(in);
+    ASSERT_EQ(index, ref.index);
+    std::vector<PclPhoton> photons = test::testDevice().download<PclPhoton>(t.photons, n);
+    ASSERT_EQ(0, std::memcmp(photons.data(), ref.photons.data(), n * sizeof(PclPhoton)));
+    // All identical, so the tree is the index order laid out by the tie rule alone: an in-order
+    // walk visits photons 0, 1, 2, ...
+    std::vector<uint32_t> inorder;
+    std::vector<size_t> stack;
+    size_t h = 0;
+    while (h < n || !stack.empty()) {
+        while (h < n) {
+            stack.push_back(h);
+            h = 2 * h + 1;
+        }
+        h = stack.back();
+        stack.pop_back();
+        inorder.push_back(index[h]);
+        h = 2 * h + 2;
+    }
+    for (size_t i = 0; i < n; ++i) ASSERT_EQ(inorder[i], i);
+    for (const PclPhoton& p : photons) ASSERT_EQ(axisOf(p), 0u);
+}
+
+TEST(KdTree, DenseClustersAndCollinearPhotons) {
+    std::mt19937 rng(4);
+    std::normal_distribution<float> tiny(0.0f, 1e-6f);
+    std::vector<PclPhoton> clusters;
+    for (uint32_t i = 0; i < 200000; ++i) {
+        const float c = (i & 1) ? 1000.0f : -1000.0f;
+        clusters.push_back(photonAt(c + tiny(rng), 5.0f + tiny(rng), c * 0.5f + tiny(rng), i));
+    }
+    expectDeviceEqualsTwin(clusters, "two dense clusters");
+    std::vector<PclPhoton> line;
+    std::uniform_real_distribution<float> t(0.0f, 1.0f);
+    for (uint32_t i = 0; i < 100000; ++i) {
+        const float s = (i % 7 == 0) ? 0.25f : t(rng);  // and repeated points on the line
+        line.push_back(photonAt(1.0f, 2.0f - s, 3.0f, i));
+    }
+    expectDeviceEqualsTwin(line, "collinear along y");
+    std::vector<PclPhoton> diagonal;
+    for (uint32_t i = 0; i < 4096; ++i) {
+        const float s = float(i % 1000);
+        diagonal.push_back(photonAt(s, s, s, i));  // equal extents: ties go to x
+    }
+    expectDeviceEqualsTwin(diagonal, "collinear along the diagonal");
+}
+
+TEST(KdTree, ShippedSceneMapsMatchTwin) {
+    const std::filesystem::path dir = std::filesystem::path(PHOTONCL_SOURCE_DIR) / "scenes";
+    size_t scenes = 0;
+    for (const char* file : {"cornell-box.json", "cornell-spheres.json", "cornell-glossy.json", "gltf-room.gltf"}) {
+        const std::filesystem::path path = dir / file;
+#ifndef PHOTONCL_HAVE_GLTF
+        if (path.extension() == ".gltf") continue;
+#endif
+        Scene scene = loadScene(path.string());
+        SceneGeometry geometry = SceneGeometry::build(scene);
+        SceneBuffers buffers = buildSceneBuffers(scene, geometry);
+        buildProjectionMaps(scene, geometry, buffers);
+        PhotonPassOptions o;
+        o.globalPhotons = 20000;
+        o.causticPhotons = 20000;
+        o.seed = 3;
+        PhotonMaps maps = runPhotonPass(test::testDevice(), geometry, buffers, o);
+        ASSERT_GT(maps.global.size(), 1000u) << file;
+        expectDeviceEqualsTwin(maps.global, (std::string(file) + " global").c_str());
+        if (!maps.caustic.empty()) expectDeviceEqualsTwin(maps.caustic, (std::string(file) + " caustic").c_str());
+        ++scenes;
+    }
+    EXPECT_GE(scenes, 3u);
+}
+
+}  // namespace
+}  // namespace pcl
