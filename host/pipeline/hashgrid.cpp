@@ -1,0 +1,103 @@
+#include "pipeline/hashgrid.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "core/error.h"
+#include "pipeline/device_scene.h"
+
+namespace pcl {
+
+PclGridParams hashGridParams(const std::vector<PclPhoton>& photons, float maxRadius) {
+    if (!(maxRadius > 0.0f) || !std::isfinite(maxRadius))
+        throw InputError("hash grid: the search radius must be positive and finite, got " + std::to_string(maxRadius));
+    PclGridParams g{};
+    if (!photons.empty()) {
+        float lo[3] = {photons[0].x, photons[0].y, photons[0].z};
+        for (const PclPhoton& p : photons) {
+            lo[0] = std::min(lo[0], p.x);
+            lo[1] = std::min(lo[1], p.y);
+            lo[2] = std::min(lo[2], p.z);
+        }
+        g.ox = lo[0], g.oy = lo[1], g.oz = lo[2];
+    }
+    g.cellSize = 2.0f * maxRadius;
+    g.invCellSize = 1.0f / g.cellSize;
+    if (photons.size() > (size_t(1) << 31))
+        throw InputError("hash grid: " + std::to_string(photons.size()) + " photons exceed the 32-bit table");
+    uint32_t table = 1;
+    while (table < photons.size()) table <<= 1;
+    g.tableSize = table;
+    g.photonCount = uint32_t(photons.size());
+    return g;
+}
+
+DeviceHashGrid buildHashGrid(Device& device, const cl::Buffer& photons, size_t count, const PclGridParams& params) {
+    if (params.photonCount != count)
+        throw InputError("buildHashGrid: params.photonCount " + std::to_string(params.photonCount) + " for " +
+                         std::to_string(count) + " photons");
+    if (params.tableSize == 0 || (params.tableSize & (params.tableSize - 1)) != 0)
+        throw InputError("buildHashGrid: tableSize " + std::to_string(params.tableSize) + " is not a power of two");
+    DeviceHashGrid g;
+    g.params = params;
+    g.count = count;
+    g.keys = device.allocate<uint32_t>(count);
+    g.order = device.allocate<uint32_t>(count);
+    g.cellStart = device.allocate<uint32_t>(params.tableSize);
+    g.cellEnd = device.allocate<uint32_t>(params.tableSize);
+    g.points = device.allocate<cl_float4>(count);
+    device.fill(g.cellStart, uint32_t(0), params.tableSize);
+    device.fill(g.cellEnd, uint32_t(0), params.tableSize);
+    if (count == 0) {
+        device.finish();
+        return g;
+    }
+    const cl::NDRange local(kPhotonGroup);
+    auto keys = device.kernel<PclGridParams, cl::Buffer, cl::Buffer, cl::Buffer>("hashgrid", "hashgrid_keys");
+    cl::Event e = device.launchLocal("hashgrid", keys, photonGlobalRange(count), local, params, photons, g.keys, g.order);
+    e.wait();
+    g.keySeconds = Device::elapsedSeconds(e);
+
+    const auto t0 = std::chrono::steady_clock::now();
+    {
+        // TEMPORARY (until pipeline/sort.h lands): a host stable sort of the (hash, index) pairs.
+        std::vector<uint32_t> k = device.download<uint32_t>(g.keys, count);
+        std::vector<std::pair<uint32_t, uint32_t>> pairs(count);
+        for (size_t i = 0; i < count; ++i) pairs[i] = {k[i], uint32_t(i)};
+        std::stable_sort(pairs.begin(), pairs.end(), [](auto& a, auto& b) { return a.first < b.first; });
+        std::vector<uint32_t> v(count);
+        for (size_t i = 0; i < count; ++i) k[i] = pairs[i].first, v[i] = pairs[i].second;
+        g.keys = device.upload(k, CL_MEM_READ_WRITE);
+        g.order = device.upload(v, CL_MEM_READ_WRITE);
+    }
+    g.sortSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    auto ranges = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>("hashgrid", "hashgrid_ranges");
+    auto gather = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>("hashgrid", "hashgrid_gather");
+    cl::Event r = device.launchLocal("hashgrid", ranges, photonGlobalRange(count), local, g.keys, cl_uint(count),
+                                     g.cellStart, g.cellEnd);
+    cl::Event p = device.launchLocal("hashgrid", gather, photonGlobalRange(count), local, g.order, cl_uint(count),
+                                     photons, g.points);
+    p.wait();
+    r.wait();
+    g.rangeSeconds = Device::elapsedSeconds(r) + Device::elapsedSeconds(p);
+    return g;
+}
+
+HashGridTables hashGridOnDevice(Device& device, const std::vector<PclPhoton>& photons, float maxRadius) {
+    HashGridTables t;
+    t.params = hashGridParams(photons, maxRadius);
+    cl::Buffer buf = device.upload(photons);
+    DeviceHashGrid g = buildHashGrid(device, buf, photons.size(), t.params);
+    t.keys = device.download<uint32_t>(g.keys, g.count);
+    t.order = device.download<uint32_t>(g.order, g.count);
+    t.cellStart = device.download<uint32_t>(g.cellStart, t.params.tableSize);
+    t.cellEnd = device.download<uint32_t>(g.cellEnd, t.params.tableSize);
+    return t;
+}
+
+}  // namespace pcl

@@ -1,0 +1,206 @@
+/* knn.cl: the k nearest photons of each query (kernels/README.md, "Photon maps", knn; Jensen
+ * 2001 §6.3, "locate photons" with a bounded max-heap), one query per work-item.
+ *
+ * knn_kdtree    in:  nodes[n] (photons in left-balanced heap order, split axis in bits 27..28
+ *                    of packed), nodeIndex[n] (each node's photon index in the map), queries
+ * knn_hashgrid  in:  grid params, points[n] (float4 x, y, z, photon index bits, in (hash, index)
+ *                    order), cellStart/cellEnd[tableSize], queries
+ * out (both):   counts[q] ≤ k, indices[q·stride + j] and dist2[q·stride + j] for j < count in
+ *               ascending (squared distance, photon index) order (PCL_NO_HIT, 0 past count),
+ *               radius2[q] = the largest squared distance returned (0 if none).
+ *
+ * A candidate enters when d² ≤ maxRadius2 and (d², index) is below the heap's largest while the
+ * heap is full: ties in distance go to the lower photon index, so every structure returns the
+ * same set as the brute force. Squared distances are ((px−qx)² + (py−qy)²) + (pz−qz)² in float
+ * without contraction: the brute-force twin computes the same bits.
+ *
+ * kd-tree pruning: a far subtree is skipped only when its splitting plane is strictly farther
+ * (plane d² > the bound: maxRadius2, or the heap's largest d² once full) — with d² equal a far
+ * photon of lower index could still enter. Float subtraction and addition are monotonic, so the
+ * plane's d² never exceeds the d² of a photon beyond it.
+ *
+ * hash grid: the cells overlapping the query's box of half-width r' = r·(1 + 1e-4) + 1e-6·scale
+ * (r = √maxRadius2; the margin covers the rounding of the cell coordinates), at most 3 per axis
+ * for r ≤ cellSize/2 (the host checks). Cells hashing to the same table entry are read once.
+ *
+ * PCL_KNN_CAP (-D, default PCL_KNN_MAX_K): heap capacity, ≥ every query's k. */
+#pragma OPENCL FP_CONTRACT OFF
+#include "shared/types.h"
+
+#ifndef PCL_KNN_CAP
+#define PCL_KNN_CAP PCL_KNN_MAX_K
+#endif
+#define PCL_KNN_STACK 48
+#define PCL_GRID_COORD_LIMIT 1.0e9f
+
+typedef struct KnnHeap {
+    float d[PCL_KNN_CAP];
+    uint idx[PCL_KNN_CAP];
+    uint n, k;
+    float maxRadius2;
+} KnnHeap;
+
+inline bool knn_above(float da, uint ia, float db, uint ib) { return da > db || (da == db && ia > ib); }
+
+/* The bound a candidate's (or a plane's) d² is compared with. */
+inline float knn_bound(const KnnHeap* h) { return h->n < h->k ? h->maxRadius2 : h->d[0]; }
+
+inline void knn_sift_down(KnnHeap* h, uint i, uint n) {
+    const float d = h->d[i];
+    const uint idx = h->idx[i];
+    for (;;) {
+        uint c = 2u * i + 1u;
+        if (c >= n) break;
+        if (c + 1u < n && knn_above(h->d[c + 1u], h->idx[c + 1u], h->d[c], h->idx[c])) ++c;
+        if (!knn_above(h->d[c], h->idx[c], d, idx)) break;
+        h->d[i] = h->d[c];
+        h->idx[i] = h->idx[c];
+        i = c;
+    }
+    h->d[i] = d;
+    h->idx[i] = idx;
+}
+
+inline void knn_offer(KnnHeap* h, float d, uint idx) {
+    if (!(d <= h->maxRadius2)) return;
+    if (h->n < h->k) {
+        uint i = h->n++;
+        while (i > 0u) {
+            const uint parent = (i - 1u) >> 1;
+            if (!knn_above(d, idx, h->d[parent], h->idx[parent])) break;
+            h->d[i] = h->d[parent];
+            h->idx[i] = h->idx[parent];
+            i = parent;
+        }
+        h->d[i] = d;
+        h->idx[i] = idx;
+    } else if (knn_above(h->d[0], h->idx[0], d, idx)) {
+        h->d[0] = d;
+        h->idx[0] = idx;
+        knn_sift_down(h, 0u, h->n);
+    }
+}
+
+inline void knn_init(KnnHeap* h, const PclKnnQuery q) {
+    h->n = 0u;
+    h->k = min(q.k, (uint)PCL_KNN_CAP);
+    h->maxRadius2 = q.maxRadius2;
+}
+
+/* Heap sort in place (ascending), then the query's outputs. */
+inline void knn_write(KnnHeap* h, uint q, uint stride, __global uint* counts, __global uint* indices,
+                      __global float* dist2, __global float* radius2) {
+    for (uint end = h->n; end > 1u; --end) {
+        const float d = h->d[0];
+        const uint idx = h->idx[0];
+        h->d[0] = h->d[end - 1u];
+        h->idx[0] = h->idx[end - 1u];
+        h->d[end - 1u] = d;
+        h->idx[end - 1u] = idx;
+        knn_sift_down(h, 0u, end - 1u);
+    }
+    const size_t base = (size_t)q * stride;
+    for (uint j = 0u; j < stride; ++j) {
+        indices[base + j] = j < h->n ? h->idx[j] : PCL_NO_HIT;
+        dist2[base + j] = j < h->n ? h->d[j] : 0.0f;
+    }
+    counts[q] = h->n;
+    radius2[q] = h->n ? h->d[h->n - 1u] : 0.0f;
+}
+
+inline float knn_dist2(float px, float py, float pz, float qx, float qy, float qz) {
+    const float dx = px - qx, dy = py - qy, dz = pz - qz;
+    return dx * dx + dy * dy + dz * dz;
+}
+
+__kernel void knn_kdtree(__global const PclPhoton* nodes, __global const uint* nodeIndex, uint n,
+                         __global const PclKnnQuery* queries, uint queryCount, uint stride,
+                         __global uint* counts, __global uint* indices, __global float* dist2,
+                         __global float* radius2) {
+    const uint qi = (uint)get_global_id(0);
+    if (qi >= queryCount) return;
+    const PclKnnQuery q = queries[qi];
+    KnnHeap h;
+    knn_init(&h, q);
+    const float qp[3] = {q.x, q.y, q.z};
+    uint stackNode[PCL_KNN_STACK];
+    float stackD[PCL_KNN_STACK];
+    uint sp = 0u;
+    uint node = (n > 0u && h.k > 0u) ? 0u : n;
+    for (;;) {
+        while (node < n) {
+            __global const PclPhoton* p = nodes + node;
+            const uint axis = (p->packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT;
+            const float split = axis == 0u ? p->x : (axis == 1u ? p->y : p->z);
+            const float diff = qp[axis] - split;
+            const uint left = 2u * node + 1u;
+            const uint nearChild = diff < 0.0f ? left : left + 1u;
+            const uint farChild = diff < 0.0f ? left + 1u : left;
+            const float planeD2 = diff * diff;
+            if (farChild < n && planeD2 <= knn_bound(&h)) {
+                stackNode[sp] = farChild;
+                stackD[sp] = planeD2;
+                ++sp;
+            }
+            knn_offer(&h, knn_dist2(p->x, p->y, p->z, q.x, q.y, q.z), nodeIndex[node]);
+            node = nearChild;
+        }
+        node = n;
+        while (sp > 0u) {
+            --sp;
+            if (stackD[sp] <= knn_bound(&h)) {
+                node = stackNode[sp];
+                break;
+            }
+        }
+        if (node >= n) break;
+    }
+    knn_write(&h, qi, stride, counts, indices, dist2, radius2);
+}
+
+inline int knn_grid_coord(float p, float origin, float invCellSize) {
+    /* hashgrid.cl's grid_coord: the same formula, so a photon's cell is found again */
+    const float c = floor((p - origin) * invCellSize);
+    return (int)clamp(c, -PCL_GRID_COORD_LIMIT, PCL_GRID_COORD_LIMIT);
+}
+
+inline uint knn_grid_hash(int ix, int iy, int iz, uint tableSize) {
+    const uint hsh = ((uint)ix * 73856093u) ^ ((uint)iy * 19349663u) ^ ((uint)iz * 83492791u);
+    return hsh & (tableSize - 1u);
+}
+
+__kernel void knn_hashgrid(const PclGridParams g, __global const float4* points, __global const uint* cellStart,
+                           __global const uint* cellEnd, __global const PclKnnQuery* queries, uint queryCount,
+                           uint stride, __global uint* counts, __global uint* indices, __global float* dist2,
+                           __global float* radius2) {
+    const uint qi = (uint)get_global_id(0);
+    if (qi >= queryCount) return;
+    const PclKnnQuery q = queries[qi];
+    KnnHeap h;
+    knn_init(&h, q);
+    if (g.photonCount > 0u && h.k > 0u && q.maxRadius2 >= 0.0f) {
+        const float scale = fmax(fmax(fabs(q.x), fabs(q.y)), fmax(fabs(q.z), fmax(fmax(fabs(g.ox), fabs(g.oy)), fabs(g.oz))));
+        const float r = sqrt(q.maxRadius2) * 1.0001f + 1e-6f * scale;
+        const int x0 = knn_grid_coord(q.x - r, g.ox, g.invCellSize), x1 = knn_grid_coord(q.x + r, g.ox, g.invCellSize);
+        const int y0 = knn_grid_coord(q.y - r, g.oy, g.invCellSize), y1 = knn_grid_coord(q.y + r, g.oy, g.invCellSize);
+        const int z0 = knn_grid_coord(q.z - r, g.oz, g.invCellSize), z1 = knn_grid_coord(q.z + r, g.oz, g.invCellSize);
+        uint seen[27];
+        uint nseen = 0u;
+        for (int iz = z0; iz <= z1 && iz <= z0 + 2; ++iz)
+            for (int iy = y0; iy <= y1 && iy <= y0 + 2; ++iy)
+                for (int ix = x0; ix <= x1 && ix <= x0 + 2; ++ix) {
+                    const uint cell = knn_grid_hash(ix, iy, iz, g.tableSize);
+                    bool dup = false;
+                    for (uint s = 0u; s < nseen; ++s) dup = dup || seen[s] == cell;
+                    if (dup) continue;
+                    seen[nseen++] = cell;
+                    const uint end = cellEnd[cell];
+                    for (uint s = cellStart[cell]; s < end; ++s) {
+                        const float4 p = points[s];
+                        const float d = knn_dist2(p.x, p.y, p.z, q.x, q.y, q.z);
+                        if (d <= knn_bound(&h)) knn_offer(&h, d, as_uint(p.w));
+                    }
+                }
+    }
+    knn_write(&h, qi, stride, counts, indices, dist2, radius2);
+}
