@@ -1,14 +1,12 @@
 #include "pipeline/hashgrid.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <limits>
 #include <string>
-#include <utility>
 
 #include "core/error.h"
 #include "pipeline/device_scene.h"
+#include "pipeline/sort.h"
 
 namespace pcl {
 
@@ -62,19 +60,11 @@ DeviceHashGrid buildHashGrid(Device& device, const cl::Buffer& photons, size_t c
     e.wait();
     g.keySeconds = Device::elapsedSeconds(e);
 
-    const auto t0 = std::chrono::steady_clock::now();
-    {
-        // TEMPORARY (until pipeline/sort.h lands): a host stable sort of the (hash, index) pairs.
-        std::vector<uint32_t> k = device.download<uint32_t>(g.keys, count);
-        std::vector<std::pair<uint32_t, uint32_t>> pairs(count);
-        for (size_t i = 0; i < count; ++i) pairs[i] = {k[i], uint32_t(i)};
-        std::stable_sort(pairs.begin(), pairs.end(), [](auto& a, auto& b) { return a.first < b.first; });
-        std::vector<uint32_t> v(count);
-        for (size_t i = 0; i < count; ++i) k[i] = pairs[i].first, v[i] = pairs[i].second;
-        g.keys = device.upload(k, CL_MEM_READ_WRITE);
-        g.order = device.upload(v, CL_MEM_READ_WRITE);
-    }
-    g.sortSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // Stable radix sort of (hash, index): hashes are below tableSize, so only log2(tableSize)
+    // bits need sorting (a 2^20 table: 5 passes of 4 bits, not 8).
+    int bits = 1;
+    while ((uint64_t(1) << bits) < params.tableSize) ++bits;
+    sortPairsOnDevice(device, g.keys, g.order, count, 32, bits, &g.sortSeconds);
 
     auto ranges = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>("hashgrid", "hashgrid_ranges");
     auto gather = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>("hashgrid", "hashgrid_gather");

@@ -25,7 +25,7 @@ struct DeviceHashGrid {
     cl::Buffer keys, order;           // sorted hashes and the photon indices in that order
     cl::Buffer cellStart, cellEnd;    // tableSize entries each
     cl::Buffer points;                // count float4
-    double keySeconds = 0, sortSeconds = 0, rangeSeconds = 0;  // build time by step (sort: wall)
+    double keySeconds = 0, sortSeconds = 0, rangeSeconds = 0;  // device time by step
 };
 
 // Builds the grid of `count` photons already on the device (params.photonCount must be count).

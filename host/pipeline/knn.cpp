@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <string>
 
 #include "core/error.h"
@@ -43,46 +42,6 @@ double seconds(std::chrono::steady_clock::time_point t0) {
 }
 
 
-// TEMPORARY until pipeline/kdtree.h lands: Jensen's left-balanced tree built on the host from
-// kernels/README.md ("kd-tree"), so knnOnDevice and checkKnn can search a kd-tree meanwhile.
-uint32_t floatKey(float f) {
-    uint32_t b;
-    std::memcpy(&b, &f, 4);
-    return (b & 0x80000000u) ? ~b : (b ^ 0x80000000u);
-}
-
-void balanceSubtree(const std::vector<PclPhoton>& map, std::vector<uint32_t>& ids, size_t lo, size_t hi, size_t node,
-                    std::vector<PclPhoton>& nodes, std::vector<uint32_t>& nodeIndex) {
-    const size_t n = hi - lo;
-    if (n == 0) return;
-    float mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = lo; i < hi; ++i) {
-        const float c[3] = {map[ids[i]].x, map[ids[i]].y, map[ids[i]].z};
-        for (int a = 0; a < 3; ++a) mn[a] = std::min(mn[a], c[a]), mx[a] = std::max(mx[a], c[a]);
-    }
-    int axis = 0;
-    for (int a = 1; a < 3; ++a)
-        if (mx[a] - mn[a] > mx[axis] - mn[axis]) axis = a;
-    auto coord = [&](uint32_t id) { return axis == 0 ? map[id].x : axis == 1 ? map[id].y : map[id].z; };
-    std::sort(ids.begin() + lo, ids.begin() + hi, [&](uint32_t a, uint32_t b) {
-        const uint32_t ka = floatKey(coord(a)), kb = floatKey(coord(b));
-        return ka != kb ? ka < kb : a < b;
-    });
-    size_t left = 0;
-    if (n > 1) {
-        int h = 0;
-        while ((size_t(2) << h) <= n) ++h;  // h = floor(log2 n)
-        const size_t half = size_t(1) << (h - 1);
-        left = half - 1 + std::min(half, n - ((size_t(1) << h) - 1));
-    }
-    const uint32_t id = ids[lo + left];
-    nodes[node] = map[id];
-    nodes[node].packed = (nodes[node].packed & ~PCL_PHOTON_AXIS_MASK) | (uint32_t(axis) << PCL_PHOTON_AXIS_SHIFT);
-    nodeIndex[node] = id;
-    balanceSubtree(map, ids, lo, lo + left, 2 * node + 1, nodes, nodeIndex);
-    balanceSubtree(map, ids, lo + left + 1, hi, 2 * node + 2, nodes, nodeIndex);
-}
-
 }  // namespace
 
 const char* knnStructureName(KnnStructure s) { return s == KnnStructure::KdTree ? "kd-tree" : "hash grid"; }
@@ -116,8 +75,8 @@ double knnSearchKdTree(Device& device, const DeviceKdTree& tree, const cl::Buffe
     if (queryCount == 0) return 0.0;
     auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer,
                            cl::Buffer, cl::Buffer>("knn", "knn_kdtree", capOption(maxK));
-    cl::Event e = device.launchLocal("knn", k, knnGlobalRange(queryCount), cl::NDRange(kKnnGroup), tree.nodes,
-                                     tree.nodeIndex, cl_uint(tree.count), queries, cl_uint(queryCount), cl_uint(maxK),
+    cl::Event e = device.launchLocal("knn", k, knnGlobalRange(queryCount), cl::NDRange(kKnnGroup), tree.photons,
+                                     tree.index, cl_uint(tree.count), queries, cl_uint(queryCount), cl_uint(maxK),
                                      out.counts, out.indices, out.dist2, out.radius2);
     e.wait();
     return Device::elapsedSeconds(e);
@@ -143,7 +102,10 @@ KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNo
                          std::to_string(nodeIndex.size()) + " photon indices");
     const uint32_t maxK = knnMaxK(queries);
     const auto t0 = std::chrono::steady_clock::now();
-    DeviceKdTree tree{device.upload(heapNodes), device.upload(nodeIndex), heapNodes.size()};
+    DeviceKdTree tree;
+    tree.photons = device.upload(heapNodes);
+    tree.index = device.upload(nodeIndex);
+    tree.count = heapNodes.size();
     device.finish();
     const double build = seconds(t0);
     cl::Buffer q = device.upload(queries);
@@ -181,16 +143,18 @@ KnnResult knnHashGridOnDevice(Device& device, const std::vector<PclPhoton>& map,
 KnnResult knnOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStructure structure,
                       const std::vector<PclKnnQuery>& queries) {
     if (structure == KnnStructure::HashGrid) return knnHashGridOnDevice(device, map, queries);
-    // TEMPORARY until pipeline/kdtree.h lands: the tree built on the host.
+    const uint32_t maxK = knnMaxK(queries);
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<uint32_t> ids(map.size());
-    for (size_t i = 0; i < ids.size(); ++i) ids[i] = uint32_t(i);
-    std::vector<PclPhoton> nodes(map.size());
-    std::vector<uint32_t> nodeIndex(map.size());
-    balanceSubtree(map, ids, 0, map.size(), 0, nodes, nodeIndex);
+    cl::Buffer photons = device.upload(map);
+    const DeviceKdTree tree = buildKdTree(device, photons, map.size());
+    device.finish();
     const double build = seconds(t0);
-    KnnResult r = knnKdTreeOnDevice(device, nodes, nodeIndex, queries);
-    r.buildSeconds += build;
+    cl::Buffer q = device.upload(queries);
+    DeviceKnnOutput out;
+    const double search = knnSearchKdTree(device, tree, q, queries.size(), maxK, out);
+    KnnResult r = download(device, out);
+    r.searchSeconds = search;
+    r.buildSeconds = build;
     return r;
 }
 

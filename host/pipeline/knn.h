@@ -15,6 +15,7 @@
 
 #include "device/device.h"
 #include "pipeline/hashgrid.h"
+#include "pipeline/kdtree.h"
 #include "shared/types.h"
 
 namespace pcl {
@@ -33,13 +34,6 @@ struct KnnResult {
     size_t queries() const { return counts.size(); }
 };
 
-// A left-balanced kd-tree on the device: photons in heap order (node i's children 2i+1, 2i+2,
-// split axis in packed bits 27..28) and each node's photon index in the map as deposited.
-struct DeviceKdTree {
-    cl::Buffer nodes, nodeIndex;
-    size_t count = 0;
-};
-
 // The search kernels' outputs on the device.
 struct DeviceKnnOutput {
     cl::Buffer counts, indices, dist2, radius2;
@@ -51,7 +45,8 @@ struct DeviceKnnOutput {
 // 256, 500 holding maxK. InputError outside 1..PCL_KNN_MAX_K.
 uint32_t knnHeapCapacity(uint32_t maxK);
 
-// The searches on structures and queries already on the device; `out` is allocated for
+// The searches on structures and queries already on the device (the kd-tree from
+// pipeline/kdtree's buildKdTree: photons in heap order, index[h] = node h's photon index); `out` is allocated for
 // queryCount × maxK. Return the kernel's device seconds. The hash-grid search needs every
 // query's radius ≤ cellSize / 2 (the caller checks; knnHashGridOnDevice does).
 double knnSearchKdTree(Device& device, const DeviceKdTree& tree, const cl::Buffer& queries, size_t queryCount,
@@ -65,8 +60,9 @@ KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNo
 // Builds the grid for r_max = the largest query radius, then searches.
 KnnResult knnHashGridOnDevice(Device& device, const std::vector<PclPhoton>& map, const std::vector<PclKnnQuery>& queries);
 
-// The whole thing from a photon map in deposit order: builds the structure on the device and
-// searches. Indices refer to `map`.
+// The whole thing from a photon map in deposit order: builds the structure on the device
+// (buildKdTree, or buildHashGrid for r_max = the largest query radius) and searches. Indices
+// refer to `map`.
 KnnResult knnOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStructure structure,
                       const std::vector<PclKnnQuery>& queries);
 

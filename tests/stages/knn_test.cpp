@@ -16,6 +16,7 @@
 
 #include "device_fixture.h"
 #include "pipeline/check_knn.h"
+#include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
 #include "reference/knn.h"
 #include "scene/load_scene.h"
@@ -138,6 +139,11 @@ TEST(Knn, TestTreeIsLeftBalancedAndSplitsCorrectly) {
                 else EXPECT_GE(v, split[axis]);
             }
     }
+    // The same tree as the device build that knnOnDevice searches (pipeline/kdtree).
+    const KdTree dev = buildKdTreeOnDevice(test::testDevice(), map);
+    EXPECT_EQ(dev.index, t.index);
+    ASSERT_EQ(dev.photons.size(), t.nodes.size());
+    EXPECT_EQ(std::memcmp(dev.photons.data(), t.nodes.data(), t.nodes.size() * sizeof(PclPhoton)), 0);
 }
 
 TEST(Knn, TenThousandRandomQueriesMatchBruteForce) {
