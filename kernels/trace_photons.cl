@@ -7,9 +7,9 @@
  *      nodes, packets, spheres the flat 8-wide BVH (shared/bvh.h)
  *      primInfo[prim]          normal or sphere centre/radius, material, motion
  *      materials[]             PclMaterial: ρd, ρs, specular kind, exponent, ior
- * out: slots[i*S .. i*S+S)     PclPhoton records of path i in hit order (S = maxDepth for
- *                              trace_photons_global, 1 for trace_photons_caustic); only the
- *                              first counts[i] are written
+ * out: slots[i*S .. i*S+S)     PclPhoton records of path i in hit order (S = maxDepth in both
+ *                              passes: at most one record per hit); only the first counts[i]
+ *                              are written
  *      counts[i]               records deposited by path i
  *      ends[i]                 b | cause << 8: the bounce the path ended at and PCL_END_*
  *
@@ -43,8 +43,7 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
     const uint j = params.firstPhoton + i;
     const ulong seed = (ulong)params.seedLo | ((ulong)params.seedHi << 32);
     const uint stream = caustic ? PCL_RNG_STREAM_CAUSTIC : PCL_RNG_STREAM_PHOTON;
-    const uint slotsPerPath = caustic ? 1u : params.maxDepth;
-    __global PclPhoton* slot = slots + (size_t)i * slotsPerPath;
+    __global PclPhoton* slot = slots + (size_t)i * params.maxDepth;
 
     const PclPhotonRay start = rays[i];
     PclV3 o = sampling_v3(start.ox, start.oy, start.oz);
@@ -79,20 +78,19 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
         const PclMaterial M = materials[info.material];
 
-        /* 1. Deposit at a surface with a diffuse part. */
+        /* 1. Deposit at a surface with a diffuse part. The caustic path goes on to roulette
+         * either way: a mixed surface may still bounce it specularly (Jensen's LS+D). */
+        bool stored = false;
         if (sampling_max3(M.rhoD[0], M.rhoD[1], M.rhoD[2]) > 0.0f) {
-            bool store;
             if (caustic)  /* LS+D: at least one specular bounce and no diffuse one */
-                store = (flags & PCL_PHOTON_AFTER_SPECULAR) != 0u && (flags & PCL_PHOTON_AFTER_DIFFUSE) == 0u;
+                stored = (flags & PCL_PHOTON_AFTER_SPECULAR) != 0u && (flags & PCL_PHOTON_AFTER_DIFFUSE) == 0u;
             else
-                store = params.storeGlobal != 0u;
-            if (store)
+                stored = params.storeGlobal != 0u;
+            if (stored)
                 slot[count++] = trace_make_photon(p, phi, d, b - 1u, flags | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
-            if (caustic) {
-                cause = store ? PCL_END_STORED : PCL_END_ABSORBED;
-                break;
-            }
         }
+        /* A caustic path that ends at this hit is STORED when it deposited here. */
+        const uint endHere = (caustic && stored) ? PCL_END_STORED : PCL_END_ABSORBED;
 
         /* 2. Russian roulette with Jensen's per-channel probabilities (Jensen 2001, §5.3.2). */
         uint w[4];
@@ -112,6 +110,10 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
         }
         PclV3 dNew;
         if (z < pd) {
+            if (caustic) { /* a diffuse bounce: no longer LS+D */
+                cause = endHere;
+                break;
+            }
             dNew = sampling_cosine_hemisphere(nf, uA, uB);
             for (int c = 0; c < 3; ++c) phi[c] = phi[c] * M.rhoD[c] / pd;
             flags |= PCL_PHOTON_AFTER_DIFFUSE;
@@ -125,7 +127,7 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
                 dNew = sampling_phong_lobe(sampling_reflect(d, nf), e, uA, uB);
                 const float cosOut = sampling_dot(dNew, nf);
                 if (!(cosOut > 0.0f)) {
-                    cause = PCL_END_ABSORBED;
+                    cause = endHere;
                     break;
                 }
                 for (int c = 0; c < 3; ++c) phi[c] = phi[c] * (e + 2.0f) / (e + 1.0f) * cosOut;
@@ -140,7 +142,7 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
                     dNew = sampling_refract(d, nf, cosI, eta);
             }
         } else {
-            cause = PCL_END_ABSORBED;
+            cause = endHere;
             break;
         }
         if (b >= params.maxDepth) {

@@ -222,7 +222,7 @@ PhotonCheckReport checkPhotonStage(Device& device, const SceneGeometry& geometry
             row.hostDeposits = map.size();
             row.deviceDeposits = devMap.size();
             row.deviceBatches = ds.batches;
-            row.slotsPerPath = global ? options.maxDepth : 1u;
+            row.slotsPerPath = options.maxDepth;
             alignMaps(map, counts, devMap, row.slotsPerPath, radius, row);
             row.countMismatches = ds.emitted != stats.paths;  // paths emitted differ: fails
             report.rows.push_back(row);

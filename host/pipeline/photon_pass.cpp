@@ -46,7 +46,8 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
     cl::Buffer slots = device.allocate<PclPhoton>(size_t(batch) * slotsPerPath);
     cl::Buffer counts = device.allocate<uint32_t>(batch);
     cl::Buffer ends = device.allocate<uint32_t>(batch);
-    // A caustic path deposits at most once; a global one about 1/(1 - albedo) times.
+    // A caustic path deposits about once (more only through mixed surfaces); a global one
+    // about 1/(1 - albedo) times. Growth covers a wrong guess.
     size_t capacity = options.initialCapacity ? options.initialCapacity
                                               : (passKind == PCL_PASS_CAUSTIC ? size_t(total) : size_t(total) * 2);
     DevicePhotonMap map = makeDevicePhotonMap(device, capacity);

@@ -29,7 +29,8 @@ struct PhotonPassOptions {
 // Per map (pass kind).
 struct PhotonPassKindStats {
     uint64_t emitted = 0;              // paths emitted
-    uint64_t escaped = 0, absorbed = 0, maxDepth = 0, stored = 0;  // ends by PCL_END_* cause
+    uint64_t escaped = 0, absorbed = 0, maxDepth = 0, stored = 0;  // ends by PCL_END_* cause (stored:
+                                                                    // caustic paths ended at a hit they deposited at)
     uint64_t bounces = 0;              // Σ bounce field of ends: segments traced
     uint64_t deposits = 0;             // records in the map
     double emittedFlux[3] = {0, 0, 0}; // Σ flux of the emitted photons (computed as emit does)

@@ -113,16 +113,10 @@ LightPaths classifyLightPaths(const Scene& scene, const SceneGeometry& geometry,
         lp.glossyPrims += p.glossy;
     }
     for (const PclLight& l : buffers.lights) lp.markedCells += l.projCount;
-    if (lp.pureSpecularPrims > 0) {
-        std::vector<uint32_t> pure = reachableCells(scene, buffers, isPureSpecular);
-        for (uint32_t c : pure) lp.pureSpecularCells += c;
-    }
     auto diffuse = [](const Prim& p) { return p.diffuse; };
     auto specular = [](const Prim& p) { return p.specular; };
-    auto pure = [](const Prim& p) { return p.pureSpecular; };
     lp.diffuseSeesDiffuse = canSee(prims, scale, diffuse, diffuse);
     lp.diffuseSeesSpecular = canSee(prims, scale, diffuse, specular);
-    lp.pureSpecularSeesDiffuse = canSee(prims, scale, pure, diffuse);
 
     const bool lit = lp.lights > 0;
     const uint32_t cells = uint32_t(lp.lights) * PCL_PROJ_GRID * PCL_PROJ_GRID;
@@ -202,24 +196,22 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
         plan.reasons.push_back("no diffuse interreflection (LD(S|D)*DE absent): direct light by shadow rays" +
                                std::string(lp.caustics ? " and caustics" : "") + " cover every diffuse path");
 
-    plan.causticMap = lp.caustics && lp.pureSpecularCells > 0 && lp.pureSpecularSeesDiffuse;
+    // The caustic pass follows specular bounces off mixed surfaces too (kernels/README.md,
+    // trace_photons step 1), so every LS+D path the scene allows ends in the caustic map: a
+    // light reaching any specular surface (pure or mixed) that sees a diffuse one (a mixed
+    // surface counts as diffuse when another specular surface sees it).
+    plan.causticMap = lp.caustics;
     plan.causticPhotons = plan.causticMap ? settings.causticPhotons : 0;
     if (plan.causticMap)
-        plan.reasons.push_back("caustics (LS+DE): lights reach purely specular surfaces (" +
-                               std::to_string(lp.pureSpecularCells) + " projection-map cells) that see diffuse ones");
+        plan.reasons.push_back("caustics (LS+DE): lights reach specular surfaces (" + std::to_string(lp.markedCells) +
+                               " projection-map cells) that see diffuse ones");
     else if (lp.specularPrims == 0)
         plan.reasons.push_back("no specular surfaces");
     else if (lp.markedCells == 0)
         plan.reasons.push_back("no light reaches a specular surface (every projection map is empty)");
-    else if (!lp.caustics)
+    else
         plan.reasons.push_back(lp.diffusePrims == 0 ? "no diffuse surface to receive caustics"
                                                     : "specular and diffuse surfaces cannot see each other");
-    else if (lp.pureSpecularCells == 0)
-        plan.reasons.push_back(
-            "the specular surfaces lights reach also have a diffuse part, where the caustic pass stops "
-            "(kernels/README.md, trace_photons step 1): their LS+D light travels in the global map");
-    else
-        plan.reasons.push_back("the purely specular surfaces lights reach cannot see a diffuse surface");
 
     plan.finalGather = plan.globalMap;
     plan.reasons.push_back(plan.finalGather ? "indirect diffuse light is gathered from the global map"

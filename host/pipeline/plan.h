@@ -42,8 +42,8 @@ struct LightPaths {
     // Facts behind them.
     size_t lights = 0, areaTriangles = 0, diffusePrims = 0, specularPrims = 0, pureSpecularPrims = 0,
            glossyPrims = 0;
-    uint32_t markedCells = 0, pureSpecularCells = 0;  // projection-map cells over all lights
-    bool diffuseSeesDiffuse = false, diffuseSeesSpecular = false, pureSpecularSeesDiffuse = false;
+    uint32_t markedCells = 0;      // projection-map cells over all lights (specular surfaces, mixed included)
+    bool diffuseSeesDiffuse = false, diffuseSeesSpecular = false;
     std::vector<LightPath> list;   // the classes above, in order, with reasons
 };
 

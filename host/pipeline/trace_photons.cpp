@@ -18,7 +18,7 @@ uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath) {
 }
 
 uint32_t photonSlotsPerPath(const PclPhotonParams& params) {
-    return params.pass == PCL_PASS_CAUSTIC ? 1u : params.maxDepth;
+    return params.maxDepth;
 }
 
 cl::Event tracePhotons(Device& device, const DeviceScene& scene, const PclPhotonParams& params,

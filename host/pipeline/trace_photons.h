@@ -15,7 +15,8 @@ namespace pcl {
 // device's largest allocation or 256 MiB.
 uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath);
 
-// Slots per path: maxDepth in a global pass, 1 in a caustic pass.
+// Slots per path: maxDepth in either pass (one record per hit at most; a caustic path can
+// deposit at several hits when it bounces specularly off mixed surfaces).
 uint32_t photonSlotsPerPath(const PclPhotonParams& params);
 
 // Enqueues trace_photons_global or trace_photons_caustic (by params.pass) over

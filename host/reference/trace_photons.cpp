@@ -148,15 +148,17 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
                            : (p - (Vec3(info.a, info.b, info.c) + Vec3(info.mx, info.my, info.mz) * time)) / info.radius;
         const PclMaterial& m = buffers.materials[info.material];
 
-        // 1. Deposit at a diffuse surface: global map L(S|D)*D, caustic map LS+D.
+        // 1. Deposit at a diffuse surface: global map L(S|D)*D, caustic map LS+D. A caustic
+        //    path is only ever specular so far (it stops at its first diffuse bounce), so LS+D
+        //    means: not the first hit. It then meets roulette like any other path: the specular
+        //    part of a mixed surface carries it on.
+        bool depositedHere = false;
         if (maxComponent(vec(m.rhoD)) > 0.0f) {
             if (!caustic) {
                 if (params.storeGlobal) deposit(p, b, 0u);
-            } else {
-                const bool lsd = b > 1 && !(flags & PCL_PHOTON_AFTER_DIFFUSE);
-                if (lsd) deposit(p, b, PCL_PHOTON_CAUSTIC);
-                if (hits) hits->push_back({b, ReferenceScatter::Absorbed, 0, 0, power, power, hit.prim, p, d, n, Vec3(0.0f)});
-                return b | (lsd ? PCL_END_STORED : PCL_END_ABSORBED) << 8;
+            } else if (b > 1 && !(flags & PCL_PHOTON_AFTER_DIFFUSE)) {
+                deposit(p, b, PCL_PHOTON_CAUSTIC);
+                depositedHere = true;
             }
         }
 
@@ -166,8 +168,11 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         const float u[4] = {rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3])};
         const ReferenceScatter s = scatterPhotonReference(m, d, n, power, u);
         if (hits) hits->push_back({b, s.kind, s.pDiffuse, s.pSpecular, power, s.power, hit.prim, p, d, n, s.direction});
+        // A caustic path ending here: STORED when this hit deposited, else ABSORBED.
+        const uint32_t endHere = depositedHere ? PCL_END_STORED : PCL_END_ABSORBED;
         if (s.kind == ReferenceScatter::Absorbed || s.kind == ReferenceScatter::GlossyBelow)
-            return b | PCL_END_ABSORBED << 8;
+            return b | endHere << 8;
+        if (caustic && s.kind == ReferenceScatter::Diffuse) return b | endHere << 8;  // no longer LS+D
         flags |= s.kind == ReferenceScatter::Diffuse ? PCL_PHOTON_AFTER_DIFFUSE : PCL_PHOTON_AFTER_SPECULAR;
         power = s.power;
         if (b >= params.maxDepth) return b | PCL_END_MAX_DEPTH << 8;
@@ -185,7 +190,7 @@ ReferencePhotonBatch tracePhotonsReference(const SceneBuffers& buffers, const Sc
                                            const std::vector<PclPhotonRay>& rays, unsigned threads) {
     ReferencePhotonBatch out;
     const size_t n = std::min<size_t>(params.batchSize, rays.size());
-    out.slotsPerPath = params.pass == PCL_PASS_CAUSTIC ? 1u : params.maxDepth;
+    out.slotsPerPath = params.maxDepth;  // one record per hit at most, in either pass
     out.slots.assign(n * out.slotsPerPath, PclPhoton{});
     out.counts.assign(n, 0u);
     out.ends.assign(n, 0u);

@@ -13,7 +13,7 @@
 namespace pcl {
 
 struct ReferencePhotonBatch {
-    uint32_t slotsPerPath = 0;        // S: maxDepth in a global pass, 1 in a caustic pass
+    uint32_t slotsPerPath = 0;        // S: maxDepth (either pass: at most one record per hit)
     std::vector<PclPhoton> slots;     // path i owns [i S, i S + S); the first counts[i] are used
     std::vector<uint32_t> counts;     // deposits per path
     std::vector<uint32_t> ends;       // bounce | cause << 8

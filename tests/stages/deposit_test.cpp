@@ -159,7 +159,10 @@ TEST(Deposit, PhotonMapsAreByteIdenticalRunToRunAndAcrossBatchSizes) {
     EXPECT_EQ(g.escaped + g.absorbed + g.maxDepth, g.emitted);
     const PhotonPassKindStats& c = one.stats.caustic;
     EXPECT_EQ(c.escaped + c.absorbed + c.maxDepth + c.stored, c.emitted);
-    EXPECT_EQ(c.stored, one.caustic.size());
+    // STORED counts caustic paths that ended where they deposited; the glossy sphere (mixed)
+    // lets some deposit and go on, so records outnumber them.
+    EXPECT_GT(c.stored, 0u);
+    EXPECT_LT(c.stored, one.caustic.size());
 }
 
 // The per-stage entry points a check calls (emitOnDevice → tracePhotonsOnDevice →

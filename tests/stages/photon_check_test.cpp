@@ -86,6 +86,11 @@ TEST_P(PhotonCheck, TraceMatchesTheTwin) {
     ASSERT_FALSE(r.rows.empty());
     EXPECT_EQ(r.rows[0].items, 20000u);
     EXPECT_GT(r.rows[0].hostDeposits, 5000u) << "too few deposits for the check to mean much";
+    // Caustic paths exist when a light reaches a specular surface; every shipped scene's
+    // specular surfaces (cornell-glossy's mixed floor included) send LS+D photons somewhere.
+    ASSERT_EQ(r.rows.size(), 2u);
+    EXPECT_EQ(r.rows[1].pass, "caustic");
+    if (r.rows[1].items > 0) EXPECT_GT(r.rows[1].hostDeposits, 0u) << "an empty caustic map checks nothing";
 }
 
 TEST_P(PhotonCheck, DepositMatchesTheTwinByteForByte) {

@@ -2,7 +2,8 @@
 // maps: emitted flux equals the lights' power (1e-4), every path ends one way, every record is
 // well formed (inside the scene, flags and bounce consistent with its map), no record carries
 // more power than its photon left the light with (up to RGBE rounding and the Phong lobe's
-// (n+2)/(n+1)), and scenes with purely specular surfaces get a caustic map while others get none.
+// (n+2)/(n+1)), and every scene whose lights reach a specular surface, mixed ones included,
+// gets a non-empty caustic map.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -65,19 +66,18 @@ void checkScene(const std::string& path) {
     EXPECT_EQ(g.escaped + g.absorbed + g.maxDepth + g.stored, g.emitted);
     EXPECT_EQ(g.stored, 0u);
     EXPECT_EQ(c.escaped + c.absorbed + c.maxDepth + c.stored, c.emitted);
-    EXPECT_EQ(c.stored, maps.caustic.size());
+    // STORED counts caustic paths that ended at a hit they deposited at: a path deposits at
+    // least once before so ending, and more often only through mixed surfaces.
+    EXPECT_LE(c.stored, maps.caustic.size());
     EXPECT_EQ(g.deposits, maps.global.size());
     EXPECT_GT(maps.global.size(), o.globalPhotons / 4);
-    // A caustic path ends at the first surface with a diffuse part (kernels/README.md), so only
-    // purely specular surfaces (ρd = 0) make caustics; a mixed glossy floor does not.
-    bool pureSpecular = false;
-    for (const PclMaterial& m : buffers.materials)
-        pureSpecular |= m.specular != PCL_SPECULAR_NONE && std::max({m.rhoS[0], m.rhoS[1], m.rhoS[2]}) > 0.0f &&
-                        std::max({m.rhoD[0], m.rhoD[1], m.rhoD[2]}) == 0.0f;
+    // Marked cells mean a light reaches a specular surface; in every shipped scene that one sees
+    // a diffuse surface (or has a diffuse part seen by another specular one), so LS+D paths exist:
+    // a mixed glossy floor bounces caustic photons on specularly (kernels/README.md, step 1).
     if (anyMarked) {
         EXPECT_EQ(c.emitted, o.causticPhotons);
-        if (pureSpecular) EXPECT_GT(maps.caustic.size(), 0u) << "specular surfaces but an empty caustic map";
-        else EXPECT_EQ(maps.caustic.size(), 0u);
+        EXPECT_GT(maps.caustic.size(), 0u) << "specular surfaces in reach of a light but an empty caustic map";
+        EXPECT_GE(c.stored, 1u);
     } else {
         EXPECT_EQ(c.emitted, 0u);
         EXPECT_TRUE(maps.caustic.empty());

@@ -3,7 +3,8 @@
 // every photon lands first on a wall and the records per path average 1/(1 - ρ) (Jensen's
 // roulette keeps a grey photon's power, so every record carries Φ/N); maximum depth is counted;
 // a mirror above a diffuse floor gives the image-source caustic flux, with and without
-// projection maps; glass never absorbs; records decode to points on the surfaces.
+// projection maps; caustic photons bounce off the mirror lobe of a mixed floor and deposit on
+// it (image-source answers again); glass never absorbs; records decode to points on the surfaces.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -195,6 +196,90 @@ TEST(TracePhotons, MirrorAboveFloorGivesTheImageSourceCausticFlux) {
     EXPECT_GT(restricted.caustic.size(), 3 * all.caustic.size());
 }
 
+// LS+D through a mixed surface (kernels/README.md, trace_photons step 1): a point light of
+// power Φ at (0, 1, 0) over a mixed floor y = 0 of half-size 4 (ρd 0.4, mirror ρs 0.5), a pure
+// mirror square of half-size 0.5 at y = 2 facing down (ρs 0.8), and a diffuse ceiling y = 3 of
+// half-size 20 (large enough to catch every ray the floor reflects: from the image source at
+// y = −1 through the floor's corner (4, 0, 4) a ray meets y = 3 at (16, 3, 16)). Grey surfaces
+// keep Φ/N per photon through roulette, so every record carries Φ/N and the flux is
+// Φ × (the probability of the path):
+//  * ceiling records of bounce 1 (light → floor, specular lobe → ceiling): the image-source
+//    answer Φ ρs_floor (Ω_floor − Ω_blocked)/(4π), Ω_floor the floor's solid angle from the light
+//    and Ω_blocked the mirror's seen from the image source (0, −1, 0) (those rays meet the
+//    mirror's underside before the ceiling);
+//  * floor records of bounce 1 (light → mirror → mixed floor): Φ ρs_mirror Ω_mirror/(4π), the
+//    floor catching every ray (image source (0, 3, 0): half-extent 1.5 at y = 0).
+// Ω of a rectangle of half-sides a, b seen on axis from distance d: 4 atan(ab/(d √(a²+b²+d²))).
+// A path light → mirror → floor (deposit, specular) → ceiling (deposit) deposits twice.
+TEST(TracePhotons, CausticPhotonsBounceOffTheSpecularLobeOfAMixedSurface) {
+    const float rhoDFloor = 0.4f, rhoSFloor = 0.5f, rhoSMirror = 0.8f;
+    Scene s;
+    int floorM = test::addMaterial(s, Vec3(rhoDFloor), Vec3(rhoSFloor), SpecularKind::Mirror);
+    int mirrorM = test::addMaterial(s, Vec3(0.0f), Vec3(rhoSMirror), SpecularKind::Mirror);
+    int ceilingM = test::addMaterial(s, Vec3(0.5f));
+    TriangleMesh floor, mirror, ceiling;
+    floor.material = floorM;
+    test::addQuad(floor, Vec3(-4, 0, -4), Vec3(-4, 0, 4), Vec3(4, 0, 4), Vec3(4, 0, -4));
+    mirror.material = mirrorM;
+    test::addQuad(mirror, Vec3(-0.5f, 2, -0.5f), Vec3(0.5f, 2, -0.5f), Vec3(0.5f, 2, 0.5f), Vec3(-0.5f, 2, 0.5f));
+    ceiling.material = ceilingM;
+    test::addQuad(ceiling, Vec3(-20, 3, -20), Vec3(20, 3, -20), Vec3(20, 3, 20), Vec3(-20, 3, 20));
+    s.meshes = {floor, mirror, ceiling};
+    s.lights.push_back(test::pointLight(Vec3(0, 1, 0), Vec3(1.0f)));
+    test::BuiltScene b = test::build(s);
+    test::markAllProjectionCells(b.buffers);  // unrestricted emission: f = 1
+    const uint32_t N = 200000;
+    const double phi = double(N) / 1024.0;    // Φ/N = 2⁻¹⁰: exact in RGBE
+    for (int c = 0; c < 3; ++c) b.buffers.lights[0].power[c] = float(phi);
+
+    std::vector<uint32_t> first = lightFirstPhoton(b.buffers, N, PCL_PASS_CAUSTIC);
+    ASSERT_EQ(first.back(), N);
+    const uint32_t depth = 8;  // slots: N × 8 × 20 bytes
+    PclPhotonParams params = makePhotonParams(b.geometry, b.buffers, PCL_PASS_CAUSTIC, 21, depth, 0, N);
+    auto rays = emitOnDevice(test::testDevice(), b.geometry, b.buffers, first, params);
+    PhotonTraceResult t = tracePhotonsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, params);
+    ASSERT_EQ(t.slotsPerPath, depth);
+
+    const double perPhoton = phi / N;
+    size_t ceilingHits = 0, floorHits = 0, twice = 0, stored = 0, records = 0;
+    for (uint32_t i = 0; i < N; ++i) {
+        ASSERT_LE(t.counts[i], depth);
+        twice += t.counts[i] >= 2;
+        records += t.counts[i];
+        stored += (t.ends[i] >> 8) == PCL_END_STORED;
+        for (uint32_t k = 0; k < t.counts[i]; ++k) {
+            const PclPhoton& ph = t.slots[size_t(i) * depth + k];
+            ASSERT_EQ(flagsOf(ph), PCL_PHOTON_CAUSTIC | PCL_PHOTON_AFTER_SPECULAR);
+            ASSERT_EQ(test::decodedPower(ph), perPhoton);
+            ASSERT_GE(bounceOf(ph), 1u);
+            const bool onFloor = std::fabs(ph.y) < 1e-5f, onCeiling = std::fabs(ph.y - 3.0f) < 1e-5f;
+            ASSERT_TRUE(onFloor || onCeiling) << ph.x << " " << ph.y << " " << ph.z;  // never on the mirror
+            if (bounceOf(ph) != 1u) continue;
+            if (onCeiling) ++ceilingHits;
+            else ++floorHits;
+        }
+    }
+    const double fourPi = 4.0 * 3.14159265358979323846;
+    auto omega = [](double a, double bb, double d) { return 4.0 * std::atan(a * bb / (d * std::sqrt(a * a + bb * bb + d * d))); };
+    const double pCeiling = rhoSFloor * (omega(4, 4, 1) - omega(0.5, 0.5, 3)) / fourPi;
+    const double pFloor = rhoSMirror * omega(0.5, 0.5, 1) / fourPi;
+    const double gotC = ceilingHits * perPhoton, wantC = phi * pCeiling, seC = phi * std::sqrt(pCeiling * (1 - pCeiling) / N);
+    const double gotF = floorHits * perPhoton, wantF = phi * pFloor, seF = phi * std::sqrt(pFloor * (1 - pFloor) / N);
+    std::printf("[mixed caustic] N %u, Phi %.4f W: ceiling via the floor's mirror lobe %.5f W (image source %.5f, "
+                "SE %.5f, %+.2f SE); floor via the mirror %.5f W (image source %.5f, SE %.5f, %+.2f SE); "
+                "%zu records, %zu paths deposit twice or more, %zu end STORED\n",
+                N, phi, gotC, wantC, seC, (gotC - wantC) / seC, gotF, wantF, seF, (gotF - wantF) / seF, records, twice,
+                stored);
+    EXPECT_NEAR(gotC, wantC, 3.0 * seC);
+    EXPECT_NEAR(gotF, wantF, 3.0 * seF);
+    EXPECT_LT(seC, 0.01 * wantC);
+    EXPECT_LT(seF, 0.03 * wantF);
+    // light → mirror → floor (deposit, mirror lobe) → ceiling (deposit): about N pFloor ρs_floor.
+    EXPECT_GT(twice, size_t(0.5 * N * pFloor * rhoSFloor));
+    EXPECT_LE(stored, N);
+    EXPECT_GT(records, stored);  // some paths deposited and went on
+}
+
 // A glass sphere (ρs = 1) over a diffuse floor: the dielectric reflects or refracts, never
 // absorbs, so a caustic path is absorbed only at a first hit on the floor.
 TEST(TracePhotons, GlassNeverAbsorbsAndCausticsLandOnTheFloor) {
@@ -218,15 +303,15 @@ TEST(TracePhotons, GlassNeverAbsorbsAndCausticsLandOnTheFloor) {
     PclPhotonParams params = makePhotonParams(b.geometry, b.buffers, PCL_PASS_CAUSTIC, 9, 64, 0, first.back());
     auto rays = emitOnDevice(test::testDevice(), b.geometry, b.buffers, first, params);
     PhotonTraceResult t = tracePhotonsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, params);
-    ASSERT_EQ(t.slotsPerPath, 1u);
+    ASSERT_EQ(t.slotsPerPath, 64u);  // maxDepth, as in a global pass
     size_t stored = 0, refracted = 0;
     const uint32_t emittedRgbe = photon_rgbe_encode(rays[0].power[0], rays[0].power[1], rays[0].power[2]);
     for (size_t i = 0; i < t.ends.size(); ++i) {
         uint32_t bounce = t.ends[i] & 0xFFu, cause = t.ends[i] >> 8;
         if (cause == PCL_END_ABSORBED) EXPECT_EQ(bounce, 1u) << "path " << i;
         if (cause == PCL_END_STORED) {
-            ASSERT_EQ(t.counts[i], 1u);
-            const PclPhoton& ph = t.slots[i];
+            ASSERT_EQ(t.counts[i], 1u);  // the floor is purely diffuse: the path ends there
+            const PclPhoton& ph = t.slots[i * t.slotsPerPath];
             ++stored;
             refracted += bounceOf(ph) >= 2;
             EXPECT_EQ(bounceOf(ph) + 1, bounce);

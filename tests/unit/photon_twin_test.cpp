@@ -293,8 +293,9 @@ std::vector<double> causticContributions(const SceneBuffers& buffers, const Scen
     auto batch = tracePhotonsReference(buffers, geometry, params, emitPhotonsReference(buffers, first, params));
     std::vector<double> x(n, 0.0);
     for (uint32_t i = 0; i < n; ++i) {
+        EXPECT_LE(batch.counts[i], 1u);  // the floor is purely diffuse: a caustic path ends there
         if (batch.counts[i]) {
-            const PclPhoton& ph = batch.slots[i];
+            const PclPhoton& ph = batch.slots[size_t(i) * batch.slotsPerPath];
             EXPECT_TRUE(ph.packed & PCL_PHOTON_CAUSTIC);
             EXPECT_TRUE(ph.packed & PCL_PHOTON_AFTER_SPECULAR);
             EXPECT_FALSE(ph.packed & PCL_PHOTON_AFTER_DIFFUSE);
@@ -325,6 +326,72 @@ TEST(PhotonTwinFlux, MirrorCausticMatchesImageSource) {
                 (sum - expect) / se);
     EXPECT_NEAR(sum, expect, 3.0 * se);
     EXPECT_LT(se, 0.02 * expect);
+}
+
+// LS+D through a mixed surface (kernels/README.md, trace_photons step 1), on the twin: a point
+// light at (0, 1, 0) over a mixed floor y = 0 of half-size 4 (ρd 0.4, mirror ρs 0.5), a pure
+// mirror square of half-size 0.5 facing down at y = 2 (ρs 0.8), a diffuse ceiling y = 3 of
+// half-size 20 that catches every ray the floor reflects. Per-path contributions (Φ/N per
+// record, grey roulette keeps it) of
+//  * ceiling records of bounce 1 (light → floor's mirror lobe → ceiling): image source
+//    Φ ρs_floor (Ω_floor − Ω_blocked)/(4π), Ω_blocked the mirror seen from the image (0, −1, 0);
+//  * floor records of bounce 1 (light → mirror → mixed floor): Φ ρs_mirror Ω_mirror/(4π).
+TEST(PhotonTwinFlux, MixedSurfaceBouncesCausticPhotonsOnItsSpecularLobe) {
+    const float rhoDFloor = 0.4f, rhoSFloor = 0.5f, rhoSMirror = 0.8f;
+    Scene scene;
+    Material mixed = diffuse(Vec3(rhoDFloor));
+    mixed.rhoS = Vec3(rhoSFloor);
+    mixed.specular = SpecularKind::Mirror;
+    Material mirror;
+    mirror.rhoS = Vec3(rhoSMirror);
+    mirror.specular = SpecularKind::Mirror;
+    scene.materials = {mixed, mirror, diffuse(Vec3(0.5f))};
+    addQuad(scene, 0, {-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4});
+    addQuad(scene, 1, {-0.5f, 2, -0.5f}, {0.5f, 2, -0.5f}, {0.5f, 2, 0.5f}, {-0.5f, 2, 0.5f});
+    addQuad(scene, 2, {-20, 3, -20}, {20, 3, -20}, {20, 3, 20}, {-20, 3, 20});
+    Light l;
+    l.type = LightType::Point;
+    l.position = Vec3(0.0f, 1.0f, 0.0f);
+    l.intensity = Vec3(1.0f);
+    scene.lights.push_back(l);
+    SceneGeometry geometry = SceneGeometry::build(scene);
+    SceneBuffers buffers = buildSceneBuffers(scene, geometry);
+    markAllCells(buffers);
+    const uint32_t N = 200000;
+    const double phi = double(N) / 1024.0;
+    for (int c = 0; c < 3; ++c) buffers.lights[0].power[c] = float(phi);
+
+    std::vector<uint32_t> first = referenceLightFirstPhoton(buffers, PCL_PASS_CAUSTIC, N);
+    ASSERT_EQ(first.back(), N);
+    PclPhotonParams params = referencePhotonParams(buffers, geometry, referencePhotonPassSeed(8, 0),
+                                                   PCL_PASS_CAUSTIC, 0, N, 8);
+    auto batch = tracePhotonsReference(buffers, geometry, params, emitPhotonsReference(buffers, first, params));
+    ASSERT_EQ(batch.slotsPerPath, 8u);
+    std::vector<double> xc(N, 0.0), xf(N, 0.0);
+    size_t twice = 0;
+    for (uint32_t i = 0; i < N; ++i) {
+        twice += batch.counts[i] >= 2;
+        for (uint32_t k = 0; k < batch.counts[i]; ++k) {
+            const PclPhoton& ph = batch.slots[size_t(i) * batch.slotsPerPath + k];
+            ASSERT_EQ(ph.packed & 0xFF000000u, PCL_PHOTON_CAUSTIC | PCL_PHOTON_AFTER_SPECULAR);
+            ASSERT_EQ(referenceDecodeRgbe(ph.rgbe).y, 1.0f / 1024.0f);
+            const bool onFloor = std::fabs(ph.y) < 1e-5f, onCeiling = std::fabs(ph.y - 3.0f) < 1e-5f;
+            ASSERT_TRUE(onFloor || onCeiling) << ph.y;
+            if (((ph.packed >> PCL_PHOTON_BOUNCE_SHIFT) & 255u) != 1u) continue;
+            (onCeiling ? xc : xf)[i] += referenceDecodeRgbe(ph.rgbe).y;
+        }
+    }
+    auto omega = [](double a, double b, double d) { return 4.0 * std::atan(a * b / (d * std::sqrt(a * a + b * b + d * d))); };
+    const double wantC = phi * rhoSFloor * (omega(4, 4, 1) - omega(0.5, 0.5, 3)) / (4.0 * kPiD);
+    const double wantF = phi * rhoSMirror * omega(0.5, 0.5, 1) / (4.0 * kPiD);
+    const double gotC = std::accumulate(xc.begin(), xc.end(), 0.0), seC = sumStandardError(xc);
+    const double gotF = std::accumulate(xf.begin(), xf.end(), 0.0), seF = sumStandardError(xf);
+    std::printf("[flux] mixed floor N %u: ceiling via its mirror lobe %.4f (image source %.4f, SE %.4f, %+.2f SE); "
+                "floor via the mirror %.4f (image source %.4f, SE %.4f, %+.2f SE); %zu paths deposit twice or more\n",
+                N, gotC, wantC, seC, (gotC - wantC) / seC, gotF, wantF, seF, (gotF - wantF) / seF, twice);
+    EXPECT_NEAR(gotC, wantC, 3.0 * seC);
+    EXPECT_NEAR(gotF, wantF, 3.0 * seF);
+    EXPECT_GT(twice, 0u);
 }
 
 // Projection maps restrict caustic photons to the marked cells and scale their flux by the

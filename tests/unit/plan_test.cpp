@@ -137,13 +137,14 @@ TEST(PlanShipped, CornellSpheres) {
     }
 }
 
-TEST(PlanShipped, CornellGlossyHasCausticPathsButNoCausticMap) {
-    // The glossy floor also has a diffuse part: the caustic pass stops there, so its LS+D light
-    // is carried by the global map.
+TEST(PlanShipped, CornellGlossyGetsACausticMapFromItsMixedFloor) {
+    // The glossy floor also has a diffuse part; the caustic pass bounces photons off its glossy
+    // lobe onto the walls (light → floor → wall, LSD), so the scene needs a caustic map.
     SceneAnalysis a = analyzeFile("cornell-glossy.json");
     EXPECT_TRUE(path(a.paths, "LS+DE"));
-    EXPECT_FALSE(a.plan.causticMap);
-    EXPECT_NE(a.plan.reasons[1].find("diffuse part"), std::string::npos) << a.plan.reasons[1];
+    EXPECT_TRUE(a.plan.causticMap);
+    EXPECT_GT(a.plan.causticPhotons, 0u);
+    EXPECT_NE(a.plan.reasons[1].find("caustics (LS+DE)"), std::string::npos) << a.plan.reasons[1];
     EXPECT_TRUE(a.plan.globalMap);
     EXPECT_TRUE(a.plan.glossySampling);
     EXPECT_FALSE(a.plan.lensSampling);
@@ -295,7 +296,32 @@ TEST(PlanRules, AreaLightsAndGlossySurfacesTurnOnTheirSamplers) {
     addSphere(s, Vec3(0, 0.5f, 0), 0.4f, addMaterial(s, Vec3(0.3f), Vec3(0.4f), SpecularKind::Glossy));
     a = analyzeScene(s);
     EXPECT_TRUE(a.plan.glossySampling);
-    EXPECT_FALSE(a.plan.causticMap);  // glossy with a diffuse part only
+    EXPECT_TRUE(a.plan.causticMap);  // glossy with a diffuse part still reflects onto floor and wall
+}
+
+TEST(PlanRules, MixedSurfaceMakesCausticsWhenItSeesADiffuseOne) {
+    // A single glossy-and-diffuse floor under a point light: its glossy lobe sends light away,
+    // onto nothing, so no LS+D path exists ...
+    Scene s = base();
+    int mixed = addMaterial(s, Vec3(0.4f), Vec3(0.5f), SpecularKind::Glossy);
+    addQuad(s, Vec3(-2, 0, -2), Vec3(0, 0, 4), Vec3(4, 0, 0), mixed);
+    s.lights = {pointLight(Vec3(0, 2, 0))};
+    SceneAnalysis a = analyzeScene(s);
+    EXPECT_TRUE(path(a.paths, "LS+E"));
+    EXPECT_FALSE(path(a.paths, "LS+DE"));
+    EXPECT_FALSE(a.plan.causticMap);
+    EXPECT_EQ(a.plan.reasons[1], "specular and diffuse surfaces cannot see each other");
+    // ... a diffuse wall receives what the floor reflects (light → floor → wall) ...
+    Scene wall = s;
+    addQuad(wall, Vec3(-2, 0, 2), Vec3(0, 3, 0), Vec3(4, 0, 0), addMaterial(wall, Vec3(0.7f)));
+    a = analyzeScene(wall);
+    EXPECT_TRUE(path(a.paths, "LS+DE"));
+    EXPECT_TRUE(a.plan.causticMap);
+    EXPECT_NE(a.plan.reasons[1].find("caustics (LS+DE)"), std::string::npos) << a.plan.reasons[1];
+    // ... and so does a mixed wall (light → floor → wall, or light → wall → floor).
+    Scene mixedWall = s;
+    addQuad(mixedWall, Vec3(-2, 0, 2), Vec3(0, 3, 0), Vec3(4, 0, 0), mixed);
+    EXPECT_TRUE(analyzeScene(mixedWall).plan.causticMap);
 }
 
 TEST(PlanFormat, PrintsEveryPathAndOneReasonPerDecision) {
