@@ -268,22 +268,31 @@ TEST(Knn, RejectsBadQueries) {
 
 // Real surface points of shipped scenes, on their own photon maps (global and caustic).
 TEST(Knn, ShippedScenesSurfaceAndRandomQueries) {
-    for (const char* name : {"cornell-box.json", "cornell-spheres.json"}) {
+    std::vector<std::filesystem::path> files;
+    for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(PHOTONCL_SOURCE_DIR) / "scenes"))
+        if (e.path().extension() == ".json" || e.path().extension() == ".gltf") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    ASSERT_GE(files.size(), 2u);
+    size_t causticRows = 0;
+    for (const auto& file : files) {
+        const std::string name = file.filename().string();
         SCOPED_TRACE(name);
-        const Scene scene = loadScene((std::filesystem::path(PHOTONCL_SOURCE_DIR) / "scenes" / name).string());
+        const Scene scene = loadScene(file.string());
         KnnCheckOptions o;
         o.photons = 10000;
         o.randomQueries = 1000;
         o.surfaceQueries = 2000;
         const KnnCheckReport report = checkKnn(test::testDevice(), scene, o);
-        std::printf("%s\n%s", name, report.table().c_str());
+        std::printf("%s\n%s", name.c_str(), report.table().c_str());
         EXPECT_TRUE(report.passed());
         EXPECT_EQ(report.rows.size(), 2u * 2u * 2u * 3u);
         size_t surfaceNeighbours = 0;
         for (const auto& r : report.rows)
             if (r.queries == "surface" && r.map == "global" && r.k == 50) surfaceNeighbours += r.neighbours;
         EXPECT_GT(surfaceNeighbours, 2u * 1000u * 50u);  // both structures: most surface queries find 50
+        for (const auto& r : report.rows) causticRows += r.map == "caustic" && r.neighbours > 0;
     }
+    EXPECT_GT(causticRows, 0u);  // some scene's caustic map is searched too
 }
 
 }  // namespace
