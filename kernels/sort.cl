@@ -24,10 +24,18 @@ typedef ulong sort_key;
 typedef uint sort_key;
 #endif
 
-#define PCL_SORT_GROUP 256
-#define PCL_SORT_ITEMS 16
+/* The host passes all three (pipeline/sort.cpp); these are its values. */
+#ifndef PCL_SORT_RADIX_BITS
+#define PCL_SORT_RADIX_BITS 8
+#endif
+#ifndef PCL_SORT_GROUP
+#define PCL_SORT_GROUP 16
+#endif
+#ifndef PCL_SORT_ITEMS
+#define PCL_SORT_ITEMS 512
+#endif
 #define PCL_SORT_TILE (PCL_SORT_GROUP * PCL_SORT_ITEMS)
-#define PCL_SORT_RADIX 16
+#define PCL_SORT_RADIX (1u << PCL_SORT_RADIX_BITS)
 
 /* counts[d * GROUP + l]: keys of digit d among work-item l's items. */
 static inline void sort_count_items(__global const sort_key* keys, uint n, uint shift, uint mask,
@@ -46,10 +54,10 @@ void sort_histogram(__global const sort_key* keys, uint n, uint shift, uint mask
     const uint tiles = (uint)get_num_groups(0);
     sort_count_items(keys, n, shift, mask, counts, l, t);
     barrier(CLK_LOCAL_MEM_FENCE);
-    if (l < PCL_SORT_RADIX) {
+    for (uint d = l; d < PCL_SORT_RADIX; d += PCL_SORT_GROUP) {
         uint s = 0u;
-        for (uint k = 0u; k < PCL_SORT_GROUP; ++k) s += counts[l * PCL_SORT_GROUP + k];
-        hist[l * tiles + t] = s;
+        for (uint k = 0u; k < PCL_SORT_GROUP; ++k) s += counts[d * PCL_SORT_GROUP + k];
+        hist[d * tiles + t] = s;
     }
 }
 
@@ -115,7 +123,7 @@ void sort_scatter(__global const sort_key* keysIn, __global const uint* valuesIn
     barrier(CLK_LOCAL_MEM_FENCE);
     /* counts[d*GROUP + l] is now the tile-local rank of work-item l's first key of digit d,
      * counting every smaller digit of the tile; base[d] turns it into a global position. */
-    if (l < PCL_SORT_RADIX) base[l] = offsets[l * tiles + t] - counts[l * PCL_SORT_GROUP];
+    for (uint d = l; d < PCL_SORT_RADIX; d += PCL_SORT_GROUP) base[d] = offsets[d * tiles + t] - counts[d * PCL_SORT_GROUP];
     barrier(CLK_LOCAL_MEM_FENCE);
 
     const uint begin = t * (uint)PCL_SORT_TILE + l * (uint)PCL_SORT_ITEMS;

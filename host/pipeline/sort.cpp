@@ -1,6 +1,8 @@
 #include "pipeline/sort.h"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <utility>
 
@@ -9,11 +11,37 @@
 namespace pcl {
 namespace {
 
-constexpr size_t kSortGroup = 256;                 // PCL_SORT_GROUP in kernels/sort.cl
-constexpr size_t kSortTile = kSortGroup * 16;      // PCL_SORT_TILE
-constexpr int kRadixBits = 4;                      // PCL_SORT_RADIX = 16
+// The pass shape (kernels/sort.cl): radix bits per pass, work-items per tile, keys per work-item.
+// CPUs (PoCL: one work-item is one scalar lane, a work-group one core's loop): 8-bit digits, few
+// work-items with long runs, so the per-tile work (zeroing and scanning 256 x group counters)
+// is small beside the 8192 keys of a tile — measured with sort_bench on PoCL, 1M-10M keys:
+// (8, 16, 512) ~1.5-2x (8, 32, 128) and ~3x (4, 256, 16). GPUs: 4-bit digits over 256
+// work-items (16 KiB of counters, fits any GPU's local memory).
+struct SortShape {
+    int radixBits = 8;
+    size_t group = 16, items = 512;
+};
 
-const char* options(int keyBits) { return keyBits == 64 ? "-DPCL_SORT_KEY64=1" : ""; }
+SortShape sortShape(Device& device) {
+    SortShape s;
+    if (device.info().type & CL_DEVICE_TYPE_GPU) s = SortShape{4, 256, 16};
+    if (const char* e = std::getenv("PHOTONCL_SORT_SHAPE")) {  // experiments: "bits,group,items"
+        int b = 0;
+        unsigned long g = 0, i = 0;
+        if (std::sscanf(e, "%d,%lu,%lu", &b, &g, &i) == 3 && b >= 1 && b <= 8 && g >= 1 && i >= 1) {
+            s.radixBits = b;
+            s.group = g;
+            s.items = i;
+        }
+    }
+    return s;
+}
+
+std::string options(int keyBits, const SortShape& s) {
+    return std::string(keyBits == 64 ? "-DPCL_SORT_KEY64=1 " : "") + "-DPCL_SORT_RADIX_BITS=" +
+           std::to_string(s.radixBits) + " -DPCL_SORT_GROUP=" + std::to_string(s.group) +
+           " -DPCL_SORT_ITEMS=" + std::to_string(s.items);
+}
 
 }  // namespace
 
@@ -28,9 +56,12 @@ void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, siz
     if (n >= (size_t(1) << 31))
         throw InputError("sortPairsOnDevice: " + std::to_string(n) + " pairs (at most 2^31 - 1)");
     if (n < 2) return;
+    const SortShape shape = sortShape(device);
+    const size_t kSortGroup = shape.group, kSortTile = shape.group * shape.items;
+    const int kRadixBits = shape.radixBits;
     const size_t keySize = keyBits == 64 ? 8 : 4;
     const size_t tiles = (n + kSortTile - 1) / kSortTile;
-    const size_t histSize = tiles * 16;
+    const size_t histSize = tiles << kRadixBits;
 
     SortWorkspace local;
     SortWorkspace& ws = workspace ? *workspace : local;
@@ -44,7 +75,7 @@ void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, siz
         ws.hist = device.allocate<uint32_t>(histSize);
         ws.histCapacity = histSize;
     }
-    const char* opts = options(keyBits);
+    const std::string opts = options(keyBits, shape);
     auto histogram = device.kernel<cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer>("sort", "sort_histogram", opts);
     auto scan = device.kernel<cl::Buffer, cl_uint>("sort", "sort_scan", opts);
     auto scatter = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer>(
