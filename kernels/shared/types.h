@@ -159,7 +159,7 @@ PCL_STATIC_ASSERT(sizeof(PclPhoton) == 20, PclPhoton_size);
 #define PCL_END_ESCAPED 1u    /* left the scene */
 #define PCL_END_ABSORBED 2u   /* Russian roulette absorbed it (or a glossy sample went below the surface) */
 #define PCL_END_MAX_DEPTH 3u  /* reached maxDepth bounces */
-#define PCL_END_STORED 4u     /* caustic pass: stopped at its first diffuse hit */
+#define PCL_END_STORED 4u     /* caustic pass: ended (diffuse lobe or absorbed) at a hit it deposited at */
 
 #define PCL_PASS_GLOBAL 0u
 #define PCL_PASS_CAUSTIC 1u
@@ -170,7 +170,7 @@ typedef struct PclPhotonParams {
     pcl_u32 batchSize;       /* paths in this batch */
     pcl_u32 lightCount;
     pcl_u32 triangleCount;   /* global ids at or above it are spheres */
-    pcl_u32 maxDepth;        /* bounces; also the deposit slots per path in a global pass */
+    pcl_u32 maxDepth;        /* bounces; also the deposit slots per path (either pass) */
     pcl_u32 pass;            /* PCL_PASS_GLOBAL or PCL_PASS_CAUSTIC */
     pcl_u32 hasMotion;       /* 0: every photon at time 0 (no time sampling) */
     pcl_u32 storeGlobal;     /* global pass: deposit into the global map */
