@@ -14,10 +14,14 @@
  *                   sorted position k: the children's photons are contiguous in sorted order.
  *   kdtree_bounds   bounding boxes of the children from those contiguous runs (atomic min/max
  *                   on flipped keys: min and max do not depend on the order they are applied).
+ *   kdtree_finish   once a level's subtrees are small, each is finished by one work-item.
  * The split axis of a subtree is the axis of largest float extent max − min, ties x, y, z. */
 #include "shared/types.h"
 
 #define PCL_KD_DONE 0xFFFFFFFFu
+#ifndef PCL_KD_FINISH
+#define PCL_KD_FINISH 128u  /* subtrees of at most this many photons finish in one work-item */
+#endif
 #define PCL_KD_CHUNK 64u
 
 /* The order-preserving float → uint flip of the sort (README, "sort"). */
@@ -31,17 +35,21 @@ static inline float kd_coord(__global const PclPhoton* p, uint axis) {
     return axis == 0u ? p->x : (axis == 1u ? p->y : p->z);
 }
 
-/* bounds[h*6 + a] = min key on axis a, bounds[h*6 + 3 + a] = max key. */
-static inline uint kd_axis(__global const uint* bounds, uint h) {
-    __global const uint* b = bounds + (size_t)h * 6u;
-    const float ex = kd_key_float(b[3]) - kd_key_float(b[0]);
-    const float ey = kd_key_float(b[4]) - kd_key_float(b[1]);
-    const float ez = kd_key_float(b[5]) - kd_key_float(b[2]);
+static inline uint kd_axis_of(uint lx, uint ly, uint lz, uint hx, uint hy, uint hz) {
+    const float ex = kd_key_float(hx) - kd_key_float(lx);
+    const float ey = kd_key_float(hy) - kd_key_float(ly);
+    const float ez = kd_key_float(hz) - kd_key_float(lz);
     uint axis = 0u;
     float e = ex;
     if (ey > e) { axis = 1u; e = ey; }
     if (ez > e) axis = 2u;
     return axis;
+}
+
+/* bounds[h*6 + a] = min key on axis a, bounds[h*6 + 3 + a] = max key. */
+static inline uint kd_axis(__global const uint* bounds, uint h) {
+    __global const uint* b = bounds + (size_t)h * 6u;
+    return kd_axis_of(b[0], b[1], b[2], b[3], b[4], b[5]);
 }
 
 /* Left-balanced median: the size of the left subtree of a complete binary tree of n nodes. */
@@ -158,5 +166,70 @@ __kernel void kdtree_assign(__global const PclPhoton* photons, __global const ul
         const uint child = r < left ? 2u * h + 1u : 2u * h + 2u;
         sub[i] = child;
         node[k] = child;
+    }
+}
+
+/* The last levels in one launch: once every subtree of a level holds at most PCL_KD_FINISH
+ * photons (the host checks the largest, the level's leftmost), work-item rel builds the whole
+ * subtree of node levelFirst + rel from its sorted segment by the same rule, depth first:
+ * box, axis, photons ordered by (coordinate key, photon index) by insertion sort, the
+ * left-balanced median the node. */
+__kernel void kdtree_finish(__global const PclPhoton* photons, __global const uint* values,
+                            __global const uint* segStart, __global const uint* segEnd, uint levelFirst,
+                            uint levelCount, __global PclPhoton* tree, __global uint* index) {
+    const uint rel = (uint)get_global_id(0);
+    if (rel >= levelCount) return;
+    const uint start = segStart[rel];
+    const uint m = segEnd[rel] - start;
+    uint idx[PCL_KD_FINISH], key[PCL_KD_FINISH];
+    for (uint j = 0u; j < m; ++j) idx[j] = values[start + j];
+    uint stackNode[32], stackBegin[32], stackEnd[32];
+    uint top = 0u;
+    stackNode[0] = levelFirst + rel;
+    stackBegin[0] = 0u;
+    stackEnd[0] = m;
+    top = 1u;
+    while (top > 0u) {
+        --top;
+        const uint h = stackNode[top], b = stackBegin[top], e = stackEnd[top];
+        uint lo[3] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu}, hi[3] = {0u, 0u, 0u};
+        for (uint j = b; j < e; ++j) {
+            __global const PclPhoton* p = photons + idx[j];
+            const uint kx = kd_float_key(p->x), ky = kd_float_key(p->y), kz = kd_float_key(p->z);
+            lo[0] = min(lo[0], kx); hi[0] = max(hi[0], kx);
+            lo[1] = min(lo[1], ky); hi[1] = max(hi[1], ky);
+            lo[2] = min(lo[2], kz); hi[2] = max(hi[2], kz);
+        }
+        const uint axis = kd_axis_of(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+        for (uint j = b; j < e; ++j) {
+            const uint i = idx[j];
+            const uint k = kd_float_key(kd_coord(photons + i, axis));
+            uint t = j;
+            while (t > b && (key[t - 1u] > k || (key[t - 1u] == k && idx[t - 1u] > i))) {
+                key[t] = key[t - 1u];
+                idx[t] = idx[t - 1u];
+                --t;
+            }
+            key[t] = k;
+            idx[t] = i;
+        }
+        const uint left = kd_left_size(e - b);
+        const uint i = idx[b + left];
+        PclPhoton p = photons[i];
+        p.packed = (p.packed & ~PCL_PHOTON_AXIS_MASK) | (axis << PCL_PHOTON_AXIS_SHIFT);
+        tree[h] = p;
+        index[h] = i;
+        if (b + left + 1u < e) {
+            stackNode[top] = 2u * h + 2u;
+            stackBegin[top] = b + left + 1u;
+            stackEnd[top] = e;
+            ++top;
+        }
+        if (left > 0u) {
+            stackNode[top] = 2u * h + 1u;
+            stackBegin[top] = b;
+            stackEnd[top] = b + left;
+            ++top;
+        }
     }
 }

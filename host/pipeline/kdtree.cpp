@@ -14,6 +14,14 @@ constexpr size_t kChunk = 64;  // PCL_KD_CHUNK in kernels/kdtree.cl
 
 cl::NDRange range(size_t n) { return cl::NDRange((n + kGroup - 1) / kGroup * kGroup); }
 
+// Photons in the subtree of heap node h of a complete tree of n nodes.
+uint64_t subtreeSize(uint64_t h, uint64_t n) {
+    uint64_t count = 0;
+    for (uint64_t first = h, width = 1; first < n; first = 2 * first + 1, width *= 2)
+        count += std::min(width, n - first);
+    return count;
+}
+
 int bitLength(uint64_t v) {
     int b = 0;
     while (v) {
@@ -25,7 +33,8 @@ int bitLength(uint64_t v) {
 
 }  // namespace
 
-DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing) {
+DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing,
+                         int finishSize) {
     if (n >= (size_t(1) << 31))
         throw InputError("buildKdTree: " + std::to_string(n) + " photons (at most 2^31 - 1)");
     DeviceKdTree tree;
@@ -35,14 +44,19 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     if (n == 0) return tree;
 
     const std::string stage = "kdtree";
-    auto init = device.kernel<cl_uint, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_init");
-    auto boundsInit = device.kernel<cl::Buffer, cl_uint, cl_uint>(stage, "kdtree_bounds_init");
-    auto bounds = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_bounds");
+    // GPUs: small private arrays (they spill to memory); CPUs: longer finished subtrees.
+    if (finishSize < 0) finishSize = (device.info().type & CL_DEVICE_TYPE_GPU) ? 32 : 128;
+    const std::string opts = "-DPCL_KD_FINISH=" + std::to_string(std::max(finishSize, 1)) + "u";
+    auto init = device.kernel<cl_uint, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_init", opts);
+    auto boundsInit = device.kernel<cl::Buffer, cl_uint, cl_uint>(stage, "kdtree_bounds_init", opts);
+    auto bounds = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_bounds", opts);
     auto keysK = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(
-        stage, "kdtree_keys");
-    auto segments = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_segments");
+        stage, "kdtree_keys", opts);
+    auto segments = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_segments", opts);
+    auto finish = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer,
+                                cl::Buffer>(stage, "kdtree_finish", opts);
     auto assign = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_assign");
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_assign", opts);
 
     cl::Buffer sub = device.allocate<uint32_t>(n);
     cl::Buffer node = device.allocate<uint32_t>(n);
@@ -62,13 +76,18 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     events.push_back(device.launchLocal(stage, bounds, chunks, group, photons, values, node, N, boxes));
 
     double sortSeconds = 0.0;
-    uint32_t levels = 0;
-    for (uint64_t first = 0; first < n; first = 2 * first + 1, ++levels) {
+    for (uint64_t first = 0; first < n; first = 2 * first + 1) {
         const uint64_t count = std::min<uint64_t>(first + 1, n - first);  // nodes on this level
         events.push_back(device.launchLocal(stage, keysK, range(n), group, photons, sub, N, boxes, cl_uint(first),
                                             cl_uint(count), keys, values));
         sortPairsOnDevice(device, keys, values, n, 64, 32 + bitLength(count), &sortSeconds, &workspace);
         events.push_back(device.launchLocal(stage, segments, range(n), group, keys, N, cl_uint(count), segStart, segEnd));
+        ++tree.sortedLevels;
+        if (subtreeSize(first, n) <= uint64_t(finishSize)) {  // the leftmost subtree is the level's largest
+            events.push_back(device.launchLocal(stage, finish, range(count), group, photons, values, segStart, segEnd,
+                                                cl_uint(first), cl_uint(count), tree.photons, tree.index));
+            break;
+        }
         events.push_back(device.launchLocal(stage, assign, range(n), group, photons, keys, values, N, cl_uint(first),
                                             cl_uint(count), segStart, segEnd, boxes, sub, node, tree.photons,
                                             tree.index));
@@ -80,7 +99,7 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
         events.push_back(device.launchLocal(stage, bounds, chunks, group, photons, values, node, N, boxes));
     }
     device.finish();
-    tree.levels = levels;
+    tree.levels = uint32_t(bitLength(n));  // ⌊log2 n⌋ + 1
     if (timing) {
         timing->sortSeconds += sortSeconds;
         for (const cl::Event& e : events) timing->otherSeconds += Device::elapsedSeconds(e);
@@ -88,9 +107,10 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     return tree;
 }
 
-KdTree buildKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& photons, KdTreeTiming* timing) {
+KdTree buildKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& photons, KdTreeTiming* timing,
+                           int finishSize) {
     cl::Buffer in = device.upload(photons);
-    DeviceKdTree t = buildKdTree(device, in, photons.size(), timing);
+    DeviceKdTree t = buildKdTree(device, in, photons.size(), timing, finishSize);
     KdTree out;
     out.photons = device.download<PclPhoton>(t.photons, t.count);
     out.index = device.download<uint32_t>(t.index, t.count);

@@ -19,6 +19,7 @@ struct DeviceKdTree {
     cl::Buffer index;     // uint32[count]: heap position → photon index in the input map
     size_t count = 0;
     uint32_t levels = 0;  // ⌊log2 count⌋ + 1 (0 for an empty map)
+    uint32_t sortedLevels = 0;  // levels built by a radix sort (the rest by kdtree_finish)
 };
 
 struct KdTreeTiming {
@@ -27,7 +28,11 @@ struct KdTreeTiming {
 };
 
 // Builds the tree of the first n photons of `photons` (left untouched). n < 2^31.
-DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing = nullptr);
+// finishSize: once a level's subtrees hold at most this many photons, one work-item finishes
+// each (kdtree_finish) instead of sorting the remaining levels; -1: the device's default (128 on
+// CPUs, 32 on GPUs), 0: every level sorted. The tree is the same either way.
+DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing = nullptr,
+                         int finishSize = -1);
 
 struct KdTree {
     std::vector<PclPhoton> photons;  // heap order, axis bits set
@@ -35,6 +40,7 @@ struct KdTree {
 };
 
 // Upload, build, download.
-KdTree buildKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& photons, KdTreeTiming* timing = nullptr);
+KdTree buildKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& photons, KdTreeTiming* timing = nullptr,
+                           int finishSize = -1);
 
 }  // namespace pcl

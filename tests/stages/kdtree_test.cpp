@@ -91,9 +91,12 @@ void expectValidTree(const std::vector<PclPhoton>& in, const std::vector<PclPhot
     EXPECT_EQ(treeDefect(in, tree, index), "");
 }
 
-void expectDeviceEqualsTwin(const std::vector<PclPhoton>& in, const char* what, bool validate = true) {
+// finishSize: as buildKdTree's (-1 the device default; 0 every level by sorting; 5 a mix).
+void expectDeviceEqualsTwin(const std::vector<PclPhoton>& in, const char* what, bool validate = true,
+                            int finishSize = -1) {
     SCOPED_TRACE(what);
-    KdTree dev = buildKdTreeOnDevice(test::testDevice(), in);
+    SCOPED_TRACE("finishSize " + std::to_string(finishSize));
+    KdTree dev = buildKdTreeOnDevice(test::testDevice(), in, nullptr, finishSize);
     ReferenceKdTree ref = referenceBuildKdTree(in);
     ASSERT_EQ(dev.photons.size(), in.size());
     ASSERT_EQ(dev.index, ref.index);
@@ -142,13 +145,13 @@ TEST(KdTree, RandomPointsMatchTwin) {
     for (size_t n : {2, 3, 4, 5, 7, 8, 9, 100, 255, 256, 257, 4097, 50000}) {
         std::vector<PclPhoton> in;
         for (size_t i = 0; i < n; ++i) in.push_back(photonAt(u(rng), 0.3f * u(rng), 2.0f * u(rng), uint32_t(i)));
-        expectDeviceEqualsTwin(in, ("random n = " + std::to_string(n)).c_str());
+        for (int finish : {-1, 0, 5}) expectDeviceEqualsTwin(in, ("random n = " + std::to_string(n)).c_str(), true, finish);
     }
     // Coarse coordinates: many ties on every axis, broken by the photon index.
     std::vector<PclPhoton> in;
     std::uniform_int_distribution<int> g(-3, 3);
     for (uint32_t i = 0; i < 30000; ++i) in.push_back(photonAt(float(g(rng)), float(g(rng)), -0.0f * float(g(rng)), i));
-    expectDeviceEqualsTwin(in, "lattice with ties and signed zeros");
+    for (int finish : {-1, 0}) expectDeviceEqualsTwin(in, "lattice with ties and signed zeros", true, finish);
 }
 
 TEST(KdTree, EmptyAndSinglePhoton) {
@@ -162,7 +165,7 @@ TEST(KdTree, EmptyAndSinglePhoton) {
     EXPECT_EQ(t.index[0], 0u);
 }
 
-// 1M photons at one point: every comparison is a tie broken by index; the build is still
+// 1M photons at one point (with the default finish: sorted levels, then kdtree_finish): every comparison is a tie broken by index; the build is still
 // ⌊log2 n⌋ + 1 sorted levels (linear work per level), not a quadratic partition.
 TEST(KdTree, MillionIdenticalPhotons) {
     const size_t n = 1000000;
@@ -171,6 +174,7 @@ TEST(KdTree, MillionIdenticalPhotons) {
     cl::Buffer buf = test::testDevice().upload(in);
     DeviceKdTree t = buildKdTree(test::testDevice(), buf, n);
     EXPECT_EQ(t.levels, 20u);  // ⌊log2 1e6⌋ + 1
+    EXPECT_LE(t.sortedLevels, 20u);
     std::vector<uint32_t> index = test::testDevice().download<uint32_t>(t.index, n);
     ReferenceKdTree ref = referenceBuildKdTree(in);
     ASSERT_EQ(index, ref.index);
@@ -210,7 +214,7 @@ TEST(KdTree, DenseClustersAndCollinearPhotons) {
         const float s = (i % 7 == 0) ? 0.25f : t(rng);  // and repeated points on the line
         line.push_back(photonAt(1.0f, 2.0f - s, 3.0f, i));
     }
-    expectDeviceEqualsTwin(line, "collinear along y");
+    for (int finish : {-1, 0}) expectDeviceEqualsTwin(line, "collinear along y", true, finish);
     std::vector<PclPhoton> diagonal;
     for (uint32_t i = 0; i < 4096; ++i) {
         const float s = float(i % 1000);
@@ -237,7 +241,7 @@ TEST(KdTree, ShippedSceneMapsMatchTwin) {
         o.seed = 3;
         PhotonMaps maps = runPhotonPass(test::testDevice(), geometry, buffers, o);
         ASSERT_GT(maps.global.size(), 1000u) << file;
-        expectDeviceEqualsTwin(maps.global, (std::string(file) + " global").c_str());
+        for (int finish : {-1, 0}) expectDeviceEqualsTwin(maps.global, (std::string(file) + " global").c_str(), true, finish);
         if (!maps.caustic.empty()) expectDeviceEqualsTwin(maps.caustic, (std::string(file) + " caustic").c_str());
         ++scenes;
     }
