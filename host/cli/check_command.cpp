@@ -6,6 +6,8 @@
 #include "core/error.h"
 #include "device/device.h"
 #include "pipeline/check_intersect.h"
+#include "pipeline/check_knn.h"
+#include "pipeline/check_maps.h"
 #include "pipeline/check_photons.h"
 #include "scene/load_scene.h"
 
@@ -26,8 +28,9 @@ Run addCheckCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--stage", o->stage,
                     "trace: BVH traversal; emit, trace_photons, deposit: the photon pass stage by stage on the "
-                    "same inputs; pass: the whole photon pass; all: every one")
-        ->check(CLI::IsMember({"all", "trace", "emit", "trace_photons", "deposit", "pass"}))
+                    "same inputs; pass: the whole photon pass; sort: device radix sort; build: kd-tree; knn: k nearest "
+                    "neighbours on kd-tree and hash grid against brute force; all: every one")
+        ->check(CLI::IsMember({"all", "trace", "emit", "trace_photons", "deposit", "pass", "sort", "build", "knn"}))
         ->capture_default_str();
     sub->add_option("--rays", o->rays, "Rays for the trace check")->capture_default_str();
     sub->add_option("--photons", o->photons, "Photon paths per pass for the photon checks")->capture_default_str();
@@ -56,6 +59,29 @@ Run addCheckCommand(CLI::App& app) {
             std::printf("stage %s: kernel vs CPU twin\n%s", stage, report.table().c_str());
             std::printf("stage %s: %s\n", stage, report.passed() ? "PASSED" : "FAILED");
             ok = ok && report.passed();
+        }
+        auto print = [&](const char* stage, const std::string& table, bool passed) {
+            std::printf("stage %s: kernel vs CPU twin\n%s", stage, table.c_str());
+            std::printf("stage %s: %s\n", stage, passed ? "PASSED" : "FAILED");
+            ok = ok && passed;
+        };
+        MapCheckOptions mapOptions;
+        mapOptions.photons = o->photons;
+        mapOptions.seed = o->seed;
+        if (o->stage == "all" || o->stage == "sort") {
+            MapCheckReport r = checkSort(device, scene, mapOptions);
+            print("sort", r.table(), r.passed());
+        }
+        if (o->stage == "all" || o->stage == "build") {
+            MapCheckReport r = checkKdTreeBuild(device, scene, mapOptions);
+            print("build", r.table(), r.passed());
+        }
+        if (o->stage == "all" || o->stage == "knn") {
+            KnnCheckOptions knnOptions;
+            knnOptions.photons = o->photons;
+            knnOptions.seed = o->seed;
+            KnnCheckReport r = checkKnn(device, scene, knnOptions);
+            print("knn", r.table(), r.passed());
         }
         return ok ? kExitOk : kExitCheckFailed;
     };
