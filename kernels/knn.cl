@@ -142,7 +142,8 @@ __kernel void knn_kdtree(__global const PclPhoton* nodes, __global const uint* n
                 stackD[sp] = planeD2;
                 ++sp;
             }
-            knn_offer(&h, knn_dist2(p->x, p->y, p->z, q.x, q.y, q.z), nodeIndex[node]);
+            const float d = knn_dist2(p->x, p->y, p->z, q.x, q.y, q.z);
+            if (d <= knn_bound(&h)) knn_offer(&h, d, nodeIndex[node]);  /* the index is read only for candidates */
             node = nearChild;
         }
         node = n;
