@@ -10,10 +10,9 @@
  *                   (coordinate key, photon index)
  *   kdtree_segments first and one-past-last sorted position of each subtree
  *   kdtree_assign   position r in its subtree of n photons: r = left(n) → the photon is node h;
- *                   r < left → sub = 2h+1, r > left → sub = 2h+2. node[k] = the new subtree of
- *                   sorted position k: the children's photons are contiguous in sorted order.
- *   kdtree_bounds   bounding boxes of the children from those contiguous runs (atomic min/max
- *                   on flipped keys: min and max do not depend on the order they are applied).
+ *                   r < left → sub = 2h+1, r > left → sub = 2h+2
+ *   kdtree_bounds   photon order: the children's bounding boxes (atomic min/max on flipped
+ *                   keys: min and max do not depend on the order they are applied in)
  *   kdtree_finish   once a level's subtrees are small, each is finished by one work-item.
  * The split axis of a subtree is the axis of largest float extent max − min, ties x, y, z. */
 #include "shared/types.h"
@@ -22,7 +21,6 @@
 #ifndef PCL_KD_FINISH
 #define PCL_KD_FINISH 128u  /* subtrees of at most this many photons finish in one work-item */
 #endif
-#define PCL_KD_CHUNK 64u
 
 /* The order-preserving float → uint flip of the sort (README, "sort"). */
 static inline uint kd_float_key(float x) {
@@ -60,12 +58,10 @@ static inline uint kd_left_size(uint n) {
     return halfLevel - 1u + min(halfLevel, n - ((1u << h) - 1u));
 }
 
-__kernel void kdtree_init(uint n, __global uint* sub, __global uint* order, __global uint* node) {
+__kernel void kdtree_init(uint n, __global uint* sub) {
     const uint i = (uint)get_global_id(0);
     if (i >= n) return;
     sub[i] = 0u;
-    order[i] = i;
-    node[i] = 0u;
 }
 
 __kernel void kdtree_bounds_init(__global uint* bounds, uint first, uint count) {
@@ -76,39 +72,26 @@ __kernel void kdtree_bounds_init(__global uint* bounds, uint first, uint count) 
     b[3] = b[4] = b[5] = 0u;
 }
 
-static inline void kd_flush(__global uint* bounds, uint h, const uint* lo, const uint* hi) {
-    volatile __global uint* b = (volatile __global uint*)(bounds + (size_t)h * 6u);
-    for (uint a = 0u; a < 3u; ++a) {
-        atomic_min(b + a, lo[a]);
-        atomic_max(b + 3u + a, hi[a]);
-    }
+/* Photon order: each photon's coordinates into its subtree's box. Read first, atomic only when
+ * the photon extends the box: after the first few photons of a subtree almost none does, so the
+ * pass is sequential reads, a cached read of the box and rare atomics. min and max do not
+ * depend on the order they are applied in, so the box is exact and deterministic. */
+static inline void kd_extend(volatile __global uint* b, uint a, uint k) {
+    if (k < b[a]) atomic_min(b + a, k);
+    if (k > b[3u + a]) atomic_max(b + 3u + a, k);
 }
 
-/* Work-item w reduces sorted positions [w*CHUNK, w*CHUNK + CHUNK): one flush per run of equal
- * node[k], so the atomics number about n/CHUNK + subtrees. */
-__kernel void kdtree_bounds(__global const PclPhoton* photons, __global const uint* order,
-                            __global const uint* node, uint n, __global uint* bounds) {
-    const uint begin = (uint)get_global_id(0) * PCL_KD_CHUNK;
-    if (begin >= n) return;
-    const uint end = min(begin + PCL_KD_CHUNK, n);
-    uint cur = PCL_KD_DONE;
-    uint lo[3], hi[3];
-    for (uint k = begin; k < end; ++k) {
-        const uint h = node[k];
-        if (h != cur) {
-            if (cur != PCL_KD_DONE) kd_flush(bounds, cur, lo, hi);
-            cur = h;
-            lo[0] = lo[1] = lo[2] = 0xFFFFFFFFu;
-            hi[0] = hi[1] = hi[2] = 0u;
-        }
-        if (h == PCL_KD_DONE) continue;
-        __global const PclPhoton* p = photons + order[k];
-        const uint kx = kd_float_key(p->x), ky = kd_float_key(p->y), kz = kd_float_key(p->z);
-        lo[0] = min(lo[0], kx); hi[0] = max(hi[0], kx);
-        lo[1] = min(lo[1], ky); hi[1] = max(hi[1], ky);
-        lo[2] = min(lo[2], kz); hi[2] = max(hi[2], kz);
-    }
-    if (cur != PCL_KD_DONE) kd_flush(bounds, cur, lo, hi);
+__kernel void kdtree_bounds(__global const PclPhoton* photons, __global const uint* sub, uint n,
+                            __global uint* bounds) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= n) return;
+    const uint h = sub[i];
+    if (h == PCL_KD_DONE) return;
+    __global const PclPhoton* p = photons + i;
+    volatile __global uint* b = (volatile __global uint*)(bounds + (size_t)h * 6u);
+    kd_extend(b, 0u, kd_float_key(p->x));
+    kd_extend(b, 1u, kd_float_key(p->y));
+    kd_extend(b, 2u, kd_float_key(p->z));
 }
 
 __kernel void kdtree_keys(__global const PclPhoton* photons, __global const uint* sub, uint n,
@@ -141,15 +124,12 @@ __kernel void kdtree_segments(__global const ulong* keys, uint n, uint levelCoun
 __kernel void kdtree_assign(__global const PclPhoton* photons, __global const ulong* keys,
                             __global const uint* values, uint n, uint levelFirst, uint levelCount,
                             __global const uint* segStart, __global const uint* segEnd,
-                            __global const uint* bounds, __global uint* sub, __global uint* node,
-                            __global PclPhoton* tree, __global uint* index) {
+                            __global const uint* bounds, __global uint* sub, __global PclPhoton* tree,
+                            __global uint* index) {
     const uint k = (uint)get_global_id(0);
     if (k >= n) return;
     const uint rel = (uint)(keys[k] >> 32);
-    if (rel >= levelCount) {
-        node[k] = PCL_KD_DONE;
-        return;
-    }
+    if (rel >= levelCount) return;
     const uint h = levelFirst + rel;
     const uint start = segStart[rel];
     const uint left = kd_left_size(segEnd[rel] - start);
@@ -161,11 +141,8 @@ __kernel void kdtree_assign(__global const PclPhoton* photons, __global const ul
         tree[h] = p;
         index[h] = i;
         sub[i] = PCL_KD_DONE;
-        node[k] = PCL_KD_DONE;
     } else {
-        const uint child = r < left ? 2u * h + 1u : 2u * h + 2u;
-        sub[i] = child;
-        node[k] = child;
+        sub[i] = r < left ? 2u * h + 1u : 2u * h + 2u;
     }
 }
 

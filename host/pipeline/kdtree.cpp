@@ -10,7 +10,6 @@ namespace pcl {
 namespace {
 
 constexpr size_t kGroup = 64;
-constexpr size_t kChunk = 64;  // PCL_KD_CHUNK in kernels/kdtree.cl
 
 cl::NDRange range(size_t n) { return cl::NDRange((n + kGroup - 1) / kGroup * kGroup); }
 
@@ -47,21 +46,20 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     // GPUs: small private arrays (they spill to memory); CPUs: longer finished subtrees.
     if (finishSize < 0) finishSize = (device.info().type & CL_DEVICE_TYPE_GPU) ? 32 : 128;
     const std::string opts = "-DPCL_KD_FINISH=" + std::to_string(std::max(finishSize, 1)) + "u";
-    auto init = device.kernel<cl_uint, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_init", opts);
+    auto init = device.kernel<cl_uint, cl::Buffer>(stage, "kdtree_init", opts);
     auto boundsInit = device.kernel<cl::Buffer, cl_uint, cl_uint>(stage, "kdtree_bounds_init", opts);
-    auto bounds = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_bounds", opts);
+    auto bounds = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_bounds", opts);
     auto keysK = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(
         stage, "kdtree_keys", opts);
     auto segments = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_segments", opts);
     auto finish = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer,
                                 cl::Buffer>(stage, "kdtree_finish", opts);
     auto assign = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_assign", opts);
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_assign", opts);
 
     cl::Buffer sub = device.allocate<uint32_t>(n);
-    cl::Buffer node = device.allocate<uint32_t>(n);
     cl::Buffer keys = device.allocate<uint64_t>(n);
-    cl::Buffer values = device.allocate<uint32_t>(n);   // photon order for kdtree_init, then sorted
+    cl::Buffer values = device.allocate<uint32_t>(n);
     cl::Buffer boxes = device.allocate<uint32_t>(6 * n);
     cl::Buffer segStart = device.allocate<uint32_t>(n);
     cl::Buffer segEnd = device.allocate<uint32_t>(n);
@@ -70,10 +68,9 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     std::vector<cl::Event> events;
     const cl::NDRange group(kGroup);
     const cl_uint N = cl_uint(n);
-    events.push_back(device.launchLocal(stage, init, range(n), group, N, sub, values, node));
+    events.push_back(device.launchLocal(stage, init, range(n), group, N, sub));
     events.push_back(device.launchLocal(stage, boundsInit, range(1), group, boxes, cl_uint(0), cl_uint(1)));
-    const cl::NDRange chunks = range((n + kChunk - 1) / kChunk);
-    events.push_back(device.launchLocal(stage, bounds, chunks, group, photons, values, node, N, boxes));
+    events.push_back(device.launchLocal(stage, bounds, range(n), group, photons, sub, N, boxes));
 
     double sortSeconds = 0.0;
     for (uint64_t first = 0; first < n; first = 2 * first + 1) {
@@ -89,14 +86,14 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
             break;
         }
         events.push_back(device.launchLocal(stage, assign, range(n), group, photons, keys, values, N, cl_uint(first),
-                                            cl_uint(count), segStart, segEnd, boxes, sub, node, tree.photons,
+                                            cl_uint(count), segStart, segEnd, boxes, sub, tree.photons,
                                             tree.index));
         const uint64_t childFirst = 2 * first + 1;
         if (childFirst >= n) continue;
         const uint64_t childCount = std::min<uint64_t>(2 * count, n - childFirst);
         events.push_back(device.launchLocal(stage, boundsInit, range(childCount), group, boxes, cl_uint(childFirst),
                                             cl_uint(childCount)));
-        events.push_back(device.launchLocal(stage, bounds, chunks, group, photons, values, node, N, boxes));
+        events.push_back(device.launchLocal(stage, bounds, range(n), group, photons, sub, N, boxes));
     }
     device.finish();
     tree.levels = uint32_t(bitLength(n));  // ⌊log2 n⌋ + 1
