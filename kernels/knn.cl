@@ -19,9 +19,10 @@
  * photon of lower index could still enter. Float subtraction and addition are monotonic, so the
  * plane's d² never exceeds the d² of a photon beyond it.
  *
- * hash grid: the cells overlapping the query's box of half-width r' = r·(1 + 1e-4) + 1e-6·scale
- * (r = √maxRadius2; the margin covers the rounding of the cell coordinates), at most 3 per axis
- * for r ≤ cellSize/2 (the host checks). Cells hashing to the same table entry are read once.
+ * hash grid: the cells overlapping the query's box of half-width r' = r·(1 + 1e-4) + 1e-18
+ * (r = √maxRadius2; the margin covers the rounding of the distance), at most 3 per axis
+ * for r ≤ cellSize/2 (the host checks), nearest first; a cell whose box (less the margin) lies
+ * beyond the heap's bound ends the search. Cells hashing to the same table entry are read once.
  *
  * PCL_KNN_CAP (-D, default PCL_KNN_MAX_K): heap capacity, ≥ every query's k. */
 #pragma OPENCL FP_CONTRACT OFF
@@ -180,28 +181,63 @@ __kernel void knn_hashgrid(const PclGridParams g, __global const float4* points,
     KnnHeap h;
     knn_init(&h, q);
     if (g.photonCount > 0u && h.k > 0u && q.maxRadius2 >= 0.0f) {
-        const float scale = fmax(fmax(fabs(q.x), fabs(q.y)), fmax(fabs(q.z), fmax(fmax(fabs(g.ox), fabs(g.oy)), fabs(g.oz))));
-        const float r = sqrt(q.maxRadius2) * 1.0001f + 1e-6f * scale;
+        /* Window: rounding is monotonic, so a photon p with d² ≤ maxRadius2 (true |p − q| <
+         * r·(1 + 1e-6)) has a cell coordinate ≥ that of q − r' whenever r' exceeds that: the
+         * relative 1e-4 suffices, the 1e-18 covers d² underflowing for tiny differences. */
+        const float r = sqrt(q.maxRadius2) * 1.0001f + 1e-18f;
+        const float scale = fmax(fmax(fabs(q.x), fabs(q.y)), fabs(q.z)) + fmax(fmax(fabs(g.ox), fabs(g.oy)), fabs(g.oz));
         const int x0 = knn_grid_coord(q.x - r, g.ox, g.invCellSize), x1 = knn_grid_coord(q.x + r, g.ox, g.invCellSize);
         const int y0 = knn_grid_coord(q.y - r, g.oy, g.invCellSize), y1 = knn_grid_coord(q.y + r, g.oy, g.invCellSize);
         const int z0 = knn_grid_coord(q.z - r, g.oz, g.invCellSize), z1 = knn_grid_coord(q.z + r, g.oz, g.invCellSize);
-        uint seen[27];
-        uint nseen = 0u;
+        /* The cells nearest first, each with a lower bound of its photons' d²: the gap from q to
+         * the cell's box in float, less a margin for the rounding of the box (o + ix·cellSize)
+         * and of the photons' cell coordinates, ≤ 4e-7 (|p| + |o|). Once that bound exceeds the
+         * heap's, no later cell can add anything. Photons of other cells sharing a hash are
+         * filtered by d² as they are read. */
+        uint cellHash[27];
+        float cellD2[27];
+        uint cells = 0u;
+        const float margin = (r - sqrt(q.maxRadius2)) + 1e-6f * (scale + r);
         for (int iz = z0; iz <= z1 && iz <= z0 + 2; ++iz)
             for (int iy = y0; iy <= y1 && iy <= y0 + 2; ++iy)
                 for (int ix = x0; ix <= x1 && ix <= x0 + 2; ++ix) {
-                    const uint cell = knn_grid_hash(ix, iy, iz, g.tableSize);
-                    bool dup = false;
-                    for (uint s = 0u; s < nseen; ++s) dup = dup || seen[s] == cell;
-                    if (dup) continue;
-                    seen[nseen++] = cell;
-                    const uint end = cellEnd[cell];
-                    for (uint s = cellStart[cell]; s < end; ++s) {
-                        const float4 p = points[s];
-                        const float d = knn_dist2(p.x, p.y, p.z, q.x, q.y, q.z);
-                        if (d <= knn_bound(&h)) knn_offer(&h, d, as_uint(p.w));
+                    const float lo[3] = {g.ox + (float)ix * g.cellSize, g.oy + (float)iy * g.cellSize,
+                                         g.oz + (float)iz * g.cellSize};
+                    const float qc[3] = {q.x, q.y, q.z};
+                    const int ic[3] = {ix, iy, iz};
+                    float d2 = 0.0f;
+                    for (int a = 0; a < 3; ++a) {
+                        /* a clamped coordinate's cell holds photons from beyond it: no bound there */
+                        const bool clamped = ic[a] >= (int)PCL_GRID_COORD_LIMIT || ic[a] <= -(int)PCL_GRID_COORD_LIMIT;
+                        const float gap =
+                            clamped ? 0.0f : fmax(fmax(lo[a] - qc[a], qc[a] - (lo[a] + g.cellSize)), 0.0f);
+                        const float shrunk = fmax(gap - margin, 0.0f);
+                        d2 += shrunk * shrunk;
                     }
+                    cellHash[cells] = knn_grid_hash(ix, iy, iz, g.tableSize);
+                    cellD2[cells] = d2;
+                    ++cells;
                 }
+        for (uint visited = 0u; visited < cells; ++visited) {
+            uint best = visited;
+            for (uint c = visited + 1u; c < cells; ++c)
+                if (cellD2[c] < cellD2[best]) best = c;
+            const uint cell = cellHash[best];
+            const float boxD2 = cellD2[best];
+            cellHash[best] = cellHash[visited];
+            cellD2[best] = cellD2[visited];
+            if (boxD2 > knn_bound(&h)) break;
+            bool dup = false;
+            for (uint c = 0u; c < visited; ++c) dup = dup || cellHash[c] == cell;
+            cellHash[visited] = cell;  /* visited cells keep their hash for the duplicate test */
+            if (dup) continue;
+            const uint end = cellEnd[cell];
+            for (uint s = cellStart[cell]; s < end; ++s) {
+                const float4 p = points[s];
+                const float d = knn_dist2(p.x, p.y, p.z, q.x, q.y, q.z);
+                if (d <= knn_bound(&h)) knn_offer(&h, d, as_uint(p.w));
+            }
+        }
     }
     knn_write(&h, qi, stride, counts, indices, dist2, radius2);
 }

@@ -258,6 +258,25 @@ TEST(Knn, ClustersCollinearAndTinyMaps) {
     EXPECT_EQ(one.indices[0], 0u);
 }
 
+TEST(Knn, HugeCoordinatesAndTinyRadii) {
+    // Coordinates up to 1e7 (float spacing 1) with radii far below it: cell coordinates clamp
+    // to ±1e9 and only coincident photons are found; and a map far from the origin with a
+    // moderate radius, where the cell bounds carry rounding.
+    std::mt19937_64 rng(12);
+    std::uniform_int_distribution<int> lattice(-20, 20);
+    std::vector<PclPhoton> far;
+    for (int i = 0; i < 3000; ++i) far.push_back(photonAt(5e5f * lattice(rng), 5e5f * lattice(rng), 5e5f * lattice(rng)));
+    std::vector<PclKnnQuery> qs;
+    for (int i = 0; i < 300; ++i) qs.push_back(query(far[i * 7].x, far[i * 7].y, far[i * 7].z, 1e-6f));
+    expectBruteForce(far, qs, {1, 50});
+    std::uniform_real_distribution<float> u(0.0f, 100.0f);
+    std::vector<PclPhoton> offset;
+    for (int i = 0; i < 20000; ++i) offset.push_back(photonAt(1e6f + u(rng), -3e6f + u(rng), 2e6f + u(rng)));
+    qs.clear();
+    for (int i = 0; i < 500; ++i) qs.push_back(query(1e6f + u(rng), -3e6f + u(rng), 2e6f + u(rng), 36.0f));
+    expectBruteForce(offset, qs, {1, 50});
+}
+
 TEST(Knn, RejectsBadQueries) {
     const std::vector<PclPhoton> map = uniformMap(10, 1);
     EXPECT_THROW(knnHashGridOnDevice(test::testDevice(), map, {query(0, 0, 0, 1.0f, 0)}), InputError);
