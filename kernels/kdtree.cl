@@ -4,10 +4,13 @@
  *
  * State between levels: sub[i] = the heap node whose subtree photon i is in (PCL_KD_DONE once
  * the photon is a node). One level L (nodes levelFirst = 2^L − 1 .. levelFirst + 2^L − 1):
- *   kdtree_keys     photon order i: key = (sub[i] − levelFirst) << 32 | flip(coordinate on the
- *                   subtree's split axis), or levelCount << 32 for placed photons; value = i
- *   (radix sort)    stable, so each subtree's photons end up contiguous, ordered by
- *                   (coordinate key, photon index)
+ *   kdtree_keys     photon order i: key = (sub[i] − levelFirst) << rankBits | rank of photon i
+ *                   on the subtree's split axis (kdtree_rank_*: its place in the map ordered by
+ *                   (flipped coordinate key, photon index)), or levelCount << rankBits for
+ *                   placed photons; value = i. (The README's subtree << 32 | coordinate key,
+ *                   stable, orders the same way; the ranks need fewer bits and passes.)
+ *   (radix sort)    each subtree's photons end up contiguous, ordered by (coordinate key,
+ *                   photon index)
  *   kdtree_segments first and one-past-last sorted position of each subtree
  *   kdtree_assign   position r in its subtree of n photons: r = left(n) → the photon is node h;
  *                   r < left → sub = 2h+1, r > left → sub = 2h+2
@@ -94,41 +97,69 @@ __kernel void kdtree_bounds(__global const PclPhoton* photons, __global const ui
     kd_extend(b, 2u, kd_float_key(p->z));
 }
 
-__kernel void kdtree_keys(__global const PclPhoton* photons, __global const uint* sub, uint n,
-                          __global const uint* bounds, uint levelFirst, uint levelCount,
-                          __global ulong* keys, __global uint* values) {
+/* Ranks: rank_a[i] = position of photon i when the map is ordered by (coordinate key on axis
+ * a, photon index) — one stable radix sort per axis, once. Ordering a subtree by rank is
+ * ordering it by (key, index), in rankBits = ⌈log2 n⌉ bits instead of 32 + a tie rule. */
+__kernel void kdtree_rank_keys(__global const PclPhoton* photons, uint n, uint axis, __global uint* keys,
+                               __global uint* values) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= n) return;
+    keys[i] = kd_float_key(kd_coord(photons + i, axis));
+    values[i] = i;
+}
+
+__kernel void kdtree_rank_scatter(__global const uint* values, uint n, uint axis, __global uint* ranks) {
+    const uint k = (uint)get_global_id(0);
+    if (k >= n) return;
+    ranks[(size_t)axis * n + values[k]] = k;
+}
+
+/* Keys of 32 bits while rankBits + level bits fit, else 64 (-DPCL_KD_KEY64=1). */
+#ifndef PCL_KD_KEY64
+#define PCL_KD_KEY64 0
+#endif
+#if PCL_KD_KEY64
+typedef ulong kd_key;
+#else
+typedef uint kd_key;
+#endif
+
+/* ranks: axis-major, ranks[a*n + i]. */
+__kernel void kdtree_keys(__global const uint* ranks, __global const uint* sub, uint n,
+                          __global const uint* bounds, uint levelFirst, uint levelCount, uint rankBits,
+                          __global kd_key* keys, __global uint* values) {
     const uint i = (uint)get_global_id(0);
     if (i >= n) return;
     const uint h = sub[i];
-    ulong key;
+    kd_key key;
     if (h == PCL_KD_DONE) {
-        key = (ulong)levelCount << 32;
+        key = (kd_key)levelCount << rankBits;
     } else {
         const uint axis = kd_axis(bounds, h);
-        key = (ulong)(h - levelFirst) << 32 | (ulong)kd_float_key(kd_coord(photons + i, axis));
+        key = (kd_key)(h - levelFirst) << rankBits | (kd_key)ranks[(size_t)axis * n + i];
     }
     keys[i] = key;
     values[i] = i;
 }
 
-__kernel void kdtree_segments(__global const ulong* keys, uint n, uint levelCount,
+__kernel void kdtree_segments(__global const kd_key* keys, uint n, uint levelCount, uint rankBits,
                               __global uint* segStart, __global uint* segEnd) {
     const uint k = (uint)get_global_id(0);
     if (k >= n) return;
-    const uint rel = (uint)(keys[k] >> 32);
+    const uint rel = (uint)(keys[k] >> rankBits);
     if (rel >= levelCount) return;
-    if (k == 0u || (uint)(keys[k - 1u] >> 32) != rel) segStart[rel] = k;
-    if (k == n - 1u || (uint)(keys[k + 1u] >> 32) != rel) segEnd[rel] = k + 1u;
+    if (k == 0u || (uint)(keys[k - 1u] >> rankBits) != rel) segStart[rel] = k;
+    if (k == n - 1u || (uint)(keys[k + 1u] >> rankBits) != rel) segEnd[rel] = k + 1u;
 }
 
-__kernel void kdtree_assign(__global const PclPhoton* photons, __global const ulong* keys,
-                            __global const uint* values, uint n, uint levelFirst, uint levelCount,
+__kernel void kdtree_assign(__global const PclPhoton* photons, __global const kd_key* keys,
+                            __global const uint* values, uint n, uint levelFirst, uint levelCount, uint rankBits,
                             __global const uint* segStart, __global const uint* segEnd,
                             __global const uint* bounds, __global uint* sub, __global PclPhoton* tree,
                             __global uint* index) {
     const uint k = (uint)get_global_id(0);
     if (k >= n) return;
-    const uint rel = (uint)(keys[k] >> 32);
+    const uint rel = (uint)(keys[k] >> rankBits);
     if (rel >= levelCount) return;
     const uint h = levelFirst + rel;
     const uint start = segStart[rel];

@@ -49,21 +49,38 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     auto init = device.kernel<cl_uint, cl::Buffer>(stage, "kdtree_init", opts);
     auto boundsInit = device.kernel<cl::Buffer, cl_uint, cl_uint>(stage, "kdtree_bounds_init", opts);
     auto bounds = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_bounds", opts);
-    auto keysK = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(
-        stage, "kdtree_keys", opts);
-    auto segments = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_segments", opts);
+    auto rankKeys = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_rank_keys", opts);
+    auto rankScatter = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer>(stage, "kdtree_rank_scatter", opts);
+    // Per key width (0: 32-bit keys, 1: 64-bit): keys, segments, assign.
+    using KeysKernel = cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl_uint,
+                                         cl::Buffer, cl::Buffer>;
+    using SegmentsKernel = cl::KernelFunctor<cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer>;
+    using AssignKernel = cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint,
+                                           cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>;
+    std::vector<KeysKernel> keysK;
+    std::vector<SegmentsKernel> segments;
+    std::vector<AssignKernel> assign;
+    for (const char* width : {" -DPCL_KD_KEY64=0", " -DPCL_KD_KEY64=1"}) {
+        const std::string o = opts + width;
+        keysK.push_back(device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl_uint,
+                                      cl::Buffer, cl::Buffer>(stage, "kdtree_keys", o));
+        segments.push_back(
+            device.kernel<cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_segments", o));
+        assign.push_back(device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint,
+                                       cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+            stage, "kdtree_assign", o));
+    }
     auto finish = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer,
                                 cl::Buffer>(stage, "kdtree_finish", opts);
-    auto assign = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_assign", opts);
 
     cl::Buffer sub = device.allocate<uint32_t>(n);
-    cl::Buffer keys = device.allocate<uint64_t>(n);
+    cl::Buffer keys = device.allocate<uint64_t>(n);  // 32- or 64-bit keys, per level
     cl::Buffer values = device.allocate<uint32_t>(n);
+    cl::Buffer ranks = device.allocate<uint32_t>(3 * n);
     cl::Buffer boxes = device.allocate<uint32_t>(6 * n);
     cl::Buffer segStart = device.allocate<uint32_t>(n);
     cl::Buffer segEnd = device.allocate<uint32_t>(n);
-    SortWorkspace workspace;
+    SortWorkspace workspace[2];
 
     std::vector<cl::Event> events;
     const cl::NDRange group(kGroup);
@@ -73,21 +90,30 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     events.push_back(device.launchLocal(stage, bounds, range(n), group, photons, sub, N, boxes));
 
     double sortSeconds = 0.0;
+    const int rankBits = bitLength(n - 1);
+    for (cl_uint axis = 0; axis < 3; ++axis) {  // (n = 1 too: its one rank, 0, must be written)
+        events.push_back(device.launchLocal(stage, rankKeys, range(n), group, photons, N, axis, keys, values));
+        sortPairsOnDevice(device, keys, values, n, 32, 0, &sortSeconds, &workspace[0]);
+        events.push_back(device.launchLocal(stage, rankScatter, range(n), group, values, N, axis, ranks));
+    }
     for (uint64_t first = 0; first < n; first = 2 * first + 1) {
         const uint64_t count = std::min<uint64_t>(first + 1, n - first);  // nodes on this level
-        events.push_back(device.launchLocal(stage, keysK, range(n), group, photons, sub, N, boxes, cl_uint(first),
-                                            cl_uint(count), keys, values));
-        sortPairsOnDevice(device, keys, values, n, 64, 32 + bitLength(count), &sortSeconds, &workspace);
-        events.push_back(device.launchLocal(stage, segments, range(n), group, keys, N, cl_uint(count), segStart, segEnd));
+        const int keyBits = rankBits + bitLength(count);
+        const int w = keyBits > 32 ? 1 : 0;
+        events.push_back(device.launchLocal(stage, keysK[w], range(n), group, ranks, sub, N, boxes, cl_uint(first),
+                                            cl_uint(count), cl_uint(rankBits), keys, values));
+        sortPairsOnDevice(device, keys, values, n, w ? 64 : 32, keyBits, &sortSeconds, &workspace[w]);
+        events.push_back(device.launchLocal(stage, segments[w], range(n), group, keys, N, cl_uint(count),
+                                            cl_uint(rankBits), segStart, segEnd));
         ++tree.sortedLevels;
         if (subtreeSize(first, n) <= uint64_t(finishSize)) {  // the leftmost subtree is the level's largest
             events.push_back(device.launchLocal(stage, finish, range(count), group, photons, values, segStart, segEnd,
                                                 cl_uint(first), cl_uint(count), tree.photons, tree.index));
             break;
         }
-        events.push_back(device.launchLocal(stage, assign, range(n), group, photons, keys, values, N, cl_uint(first),
-                                            cl_uint(count), segStart, segEnd, boxes, sub, tree.photons,
-                                            tree.index));
+        events.push_back(device.launchLocal(stage, assign[w], range(n), group, photons, keys, values, N,
+                                            cl_uint(first), cl_uint(count), cl_uint(rankBits), segStart, segEnd, boxes,
+                                            sub, tree.photons, tree.index));
         const uint64_t childFirst = 2 * first + 1;
         if (childFirst >= n) continue;
         const uint64_t childCount = std::min<uint64_t>(2 * count, n - childFirst);
