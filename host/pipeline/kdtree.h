@@ -1,6 +1,10 @@
 // Jensen's left-balanced kd-tree built on the device (kernels/kdtree.cl; kernels/README.md,
-// "Photon maps", kd-tree): level by level, each level one stable 64-bit radix sort of
-// (subtree << 32 | coordinate key) over all photons. The result is the photon array in heap
+// "Photon maps", kd-tree): level by level, each level one radix sort of all photons by
+// (subtree, rank on the subtree's split axis) — the rank being the photon's place in the map
+// ordered by (coordinate key, photon index), from one stable radix sort per axis up front, so
+// the order is the README's (subtree << 32 | coordinate key, stable) in fewer bits; keys are
+// 32-bit while ⌈log2 n⌉ + level bits fit. Once a level's subtrees hold at most finishSize
+// photons, one work-item per subtree finishes it. The result is the photon array in heap
 // order (node h's children at 2h+1, 2h+2) with each node's split axis in bits 27..28 of
 // `packed`, and index[h] = the map position of the photon at node h. The twin is
 // host/reference/kdtree.h; both give the same tree byte for byte.
