@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <random>
 
+#include "pipeline/hashgrid.h"
+#include "pipeline/kdtree.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/projection_map.h"
 #include "reference/camera.h"
@@ -178,6 +180,10 @@ KnnCheckReport checkKnn(Device& device, const Scene& scene, const SceneGeometry&
         for (int a = 0; a < 3; ++a) lo[a] -= rMax, hi[a] += rMax;
         const std::vector<PclKnnQuery> random =
             randomKnnQueries(lo, hi, options.randomQueries, rMax, maxK, options.seed * 7 + 2);
+        // Each structure built once per map, searched for every query set and k.
+        cl::Buffer photons = device.upload(*map);
+        const DeviceKdTree tree = buildKdTree(device, photons, map->size());
+        const DeviceHashGrid grid = buildHashGrid(device, photons, map->size(), hashGridParams(*map, rMax));
         for (const auto& [setName, base] : {std::pair<const char*, const std::vector<PclKnnQuery>*>{"random", &random},
                                             {"surface", &surface}}) {
             t0 = Clock::now();
@@ -193,10 +199,14 @@ KnnCheckReport checkKnn(Device& device, const Scene& scene, const SceneGeometry&
                     row.structure = knnStructureName(s);
                     row.k = k;
                     row.photons = map->size();
-                    const KnnResult r = knnOnDevice(device, *map, s, qs);
-                    row.deviceSeconds = r.searchSeconds;
-                    report.deviceSeconds += r.searchSeconds;
-                    compareKnn(qs, brute, r, row);
+                    const uint32_t maxK = knnMaxK(qs);
+                    cl::Buffer qbuf = device.upload(qs);
+                    DeviceKnnOutput out;
+                    row.deviceSeconds = s == KnnStructure::KdTree
+                                            ? knnSearchKdTree(device, tree, qbuf, qs.size(), maxK, out)
+                                            : knnSearchHashGrid(device, grid, qbuf, qs.size(), maxK, out);
+                    report.deviceSeconds += row.deviceSeconds;
+                    compareKnn(qs, brute, downloadKnn(device, out), row);
                     report.rows.push_back(row);
                 }
         }

@@ -27,7 +27,9 @@ DeviceKnnOutput allocateOutput(Device& device, size_t queryCount, uint32_t maxK)
     return out;
 }
 
-KnnResult download(Device& device, const DeviceKnnOutput& out) {
+}  // namespace
+
+KnnResult downloadKnn(Device& device, const DeviceKnnOutput& out) {
     KnnResult r;
     r.stride = out.stride;
     r.counts = device.download<uint32_t>(out.counts, out.queries);
@@ -36,6 +38,8 @@ KnnResult download(Device& device, const DeviceKnnOutput& out) {
     r.radius2 = device.download<float>(out.radius2, out.queries);
     return r;
 }
+
+namespace {
 
 double seconds(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -111,7 +115,7 @@ KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNo
     cl::Buffer q = device.upload(queries);
     DeviceKnnOutput out;
     const double search = knnSearchKdTree(device, tree, q, queries.size(), maxK, out);
-    KnnResult r = download(device, out);
+    KnnResult r = downloadKnn(device, out);
     r.searchSeconds = search;
     r.buildSeconds = build;
     return r;
@@ -134,7 +138,7 @@ KnnResult knnHashGridOnDevice(Device& device, const std::vector<PclPhoton>& map,
     cl::Buffer q = device.upload(queries);
     DeviceKnnOutput out;
     const double search = knnSearchHashGrid(device, grid, q, queries.size(), maxK, out);
-    KnnResult r = download(device, out);
+    KnnResult r = downloadKnn(device, out);
     r.searchSeconds = search;
     r.buildSeconds = build;
     return r;
@@ -152,7 +156,7 @@ KnnResult knnOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStru
     cl::Buffer q = device.upload(queries);
     DeviceKnnOutput out;
     const double search = knnSearchKdTree(device, tree, q, queries.size(), maxK, out);
-    KnnResult r = download(device, out);
+    KnnResult r = downloadKnn(device, out);
     r.searchSeconds = search;
     r.buildSeconds = build;
     return r;

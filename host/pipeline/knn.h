@@ -54,6 +54,9 @@ double knnSearchKdTree(Device& device, const DeviceKdTree& tree, const cl::Buffe
 double knnSearchHashGrid(Device& device, const DeviceHashGrid& grid, const cl::Buffer& queries, size_t queryCount,
                          uint32_t maxK, DeviceKnnOutput& out);
 
+// The outputs downloaded (searchSeconds and buildSeconds left 0).
+KnnResult downloadKnn(Device& device, const DeviceKnnOutput& out);
+
 // Host-side conveniences: upload, search, download.
 KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNodes,
                             const std::vector<uint32_t>& nodeIndex, const std::vector<PclKnnQuery>& queries);

@@ -180,6 +180,10 @@ TEST(Knn, QueriesWithDifferentKInOneLaunch) {
         EXPECT_EQ(r.stride, brute.stride);
         compareKnn(qs, brute, r, row);
         EXPECT_TRUE(row.passed()) << knnStructureName(s);
+        // The same through knnOnDevice, which builds the structure on the device itself.
+        KnnCheckRow whole;
+        compareKnn(qs, brute, knnOnDevice(test::testDevice(), map, s, qs), whole);
+        EXPECT_TRUE(whole.passed()) << "knnOnDevice " << knnStructureName(s);
     }
 }
 
