@@ -25,7 +25,7 @@ struct SortShape {
 SortShape sortShape(Device& device) {
     SortShape s;
     if (device.info().type & CL_DEVICE_TYPE_GPU) s = SortShape{4, 256, 16};
-    if (const char* e = std::getenv("PHOTONCL_SORT_SHAPE")) {  // experiments: "bits,group,items"
+    if (const char* e = std::getenv("PHOTONCL_SORT_SHAPE")) {  // tests and tuning: "bits,group,items"
         int b = 0;
         unsigned long g = 0, i = 0;
         if (std::sscanf(e, "%d,%lu,%lu", &b, &g, &i) == 3 && b >= 1 && b <= 8 && g >= 1 && i >= 1) {

@@ -91,7 +91,8 @@ void expectValidTree(const std::vector<PclPhoton>& in, const std::vector<PclPhot
     EXPECT_EQ(treeDefect(in, tree, index), "");
 }
 
-// finishSize: as buildKdTree's (-1 the device default; 0 every level by sorting; 5 a mix).
+// finishSize: as buildKdTree's (-1 the device default; 0 every level by sorting; 5 a mix; 32 the
+// GPU default).
 void expectDeviceEqualsTwin(const std::vector<PclPhoton>& in, const char* what, bool validate = true,
                             int finishSize = -1) {
     SCOPED_TRACE(what);
@@ -145,7 +146,7 @@ TEST(KdTree, RandomPointsMatchTwin) {
     for (size_t n : {2, 3, 4, 5, 7, 8, 9, 100, 255, 256, 257, 4097, 50000}) {
         std::vector<PclPhoton> in;
         for (size_t i = 0; i < n; ++i) in.push_back(photonAt(u(rng), 0.3f * u(rng), 2.0f * u(rng), uint32_t(i)));
-        for (int finish : {-1, 0, 5}) expectDeviceEqualsTwin(in, ("random n = " + std::to_string(n)).c_str(), true, finish);
+        for (int finish : {-1, 0, 5, 32}) expectDeviceEqualsTwin(in, ("random n = " + std::to_string(n)).c_str(), true, finish);
     }
     // Coarse coordinates: many ties on every axis, broken by the photon index.
     std::vector<PclPhoton> in;

@@ -11,6 +11,8 @@
 #include <numeric>
 #include <random>
 
+#include <stdlib.h>
+
 #include "device_fixture.h"
 #include "pipeline/sort.h"
 #include "reference/sort.h"
@@ -104,6 +106,24 @@ TEST(Sort, SortBitsIgnoresHigherBits) {
     for (int bits : {1, 5, 36, 47})
         for (Pattern p : {Pattern::Random, Pattern::FewDistinct}) expectSortMatches<uint64_t>(70001, p, 7 + bits, bits);
     for (int bits : {3, 20}) expectSortMatches<uint32_t>(70001, Pattern::Random, 11 + bits, bits);
+}
+
+// The pass shape (digit bits, work-items and keys per work-item; pipeline/sort.cpp picks one per
+// device type) changes nothing in the result: the GPU's shape and an odd one, run here on the
+// CPU device through PHOTONCL_SORT_SHAPE.
+TEST(Sort, OtherPassShapesGiveTheSameOrder) {
+    for (const char* shape : {"4,256,16", "3,5,7"}) {
+        SCOPED_TRACE(shape);
+        ::setenv("PHOTONCL_SORT_SHAPE", shape, 1);
+        uint32_t seed = 500;
+        for (size_t n : {size_t(3), size_t(1000), size_t(70001)})
+            for (Pattern p : {Pattern::Random, Pattern::FewDistinct}) {
+                expectSortMatches<uint32_t>(n, p, seed++);
+                expectSortMatches<uint64_t>(n, p, seed++);
+            }
+        expectSortMatches<uint64_t>(70001, Pattern::Random, seed++, 37);
+        ::unsetenv("PHOTONCL_SORT_SHAPE");
+    }
 }
 
 TEST(Sort, TenMillionRandomKeys32) { expectSortMatches<uint32_t>(10000000, Pattern::Random, 12345); }
