@@ -1,8 +1,10 @@
 /* knn.cl: the k nearest photons of each query (kernels/README.md, "Photon maps", knn; Jensen
  * 2001 §6.3, "locate photons" with a bounded max-heap), one query per work-item.
  *
- * knn_kdtree    in:  nodes[n] (photons in left-balanced heap order, split axis in bits 27..28
- *                    of packed), nodeIndex[n] (each node's photon index in the map), queries
+ * knn_pack_kdtree  in: nodes[n] (photons in left-balanced heap order, split axis in bits 27..28
+ *                    of packed), nodeIndex[n] (each node's photon index in the map)
+ *                    out: packed[n] = (x, y, z, index | axis << 30): the search's node array
+ * knn_kdtree    in:  packed nodes[n], queries
  * knn_hashgrid  in:  grid params, points[n] (float4 x, y, z, photon index bits, in (hash, index)
  *                    order), cellStart/cellEnd[tableSize], queries
  * out (both):   counts[q] ≤ k, indices[q·stride + j] and dist2[q·stride + j] for j < count in
@@ -114,26 +116,35 @@ inline float knn_dist2(float px, float py, float pz, float qx, float qy, float q
     return dx * dx + dy * dy + dz * dz;
 }
 
-__kernel void knn_kdtree(__global const PclPhoton* nodes, __global const uint* nodeIndex, uint n,
-                         __global const PclKnnQuery* queries, uint queryCount, uint stride,
-                         __global uint* counts, __global uint* indices, __global float* dist2,
+/* kd-tree nodes packed for the search: (x, y, z, photon index | axis << 30 as bits of w), one
+ * 16-byte load per visited node. */
+__kernel void knn_pack_kdtree(__global const PclPhoton* nodes, __global const uint* nodeIndex, uint n,
+                              __global float4* packed) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= n) return;
+    const PclPhoton p = nodes[i];
+    const uint axis = (p.packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT;
+    packed[i] = (float4)(p.x, p.y, p.z, as_float(nodeIndex[i] | (axis << 30)));
+}
+
+__kernel void knn_kdtree(__global const float4* nodes, uint n, __global const PclKnnQuery* queries, uint queryCount,
+                         uint stride, __global uint* counts, __global uint* indices, __global float* dist2,
                          __global float* radius2) {
     const uint qi = (uint)get_global_id(0);
     if (qi >= queryCount) return;
     const PclKnnQuery q = queries[qi];
     KnnHeap h;
     knn_init(&h, q);
-    const float qp[3] = {q.x, q.y, q.z};
     uint stackNode[PCL_KNN_STACK];
     float stackD[PCL_KNN_STACK];
     uint sp = 0u;
     uint node = (n > 0u && h.k > 0u) ? 0u : n;
     for (;;) {
         while (node < n) {
-            __global const PclPhoton* p = nodes + node;
-            const uint axis = (p->packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT;
-            const float split = axis == 0u ? p->x : (axis == 1u ? p->y : p->z);
-            const float diff = qp[axis] - split;
+            const float4 p = nodes[node];
+            const uint w = as_uint(p.w);
+            const uint axis = w >> 30;
+            const float diff = axis == 0u ? q.x - p.x : (axis == 1u ? q.y - p.y : q.z - p.z);
             const uint left = 2u * node + 1u;
             const uint nearChild = diff < 0.0f ? left : left + 1u;
             const uint farChild = diff < 0.0f ? left + 1u : left;
@@ -143,8 +154,8 @@ __kernel void knn_kdtree(__global const PclPhoton* nodes, __global const uint* n
                 stackD[sp] = planeD2;
                 ++sp;
             }
-            const float d = knn_dist2(p->x, p->y, p->z, q.x, q.y, q.z);
-            if (d <= knn_bound(&h)) knn_offer(&h, d, nodeIndex[node]);  /* the index is read only for candidates */
+            const float d = knn_dist2(p.x, p.y, p.z, q.x, q.y, q.z);
+            if (d <= knn_bound(&h)) knn_offer(&h, d, w & 0x3FFFFFFFu);
             node = nearChild;
         }
         node = n;

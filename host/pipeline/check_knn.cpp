@@ -182,7 +182,7 @@ KnnCheckReport checkKnn(Device& device, const Scene& scene, const SceneGeometry&
             randomKnnQueries(lo, hi, options.randomQueries, rMax, maxK, options.seed * 7 + 2);
         // Each structure built once per map, searched for every query set and k.
         cl::Buffer photons = device.upload(*map);
-        const DeviceKdTree tree = buildKdTree(device, photons, map->size());
+        const KnnKdTree tree = packKdTree(device, buildKdTree(device, photons, map->size()));
         const DeviceHashGrid grid = buildHashGrid(device, photons, map->size(), hashGridParams(*map, rMax));
         for (const auto& [setName, base] : {std::pair<const char*, const std::vector<PclKnnQuery>*>{"random", &random},
                                             {"surface", &surface}}) {

@@ -73,15 +73,27 @@ uint32_t knnMaxK(const std::vector<PclKnnQuery>& queries) {
     return maxK;
 }
 
-double knnSearchKdTree(Device& device, const DeviceKdTree& tree, const cl::Buffer& queries, size_t queryCount,
+KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree) {
+    if (tree.count >= (size_t(1) << 30))
+        throw InputError("knn: a kd-tree of " + std::to_string(tree.count) + " photons exceeds the 2^30 of the packed index");
+    KnnKdTree packed;
+    packed.count = tree.count;
+    packed.nodes = device.allocate<cl_float4>(tree.count);
+    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>("knn", "knn_pack_kdtree", capOption(1));
+    device.launchLocal("knn", k, knnGlobalRange(tree.count), cl::NDRange(kKnnGroup), tree.photons, tree.index,
+                       cl_uint(tree.count), packed.nodes);
+    return packed;
+}
+
+double knnSearchKdTree(Device& device, const KnnKdTree& tree, const cl::Buffer& queries, size_t queryCount,
                        uint32_t maxK, DeviceKnnOutput& out) {
     out = allocateOutput(device, queryCount, maxK);
     if (queryCount == 0) return 0.0;
-    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer,
-                           cl::Buffer, cl::Buffer>("knn", "knn_kdtree", capOption(maxK));
-    cl::Event e = device.launchLocal("knn", k, knnGlobalRange(queryCount), cl::NDRange(kKnnGroup), tree.photons,
-                                     tree.index, cl_uint(tree.count), queries, cl_uint(queryCount), cl_uint(maxK),
-                                     out.counts, out.indices, out.dist2, out.radius2);
+    auto k = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer,
+                           cl::Buffer>("knn", "knn_kdtree", capOption(maxK));
+    cl::Event e = device.launchLocal("knn", k, knnGlobalRange(queryCount), cl::NDRange(kKnnGroup), tree.nodes,
+                                     cl_uint(tree.count), queries, cl_uint(queryCount), cl_uint(maxK), out.counts,
+                                     out.indices, out.dist2, out.radius2);
     e.wait();
     return Device::elapsedSeconds(e);
 }
@@ -106,10 +118,11 @@ KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNo
                          std::to_string(nodeIndex.size()) + " photon indices");
     const uint32_t maxK = knnMaxK(queries);
     const auto t0 = std::chrono::steady_clock::now();
-    DeviceKdTree tree;
-    tree.photons = device.upload(heapNodes);
-    tree.index = device.upload(nodeIndex);
-    tree.count = heapNodes.size();
+    DeviceKdTree built;
+    built.photons = device.upload(heapNodes);
+    built.index = device.upload(nodeIndex);
+    built.count = heapNodes.size();
+    const KnnKdTree tree = packKdTree(device, built);
     device.finish();
     const double build = seconds(t0);
     cl::Buffer q = device.upload(queries);
@@ -150,7 +163,7 @@ KnnResult knnOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStru
     const uint32_t maxK = knnMaxK(queries);
     const auto t0 = std::chrono::steady_clock::now();
     cl::Buffer photons = device.upload(map);
-    const DeviceKdTree tree = buildKdTree(device, photons, map.size());
+    const KnnKdTree tree = packKdTree(device, buildKdTree(device, photons, map.size()));
     device.finish();
     const double build = seconds(t0);
     cl::Buffer q = device.upload(queries);

@@ -41,15 +41,24 @@ struct DeviceKnnOutput {
     size_t queries = 0;
 };
 
+// A kd-tree ready for the search: buildKdTree's nodes packed as float4 (x, y, z, photon index
+// | split axis << 30 as the bits of w), one load per visited node (knn_pack_kdtree).
+struct KnnKdTree {
+    cl::Buffer nodes;
+    size_t count = 0;
+};
+// InputError for trees of 2^30 photons or more (the index field).
+KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree);
+
 // Heap capacity the kernel is specialised for (-DPCL_KNN_CAP): the smallest of 8, 32, 64, 128,
 // 256, 500 holding maxK. InputError outside 1..PCL_KNN_MAX_K.
 uint32_t knnHeapCapacity(uint32_t maxK);
 
 // The searches on structures and queries already on the device (the kd-tree from
-// pipeline/kdtree's buildKdTree: photons in heap order, index[h] = node h's photon index); `out` is allocated for
+// pipeline/kdtree's buildKdTree, packed); `out` is allocated for
 // queryCount × maxK. Return the kernel's device seconds. The hash-grid search needs every
 // query's radius ≤ cellSize / 2 (the caller checks; knnHashGridOnDevice does).
-double knnSearchKdTree(Device& device, const DeviceKdTree& tree, const cl::Buffer& queries, size_t queryCount,
+double knnSearchKdTree(Device& device, const KnnKdTree& tree, const cl::Buffer& queries, size_t queryCount,
                        uint32_t maxK, DeviceKnnOutput& out);
 double knnSearchHashGrid(Device& device, const DeviceHashGrid& grid, const cl::Buffer& queries, size_t queryCount,
                          uint32_t maxK, DeviceKnnOutput& out);

@@ -132,9 +132,9 @@ void BM_DeviceKnn(benchmark::State& state, std::string name, KnnStructure s, uin
     const std::vector<PclKnnQuery> qs = queries(name, k);
     cl::Buffer photons = dev.upload(d.photons);
     cl::Buffer qbuf = dev.upload(qs);
-    DeviceKdTree tree;
+    KnnKdTree tree;
     DeviceHashGrid grid;
-    if (s == KnnStructure::KdTree) tree = buildKdTree(dev, photons, d.photons.size());
+    if (s == KnnStructure::KdTree) tree = packKdTree(dev, buildKdTree(dev, photons, d.photons.size()));
     else grid = buildHashGrid(dev, photons, d.photons.size(), hashGridParams(d.photons, radiusFor(name, k)));
     DeviceKnnOutput out;
     // Warm-up: the program build for this heap capacity.
