@@ -8,17 +8,21 @@ quick=0
 [ "${1:-}" = "--quick" ] && quick=1
 jobs=$(nproc 2>/dev/null || echo 2)
 [ -f build/build.ninja ] || cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j "$jobs" --target bvh_bench photon_pass_bench >&2
+cmake --build build -j "$jobs" --target bvh_bench photon_pass_bench sort_bench knn_bench >&2
 out=build/bench
 mkdir -p "$out"
 filter=()
-[ $quick -eq 1 ] && filter=(--benchmark_filter='cornell')
-for prog in bvh_bench photon_pass_bench; do
+# --quick: the small scenes and sizes only (a minute or two).
+[ $quick -eq 1 ] && filter=(--benchmark_filter='cornell|/1048576|/box/k50')
+programs=(bvh_bench photon_pass_bench sort_bench knn_bench)
+jsons=()
+for prog in "${programs[@]}"; do
   echo "bench: running $prog" >&2
   "build/tests/bench/$prog" "${filter[@]}" --benchmark_format=console \
       --benchmark_out="$out/$prog.json.tmp" --benchmark_out_format=json >&2
   mv "$out/$prog.json.tmp" "$out/$prog.json"
+  jsons+=("$out/$prog.json")
 done
-python3 scripts/bench_table.py "$out"/bvh_bench.json "$out"/photon_pass_bench.json > "$out/bench.md.tmp"
+python3 scripts/bench_table.py "${jsons[@]}" > "$out/bench.md.tmp"
 mv "$out/bench.md.tmp" "$out/bench.md"
 cat "$out/bench.md"

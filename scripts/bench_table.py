@@ -1,53 +1,61 @@
 #!/usr/bin/env python3
 """Turns Google Benchmark JSON files from scripts/bench.sh into one Markdown table of ratios.
 
-Pairs, by scene: traversal kernel vs Embree rtcIntersect1 and vs the host traversal (rays per
-CPU second of the process), photon pass on the device vs the CPU twin (paths per wall second,
-both on all cores), and the BVH build figures of the 1M-triangle mesh.
+Each row pairs a photoncl benchmark with its peer measured in the same run, with the same
+suffix (scene, size, k): traversal kernel vs Embree rtcIntersect1 and vs the host BVH (rays per
+CPU second), photon pass on the device vs the CPU twin (paths per wall second, both on all
+cores), device radix sort vs __gnu_parallel::sort, kd-tree build device vs twin, kNN on the
+device kd-tree and hash grid vs nanoflann on all cores.
 """
 import json
+import re
 import sys
 
+# (photoncl prefix, peer prefix, counter, what is compared)
+PAIRS = [
+    ("KernelClosest/", "EmbreeClosest/", "rays_per_s", "traversal kernel vs Embree rtcIntersect1, rays/CPU-s"),
+    ("KernelClosest/", "HostClosest/", "rays_per_s", "traversal kernel vs host BVH traversal, rays/CPU-s"),
+    ("Device/", "Twin/", "paths_per_wall_s", "photon pass, device vs CPU twin, paths/s"),
+    ("Sort/Device/", "Sort/StdPar/", "keys_per_s", "radix sort vs __gnu_parallel::sort, keys/s"),
+    ("KdTree/Device/", "KdTree/Twin/", "photons_per_s", "kd-tree build, device vs twin, photons/s"),
+    ("KdTree/", "Nanoflann/", "queries_per_s", "kNN, device kd-tree vs nanoflann, queries/s"),
+    ("HashGrid/", "Nanoflann/", "queries_per_s", "kNN, device hash grid vs nanoflann, queries/s"),
+]
 
-def load(paths):
-    rows = {}
-    context = {}
-    for p in paths:
-        with open(p) as f:
-            data = json.load(f)
-        context = data.get("context", context)
-        for b in data["benchmarks"]:
-            rows[b["name"].split("/process_time")[0].split("/iterations")[0].split("/min_time")[0]] = b
-    return rows, context
+
+def name_of(bench):
+    # Drop Google Benchmark's decorations: /iterations:3, /manual_time, /process_time, /min_time:2.
+    return re.sub(r"/(iterations:\d+|manual_time|process_time|real_time|min_time:[\d.]+)", "", bench["name"])
 
 
 def main():
-    rows, context = load(sys.argv[1:])
+    rows, context = {}, {}
+    for path in sys.argv[1:]:
+        with open(path) as f:
+            data = json.load(f)
+        context = data.get("context", context)
+        for b in data["benchmarks"]:
+            if b.get("run_type", "iteration") == "iteration":
+                rows[name_of(b)] = b
     print(f"Benchmarks on {context.get('host_name', '?')}, {context.get('num_cpus', '?')} CPUs, "
           f"{context.get('date', '')}\n")
-    print("| comparison | scene | photoncl | peer | ratio |")
+    print("| comparison | case | photoncl | peer | ratio |")
     print("|---|---|---:|---:|---:|")
-    scenes = sorted({n.split("/", 1)[1] for n in rows if "/" in n})
-    for s in scenes:
-        k = rows.get(f"KernelClosest/{s}")
-        e = rows.get(f"EmbreeClosest/{s}")
-        h = rows.get(f"HostClosest/{s}")
-        if k and e:
-            print(f"| traversal kernel (PoCL) vs Embree rtcIntersect1, rays/CPU-s | {s} | "
-                  f"{k['rays_per_s']:.3g} | {e['rays_per_s']:.3g} | {k['rays_per_s'] / e['rays_per_s']:.2f}x |")
-        if k and h:
-            print(f"| traversal kernel (PoCL) vs host BVH traversal, rays/CPU-s | {s} | "
-                  f"{k['rays_per_s']:.3g} | {h['rays_per_s']:.3g} | {k['rays_per_s'] / h['rays_per_s']:.2f}x |")
-        d = rows.get(f"Device/{s}")
-        t = rows.get(f"Twin/{s}")
-        if d and t:
-            print(f"| photon pass on the device (PoCL) vs CPU twin, paths/wall-s | {s} | "
-                  f"{d['paths_per_wall_s']:.3g} | {t['paths_per_wall_s']:.3g} | "
-                  f"{d['paths_per_wall_s'] / t['paths_per_wall_s']:.2f}x |")
-    b = rows.get("Build/mesh1M")
-    if b:
-        print(f"\nBVH of the 1M-triangle mesh: build {b['build_s']:.2f} s, SAH cost {b['sah']:.1f}, "
-              f"{b['bytes_per_tri']:.1f} bytes/triangle (nodes + packets), depth {b['depth']:.0f}")
+    for ours, peer, counter, what in PAIRS:
+        for name in sorted(rows):
+            if not name.startswith(ours) or name.startswith(peer):
+                continue
+            suffix = name[len(ours):]
+            other = rows.get(peer + suffix)
+            mine = rows[name]
+            if other is None or counter not in mine or counter not in other or not other[counter]:
+                continue
+            print(f"| {what} | {suffix} | {mine[counter]:.3g} | {other[counter]:.3g} | "
+                  f"{mine[counter] / other[counter]:.2f}x |")
+    build = rows.get("Build/mesh1M")
+    if build:
+        print(f"\nBVH of the 1M-triangle mesh: build {build['build_s']:.2f} s, SAH cost {build['sah']:.1f}, "
+              f"{build['bytes_per_tri']:.1f} bytes/triangle (nodes + packets), depth {build['depth']:.0f}")
 
 
 if __name__ == "__main__":
