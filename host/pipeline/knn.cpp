@@ -27,6 +27,10 @@ DeviceKnnOutput allocateOutput(Device& device, size_t queryCount, uint32_t maxK)
     return out;
 }
 
+double seconds(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 }  // namespace
 
 KnnResult downloadKnn(Device& device, const DeviceKnnOutput& out) {
@@ -38,15 +42,6 @@ KnnResult downloadKnn(Device& device, const DeviceKnnOutput& out) {
     r.radius2 = device.download<float>(out.radius2, out.queries);
     return r;
 }
-
-namespace {
-
-double seconds(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-
-}  // namespace
 
 const char* knnStructureName(KnnStructure s) { return s == KnnStructure::KdTree ? "kd-tree" : "hash grid"; }
 
@@ -79,6 +74,7 @@ KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree) {
     KnnKdTree packed;
     packed.count = tree.count;
     packed.nodes = device.allocate<cl_float4>(tree.count);
+    // Any specialisation holds the packing kernel: the smallest one.
     auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>("knn", "knn_pack_kdtree", capOption(1));
     device.launchLocal("knn", k, knnGlobalRange(tree.count), cl::NDRange(kKnnGroup), tree.photons, tree.index,
                        cl_uint(tree.count), packed.nodes);
