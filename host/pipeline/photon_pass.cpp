@@ -60,9 +60,12 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
         DepositTiming timing;
         depositPhotons(device, counts, slots, params.batchSize, slotsPerPath, map, &timing);
         tallyEnds(device.download<uint32_t>(ends, params.batchSize), s);
-        stats.emitSeconds += Device::elapsedSeconds(emitted);
-        stats.traceSeconds += Device::elapsedSeconds(traced);
-        stats.depositSeconds += timing.scanSeconds + timing.growSeconds + timing.scatterSeconds;
+        const double emitS = Device::elapsedSeconds(emitted), traceS = Device::elapsedSeconds(traced);
+        const double depositS = timing.scanSeconds + timing.growSeconds + timing.scatterSeconds;
+        stats.emitSeconds += emitS;
+        stats.traceSeconds += traceS;
+        stats.depositSeconds += depositS;
+        stats.longestLaunchSeconds = std::max({stats.longestLaunchSeconds, emitS, traceS, depositS});
         s.emitted += params.batchSize;
         ++s.batches;
     }
@@ -86,8 +89,8 @@ std::string PhotonPassStats::summary() const {
                       (unsigned long long)s.maxDepth, s.emittedFlux[0], s.emittedFlux[1], s.emittedFlux[2]);
         return std::string(l);
     };
-    std::snprintf(buf, sizeof buf, "device seconds: emit %.4f, trace %.4f, deposit %.4f; wall %.4f s\n", emitSeconds,
-                  traceSeconds, depositSeconds, wallSeconds);
+    std::snprintf(buf, sizeof buf, "device seconds: emit %.4f, trace %.4f, deposit %.4f; longest launch %.4f; wall %.4f s\n",
+                  emitSeconds, traceSeconds, depositSeconds, longestLaunchSeconds, wallSeconds);
     return line("global", global) + line("caustic", caustic) + buf;
 }
 

@@ -44,6 +44,9 @@ struct PhotonPassStats {
     PhotonPassKindStats global, caustic;
     double emitSeconds = 0, traceSeconds = 0, depositSeconds = 0;  // device time (event profiling)
     double wallSeconds = 0;
+    // The longest single launch (emit, trace, or a batch's deposit launches together): batches
+    // are sized so it stays far below a GPU watchdog's limit (issue 4: < 0.5 s at 10M photons).
+    double longestLaunchSeconds = 0;
     std::string summary() const;  // a few lines for logs
 };
 
