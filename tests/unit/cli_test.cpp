@@ -2,37 +2,20 @@
 // outputs written whole or not at all. Runs the real photoncl binary.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "image/image_io.h"
 #include "image/metrics.h"
+#include "run_photoncl.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-    int status = -1;
-    std::string output;  // stdout and stderr together
-};
-
-Result run(const std::string& args) {
-    std::string cmd = std::string(PHOTONCL_BINARY) + " " + args + " 2>&1";
-    Result r;
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf;
-    while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.output.append(buf.data(), n);
-    int raw = pclose(pipe);
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return r;
-}
+using photoncl_cli::Result;
+using photoncl_cli::run;
 
 std::string scene(const std::string& name) { return std::string(PHOTONCL_SOURCE_DIR) + "/scenes/" + name; }
 

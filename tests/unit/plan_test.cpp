@@ -3,14 +3,12 @@
 // `photoncl analyze` command.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 #include "pipeline/plan.h"
+#include "run_photoncl.h"
 #include "scene/load_scene.h"
 
 namespace pcl {
@@ -338,22 +336,8 @@ TEST(PlanFormat, PrintsEveryPathAndOneReasonPerDecision) {
 
 // ---- photoncl analyze ------------------------------------------------------------------------
 
-struct Result {
-    int status = -1;
-    std::string output;
-};
-
-Result run(const std::string& args) {
-    std::string cmd = std::string(PHOTONCL_BINARY) + " " + args + " 2>&1";
-    Result r;
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return r;
-    std::array<char, 4096> buf;
-    while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.output.append(buf.data(), n);
-    int raw = pclose(pipe);
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return r;
-}
+using photoncl_cli::Result;
+using photoncl_cli::run;
 
 TEST(AnalyzeCommand, PrintsThePlanOfCornellSpheres) {
     Result r = run("analyze " + scenePath("cornell-spheres.json"));
