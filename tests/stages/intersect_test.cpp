@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <random>
 
+#include "common/test_scenes.h"
 #include "device_fixture.h"
 #include "pipeline/check_intersect.h"
 #include "pipeline/intersect.h"
@@ -17,6 +18,9 @@
 
 namespace pcl {
 namespace {
+
+using test_scenes::randomSoup;
+using test_scenes::shippedSceneFiles;
 
 constexpr size_t kRays = 100000;
 
@@ -35,26 +39,11 @@ void expectKernelMatchesHost(const Scene& scene, const char* name, uint64_t seed
     EXPECT_GT(hits, kRays / 10) << name << ": too few hits for the check to mean much";
 }
 
-TriangleMesh soup(size_t n, uint32_t seed, float size, Vec3 motion) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    TriangleMesh m;
-    m.motion = motion;
-    for (size_t i = 0; i < n; ++i) {
-        Vec3 c(u(rng), u(rng), u(rng));
-        for (int k = 0; k < 3; ++k) {
-            m.positions.push_back(c + Vec3(u(rng), u(rng), u(rng)) * size);
-            m.indices.push_back(static_cast<uint32_t>(m.positions.size() - 1));
-        }
-    }
-    return m;
-}
-
 // Triangles and spheres, some of each moving, seen by a camera from outside.
 Scene syntheticScene() {
     Scene s;
-    s.meshes.push_back(soup(4000, 1, 0.12f, Vec3(0.0f)));
-    s.meshes.push_back(soup(1000, 2, 0.1f, Vec3(0.3f, 0.0f, -0.2f)));
+    s.meshes.push_back(randomSoup(4000, 1, 0.12f));
+    s.meshes.push_back(randomSoup(1000, 2, 0.1f, Vec3(0.3f, 0.0f, -0.2f)));
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     for (int i = 0; i < 300; ++i) {
@@ -101,23 +90,8 @@ TEST(Intersect, ChunkedLaunchCoversEveryRay) {
     EXPECT_EQ(wrong, 0u);
 }
 
-// Every shipped scene file: JSON, and glTF where the build can load it.
-bool isSceneFile(const std::filesystem::path& p) {
-    if (p.extension() == ".json") return true;
-#ifdef PHOTONCL_HAVE_GLTF
-    if (p.extension() == ".gltf" || p.extension() == ".glb") return true;
-#endif
-    return false;
-}
-
 TEST(Intersect, KernelMatchesHostOnShippedScenes) {
-    namespace fs = std::filesystem;
-    fs::path dir = fs::path(PHOTONCL_SOURCE_DIR) / "scenes";
-    std::vector<fs::path> files;
-    if (fs::is_directory(dir))
-        for (const auto& e : fs::directory_iterator(dir))
-            if (isSceneFile(e.path())) files.push_back(e.path());
-    std::sort(files.begin(), files.end());
+    std::vector<std::filesystem::path> files = shippedSceneFiles();
     if (files.empty()) GTEST_SKIP() << "no scenes shipped yet";
     uint64_t seed = 100;
     for (const auto& path : files)

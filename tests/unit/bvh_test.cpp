@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "../bench/bench_meshes.h"
+#include "common/test_scenes.h"
 #include "geometry/primitive_intersect.h"
 #include "geometry/scene_geometry.h"
 #if __has_include("scene/load_scene.h")
@@ -21,6 +22,9 @@
 
 namespace pcl {
 namespace {
+
+using test_scenes::randomSoup;
+using test_scenes::shippedSceneFiles;
 
 constexpr size_t kRays = 100000;
 constexpr float kRelT = 1e-5f;
@@ -200,21 +204,6 @@ void expectValidTree(const Scene& scene, const SceneGeometry& g) {
     for (size_t p = 0; p < seen.size(); ++p) ASSERT_EQ(seen[p], 1) << "primitive " << p;
 }
 
-TriangleMesh randomSoup(size_t n, uint32_t seed, float size, Vec3 motion = Vec3(0.0f)) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-    TriangleMesh m;
-    m.motion = motion;
-    for (size_t i = 0; i < n; ++i) {
-        Vec3 c(u(rng), u(rng), u(rng));
-        for (int k = 0; k < 3; ++k) {
-            m.positions.push_back(c + Vec3(u(rng), u(rng), u(rng)) * size);
-            m.indices.push_back(static_cast<uint32_t>(m.positions.size() - 1));
-        }
-    }
-    return m;
-}
-
 // A closed, shared-vertex sphere mesh: rays hitting its edges and vertices exercise ties.
 TriangleMesh tessellatedSphere(Vec3 c, float r, int rings, int segments) {
     TriangleMesh m;
@@ -377,23 +366,8 @@ TEST(Bvh, PrimitiveIdsMapBackToTheScene) {
 }
 
 #ifdef PCL_HAVE_LOAD_SCENE
-// Every shipped scene file: JSON, and glTF where the build can load it.
-bool isSceneFile(const std::filesystem::path& p) {
-    if (p.extension() == ".json") return true;
-#ifdef PHOTONCL_HAVE_GLTF
-    if (p.extension() == ".gltf" || p.extension() == ".glb") return true;
-#endif
-    return false;
-}
-
 TEST(Bvh, ShippedScenesMatchBruteForce) {
-    namespace fs = std::filesystem;
-    fs::path dir = fs::path(PHOTONCL_SOURCE_DIR) / "scenes";
-    std::vector<fs::path> files;
-    if (fs::is_directory(dir))
-        for (const auto& e : fs::directory_iterator(dir))
-            if (isSceneFile(e.path())) files.push_back(e.path());
-    std::sort(files.begin(), files.end());
+    std::vector<std::filesystem::path> files = shippedSceneFiles();
     if (files.empty()) GTEST_SKIP() << "no scenes shipped yet";
     size_t scenes = 0;
     for (const auto& path : files) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "common/test_scenes.h"
 #include "pipeline/plan.h"
 #include "run_photoncl.h"
 #include "scene/load_scene.h"
@@ -32,44 +33,14 @@ SceneAnalysis analyzeFile(const std::string& name) {
 
 // ---- Scenes built in code -------------------------------------------------------------------
 
+using test_scenes::addQuad;
+using test_scenes::addSphere;
+using test_scenes::pointLight;
+
+// Materials here have Phong exponent 40.
 int addMaterial(Scene& s, Vec3 rhoD, Vec3 rhoS = Vec3(0.0f), SpecularKind kind = SpecularKind::None,
                 Vec3 emission = Vec3(0.0f)) {
-    Material m;
-    m.name = "m" + std::to_string(s.materials.size());
-    m.rhoD = rhoD;
-    m.rhoS = rhoS;
-    m.specular = kind;
-    m.phongExponent = 40.0f;
-    m.emission = emission;
-    s.materials.push_back(m);
-    return static_cast<int>(s.materials.size()) - 1;
-}
-
-int addQuad(Scene& s, Vec3 corner, Vec3 u, Vec3 v, int material, Vec3 motion = Vec3(0.0f)) {
-    TriangleMesh m;
-    m.positions = {corner, corner + u, corner + u + v, corner + v};
-    m.indices = {0, 1, 2, 0, 2, 3};
-    m.material = material;
-    m.motion = motion;
-    s.meshes.push_back(m);
-    return static_cast<int>(s.meshes.size()) - 1;
-}
-
-void addSphere(Scene& s, Vec3 c, float r, int material, Vec3 motion = Vec3(0.0f)) {
-    Sphere sp;
-    sp.centre = c;
-    sp.radius = r;
-    sp.material = material;
-    sp.motion = motion;
-    s.spheres.push_back(sp);
-}
-
-Light pointLight(Vec3 p) {
-    Light l;
-    l.type = LightType::Point;
-    l.position = p;
-    l.intensity = Vec3(1.0f);
-    return l;
+    return test_scenes::addMaterial(s, rhoD, rhoS, kind, emission, 40.0f);
 }
 
 // An empty scene with a pinhole camera looking down at the origin from above and in front.

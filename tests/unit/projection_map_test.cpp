@@ -9,6 +9,7 @@
 #include <set>
 #include <string>
 
+#include "common/test_scenes.h"
 #include "pipeline/projection_map.h"
 #include "reference/sampling.h"
 #include "scene/load_scene.h"
@@ -189,37 +190,13 @@ void expectConservative(const std::string& name, const Prepared& p, uint64_t see
 
 // ---- Scenes built in code -----------------------------------------------------------------
 
-int addMaterial(Scene& s, Vec3 rhoD, Vec3 rhoS = Vec3(0.0f), SpecularKind kind = SpecularKind::None,
-                Vec3 emission = Vec3(0.0f)) {
-    Material m;
-    m.name = "m" + std::to_string(s.materials.size());
-    m.rhoD = rhoD;
-    m.rhoS = rhoS;
-    m.specular = kind;
-    m.phongExponent = 50.0f;
-    m.emission = emission;
-    s.materials.push_back(m);
-    return static_cast<int>(s.materials.size()) - 1;
-}
+using test_scenes::addMaterial;  // Phong exponent 50
+using test_scenes::addSphere;
+using test_scenes::pointLight;
 
+// Quads here are named "quad<mesh index>".
 int addQuad(Scene& s, Vec3 corner, Vec3 u, Vec3 v, int material, Vec3 motion = Vec3(0.0f)) {
-    TriangleMesh m;
-    m.name = "quad" + std::to_string(s.meshes.size());
-    m.positions = {corner, corner + u, corner + u + v, corner + v};
-    m.indices = {0, 1, 2, 0, 2, 3};
-    m.material = material;
-    m.motion = motion;
-    s.meshes.push_back(m);
-    return static_cast<int>(s.meshes.size()) - 1;
-}
-
-void addSphere(Scene& s, Vec3 c, float r, int material, Vec3 motion = Vec3(0.0f)) {
-    Sphere sp;
-    sp.centre = c;
-    sp.radius = r;
-    sp.material = material;
-    sp.motion = motion;
-    s.spheres.push_back(sp);
+    return test_scenes::addQuad(s, corner, u, v, material, motion, "quad" + std::to_string(s.meshes.size()));
 }
 
 // A diffuse floor and back wall, a mirror sphere, a glass sphere and (optionally) a glossy quad;
@@ -242,14 +219,6 @@ Scene specularRoom(bool glossyQuad, bool motion) {
     s.camera.lookAt = Vec3(0, 0.5f, 0);
     if (motion) s.camera.shutterClose = 0.02f;
     return s;
-}
-
-Light pointLight(Vec3 p) {
-    Light l;
-    l.type = LightType::Point;
-    l.position = p;
-    l.intensity = Vec3(1.0f);
-    return l;
 }
 
 Light spotLight(Vec3 p, Vec3 dir, float innerDeg, float outerDeg) {

@@ -1,0 +1,97 @@
+// Scenes and scene pieces built in code for the tests (unit and stages), and the list of
+// shipped scene files: no test data to ship or load.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace pcl::test_scenes {
+
+// Every shipped scene file under scenes/, sorted: JSON, and glTF where the build can load it.
+inline std::vector<std::filesystem::path> shippedSceneFiles() {
+    namespace fs = std::filesystem;
+    fs::path dir = fs::path(PHOTONCL_SOURCE_DIR) / "scenes";
+    std::vector<fs::path> files;
+    if (fs::is_directory(dir))
+        for (const auto& e : fs::directory_iterator(dir)) {
+            const fs::path& p = e.path();
+            bool scene = p.extension() == ".json";
+#ifdef PHOTONCL_HAVE_GLTF
+            scene = scene || p.extension() == ".gltf" || p.extension() == ".glb";
+#endif
+            if (scene) files.push_back(p);
+        }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// n unconnected triangles with centres uniform in [-1, 1]³ and vertices up to `size` from them
+// on each axis, all moving by `motion`.
+inline TriangleMesh randomSoup(size_t n, uint32_t seed, float size, Vec3 motion = Vec3(0.0f)) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    TriangleMesh m;
+    m.motion = motion;
+    for (size_t i = 0; i < n; ++i) {
+        Vec3 c(u(rng), u(rng), u(rng));
+        for (int k = 0; k < 3; ++k) {
+            m.positions.push_back(c + Vec3(u(rng), u(rng), u(rng)) * size);
+            m.indices.push_back(static_cast<uint32_t>(m.positions.size() - 1));
+        }
+    }
+    return m;
+}
+
+// A material named "m<its index>"; returns the index.
+inline int addMaterial(Scene& s, Vec3 rhoD, Vec3 rhoS = Vec3(0.0f), SpecularKind kind = SpecularKind::None,
+                       Vec3 emission = Vec3(0.0f), float phongExponent = 50.0f) {
+    Material m;
+    m.name = "m" + std::to_string(s.materials.size());
+    m.rhoD = rhoD;
+    m.rhoS = rhoS;
+    m.specular = kind;
+    m.phongExponent = phongExponent;
+    m.emission = emission;
+    s.materials.push_back(m);
+    return static_cast<int>(s.materials.size()) - 1;
+}
+
+// The quad corner, corner + u, corner + u + v, corner + v as one mesh of two triangles; returns
+// the mesh index.
+inline int addQuad(Scene& s, Vec3 corner, Vec3 u, Vec3 v, int material, Vec3 motion = Vec3(0.0f),
+                   std::string name = "") {
+    TriangleMesh m;
+    m.name = std::move(name);
+    m.positions = {corner, corner + u, corner + u + v, corner + v};
+    m.indices = {0, 1, 2, 0, 2, 3};
+    m.material = material;
+    m.motion = motion;
+    s.meshes.push_back(m);
+    return static_cast<int>(s.meshes.size()) - 1;
+}
+
+inline void addSphere(Scene& s, Vec3 c, float r, int material, Vec3 motion = Vec3(0.0f)) {
+    Sphere sp;
+    sp.centre = c;
+    sp.radius = r;
+    sp.material = material;
+    sp.motion = motion;
+    s.spheres.push_back(sp);
+}
+
+// A point light of intensity 1.
+inline Light pointLight(Vec3 p) {
+    Light l;
+    l.type = LightType::Point;
+    l.position = p;
+    l.intensity = Vec3(1.0f);
+    return l;
+}
+
+}  // namespace pcl::test_scenes
