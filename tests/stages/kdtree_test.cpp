@@ -5,6 +5,8 @@
 // subtree's box; every left-subtree photon ≤ node ≤ every right-subtree photon on the node's
 // axis, ordered by (coordinate key, photon index)); degenerate maps (0 and 1 photon, 1M
 // identical photons, two dense clusters, collinear photons) build in ⌊log2 n⌋ + 1 levels.
+// Validity is judged by kdTreeDefect (pipeline/check_maps), the check `photoncl check --stage
+// build` runs.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,11 +16,10 @@
 #include <string>
 
 #include "device_fixture.h"
+#include "photon_test_scenes.h"
+#include "pipeline/check_maps.h"
 #include "pipeline/kdtree.h"
-#include "pipeline/photon_pass.h"
-#include "pipeline/projection_map.h"
 #include "reference/kdtree.h"
-#include "scene/load_scene.h"
 
 namespace pcl {
 namespace {
@@ -33,62 +34,11 @@ PclPhoton photonAt(float x, float y, float z, uint32_t tag) {
     return p;
 }
 
-uint32_t key(float f) {  // the flip, written out again here
-    uint32_t b;
-    std::memcpy(&b, &f, 4);
-    return (b >> 31) ? ~b : (b | 0x80000000u);
-}
-float coord(const PclPhoton& p, uint32_t a) { return a == 0 ? p.x : (a == 1 ? p.y : p.z); }
 uint32_t axisOf(const PclPhoton& p) { return (p.packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT; }
-
-// The first way the tree breaks its definition, or "" — independent of both builders.
-std::string treeDefect(const std::vector<PclPhoton>& in, const std::vector<PclPhoton>& tree,
-                       const std::vector<uint32_t>& index) {
-    const size_t n = in.size();
-    auto at = [](const std::string& what, size_t h) { return what + " at node " + std::to_string(h); };
-    if (tree.size() != n || index.size() != n) return "wrong size";
-    std::vector<char> seen(n, 0);
-    for (size_t h = 0; h < n; ++h) {
-        if (index[h] >= n || seen[index[h]]) return at("not a permutation", h);
-        seen[index[h]] = 1;
-        const PclPhoton& a = in[index[h]];
-        const PclPhoton& b = tree[h];
-        if (!(a.x == b.x && a.y == b.y && a.z == b.z && a.rgbe == b.rgbe) ||
-            (a.packed & ~PCL_PHOTON_AXIS_MASK) != (b.packed & ~PCL_PHOTON_AXIS_MASK))
-            return at("photon differs from input[index]", h);
-        if (axisOf(b) > 2) return at("axis 3", h);
-    }
-    // Subtree boxes bottom-up; the axis is the largest extent (ties x, y, z).
-    std::vector<float> lo(3 * n), hi(3 * n);
-    for (size_t h = n; h-- > 0;) {
-        for (uint32_t a = 0; a < 3; ++a) lo[3 * h + a] = hi[3 * h + a] = coord(tree[h], a);
-        for (size_t c : {2 * h + 1, 2 * h + 2})
-            if (c < n)
-                for (uint32_t a = 0; a < 3; ++a) {
-                    lo[3 * h + a] = std::min(lo[3 * h + a], lo[3 * c + a]);
-                    hi[3 * h + a] = std::max(hi[3 * h + a], hi[3 * c + a]);
-                }
-        const float e[3] = {hi[3 * h] - lo[3 * h], hi[3 * h + 1] - lo[3 * h + 1], hi[3 * h + 2] - lo[3 * h + 2]};
-        const uint32_t want = e[1] > e[0] ? (e[2] > e[1] ? 2 : 1) : (e[2] > e[0] ? 2 : 0);
-        if (axisOf(tree[h]) != want) return at("not the axis of largest extent", h);
-    }
-    // Every node against each ancestor: left subtree below, right subtree above, on the
-    // ancestor's axis by (key, photon index).
-    for (size_t h = 1; h < n; ++h)
-        for (size_t child = h; child > 0; child = (child - 1) / 2) {
-            const size_t parent = (child - 1) / 2;
-            const uint32_t a = axisOf(tree[parent]);
-            const uint64_t kh = uint64_t(key(coord(tree[h], a))) << 32 | index[h];
-            const uint64_t kp = uint64_t(key(coord(tree[parent], a))) << 32 | index[parent];
-            if (child == 2 * parent + 1 ? kh >= kp : kh <= kp)
-                return at("order broken against ancestor " + std::to_string(parent), h);
-        }
-    return "";
-}
 
 void expectValidTree(const std::vector<PclPhoton>& in, const std::vector<PclPhoton>& tree,
                      const std::vector<uint32_t>& index) {
-    EXPECT_EQ(treeDefect(in, tree, index), "");
+    EXPECT_EQ(kdTreeDefect(in, tree, index), "");
 }
 
 // finishSize: as buildKdTree's (-1 the device default; 0 every level by sorting; 5 a mix; 32 the
@@ -122,22 +72,22 @@ TEST(KdTree, ValidatorCatchesBrokenTrees) {
     std::vector<PclPhoton> in;
     for (uint32_t i = 0; i < 1000; ++i) in.push_back(photonAt(u(rng), u(rng), u(rng), i));
     ReferenceKdTree t = referenceBuildKdTree(in);
-    ASSERT_EQ(treeDefect(in, t.photons, t.index), "");
+    ASSERT_EQ(kdTreeDefect(in, t.photons, t.index), "");
     ReferenceKdTree swapped = t;
     std::swap(swapped.photons[1], swapped.photons[2]);
     std::swap(swapped.index[1], swapped.index[2]);
-    EXPECT_NE(treeDefect(in, swapped.photons, swapped.index), "");
+    EXPECT_NE(kdTreeDefect(in, swapped.photons, swapped.index), "");
     ReferenceKdTree axis = t;
     axis.photons[0].packed ^= 1u << PCL_PHOTON_AXIS_SHIFT;
-    EXPECT_NE(treeDefect(in, axis.photons, axis.index), "");
+    EXPECT_NE(kdTreeDefect(in, axis.photons, axis.index), "");
     // Two identical photons: the lower index must be on the left.
     std::vector<PclPhoton> two = {photonAt(1, 1, 1, 0), photonAt(1, 1, 1, 1)};
     ReferenceKdTree t2 = referenceBuildKdTree(two);
     EXPECT_EQ(t2.index, (std::vector<uint32_t>{1, 0}));
-    EXPECT_EQ(treeDefect(two, t2.photons, t2.index), "");
+    EXPECT_EQ(kdTreeDefect(two, t2.photons, t2.index), "");
     std::swap(t2.photons[0], t2.photons[1]);
     std::swap(t2.index[0], t2.index[1]);
-    EXPECT_NE(treeDefect(two, t2.photons, t2.index), "");
+    EXPECT_NE(kdTreeDefect(two, t2.photons, t2.index), "");
 }
 
 TEST(KdTree, RandomPointsMatchTwin) {
@@ -232,15 +182,7 @@ TEST(KdTree, ShippedSceneMapsMatchTwin) {
 #ifndef PHOTONCL_HAVE_GLTF
         if (path.extension() == ".gltf") continue;
 #endif
-        Scene scene = loadScene(path.string());
-        SceneGeometry geometry = SceneGeometry::build(scene);
-        SceneBuffers buffers = buildSceneBuffers(scene, geometry);
-        buildProjectionMaps(scene, geometry, buffers);
-        PhotonPassOptions o;
-        o.globalPhotons = 20000;
-        o.causticPhotons = 20000;
-        o.seed = 3;
-        PhotonMaps maps = runPhotonPass(test::testDevice(), geometry, buffers, o);
+        const PhotonMaps maps = test::runScenePhotonPass(path.string(), 20000, 3).maps;
         ASSERT_GT(maps.global.size(), 1000u) << file;
         for (int finish : {-1, 0}) expectDeviceEqualsTwin(maps.global, (std::string(file) + " global").c_str(), true, finish);
         if (!maps.caustic.empty()) expectDeviceEqualsTwin(maps.caustic, (std::string(file) + " caustic").c_str());

@@ -14,7 +14,6 @@
 #include "photon_test_scenes.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/projection_map.h"
-#include "scene/load_scene.h"
 
 namespace pcl {
 namespace {
@@ -28,15 +27,11 @@ double maxDecoded(const PclPhoton& p) {
 
 void checkScene(const std::string& path) {
     SCOPED_TRACE(path);
-    Scene scene = loadScene(path);
-    SceneGeometry geometry = SceneGeometry::build(scene);
-    SceneBuffers buffers = buildSceneBuffers(scene, geometry);
-    buildProjectionMaps(scene, geometry, buffers);
-    PhotonPassOptions o;
-    o.globalPhotons = 20000;
-    o.causticPhotons = 20000;
-    o.seed = 5;
-    PhotonMaps maps = runPhotonPass(test::testDevice(), geometry, buffers, o);
+    const test::ScenePhotonPass pass = test::runScenePhotonPass(path, 20000, 5);
+    const SceneGeometry& geometry = pass.built.geometry;
+    const SceneBuffers& buffers = pass.built.buffers;
+    const PhotonPassOptions& o = pass.options;
+    const PhotonMaps& maps = pass.maps;
     std::printf("%s\n%s", std::filesystem::path(path).filename().c_str(), maps.stats.summary().c_str());
 
     double want[3] = {0, 0, 0}, wantCaustic[3] = {0, 0, 0};

@@ -3,11 +3,16 @@
 #pragma once
 
 #include <cmath>
+#include <string>
 #include <vector>
 
+#include "device_fixture.h"
 #include "geometry/scene_geometry.h"
 #include "pipeline/photon_allocation.h"
+#include "pipeline/photon_pass.h"
+#include "pipeline/projection_map.h"
 #include "pipeline/scene_buffers.h"
+#include "scene/load_scene.h"
 #include "scene/scene.h"
 
 namespace pcl::test {
@@ -100,6 +105,24 @@ inline BuiltScene build(Scene s) {
     BuiltScene b{s, SceneGeometry::build(s), {}};
     b.buffers = buildSceneBuffers(b.scene, b.geometry);
     return b;
+}
+
+// A scene file loaded and built with its projection maps, then one device photon pass of
+// `photons` global and `photons` caustic paths.
+struct ScenePhotonPass {
+    BuiltScene built;
+    PhotonPassOptions options;
+    PhotonMaps maps;
+};
+
+inline ScenePhotonPass runScenePhotonPass(const std::string& path, uint32_t photons, uint64_t seed) {
+    ScenePhotonPass r{build(loadScene(path)), {}, {}};
+    buildProjectionMaps(r.built.scene, r.built.geometry, r.built.buffers);
+    r.options.globalPhotons = photons;
+    r.options.causticPhotons = photons;
+    r.options.seed = seed;
+    r.maps = runPhotonPass(testDevice(), r.built.geometry, r.built.buffers, r.options);
+    return r;
 }
 
 inline double decodedPower(const PclPhoton& p) {
