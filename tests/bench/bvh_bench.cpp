@@ -17,6 +17,7 @@
 #include <random>
 #include <thread>
 
+#include "bench_common.h"
 #include "bench_meshes.h"
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
@@ -137,7 +138,7 @@ void BM_HostClosest(benchmark::State& state, const std::string& name) {
 
 void BM_KernelClosest(benchmark::State& state, const std::string& name) {
     if (!scene(name)) { state.SkipWithError("scene not found"); return; }
-    static Device device = Device::open("auto");
+    Device& device = bench::device();
     const SceneGeometry& g = geometry(name);
     const auto& rs = rays(name);
     DeviceGeometry dg(device, g);
@@ -239,9 +240,6 @@ void registerAll() {
 }  // namespace pcl
 
 int main(int argc, char** argv) {
-    pcl::registerAll();
-    benchmark::Initialize(&argc, argv);
-    benchmark::RunSpecifiedBenchmarks();
-    benchmark::Shutdown();
+    pcl::bench::runBenchmarks(argc, argv, pcl::registerAll);
     return 0;
 }

@@ -30,6 +30,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_common.h"
 #include "device/device.h"
 #include "pipeline/hashgrid.h"
 #include "pipeline/kdtree.h"
@@ -38,20 +39,13 @@
 namespace pcl {
 namespace {
 
+using bench::cpuSeconds;
+using bench::device;
+using bench::rates;
+
 constexpr size_t kPhotons = 1000000;
 constexpr size_t kQueries = 1u << 16;
 constexpr double kPi = 3.14159265358979323846;
-
-double cpuSeconds() {
-    timespec t;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-    return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-Device& device() {
-    static Device d = Device::open("auto");
-    return d;
-}
 
 // A point uniform on the six faces of the unit cube.
 void onWalls(std::mt19937_64& rng, float p[3]) {
@@ -120,11 +114,6 @@ struct Cloud {
     bool kdtree_get_bbox(B&) const { return false; }
 };
 using NanoTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Cloud>, Cloud, 3, uint32_t>;
-
-std::map<std::string, double>& rates() {
-    static std::map<std::string, double> r;
-    return r;
-}
 
 void BM_DeviceKnn(benchmark::State& state, std::string name, KnnStructure s, uint32_t k) {
     Device& dev = device();
@@ -263,10 +252,7 @@ void registerAll() {
 }  // namespace pcl
 
 int main(int argc, char** argv) {
-    pcl::registerAll();
-    benchmark::Initialize(&argc, argv);
-    benchmark::RunSpecifiedBenchmarks();
-    benchmark::Shutdown();
+    pcl::bench::runBenchmarks(argc, argv, pcl::registerAll);
     auto& r = pcl::rates();
     for (const char* m : pcl::kMaps)
         for (uint32_t k : pcl::kKs) {

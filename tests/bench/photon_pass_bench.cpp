@@ -17,6 +17,7 @@
 #include <map>
 #include <memory>
 
+#include "bench_common.h"
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
 #include "pipeline/photon_pass.h"
@@ -27,6 +28,10 @@
 
 namespace pcl {
 namespace {
+
+using bench::cpuSeconds;
+using bench::device;
+using bench::rates;
 
 constexpr uint32_t kGlobal = 1u << 18, kCaustic = 1u << 16, kMaxDepth = 64;
 constexpr uint64_t kSeed = 1;
@@ -50,19 +55,6 @@ const Loaded& loaded(const std::string& name) {
     }
     return *l;
 }
-
-Device& device() {
-    static Device d = Device::open("auto");
-    return d;
-}
-
-// Paths per CPU-second of the last run of each benchmark, for the ratios printed at the end.
-std::map<std::string, double>& rates() {
-    static std::map<std::string, double> r;
-    return r;
-}
-
-double cpuSeconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
 
 void BM_Device(benchmark::State& state, std::string name) {
     const Loaded& l = loaded(name);
@@ -134,10 +126,7 @@ void registerAll() {
 }  // namespace pcl
 
 int main(int argc, char** argv) {
-    pcl::registerAll();
-    benchmark::Initialize(&argc, argv);
-    benchmark::RunSpecifiedBenchmarks();
-    benchmark::Shutdown();
+    pcl::bench::runBenchmarks(argc, argv, pcl::registerAll);
     auto& r = pcl::rates();
     for (const char* n : pcl::kScenes) {
         auto d = r.find(std::string("device/") + n), t = r.find(std::string("twin/") + n);

@@ -21,6 +21,7 @@
 #include <string>
 #include <thread>
 
+#include "bench_common.h"
 #include "device/device.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/sort.h"
@@ -29,15 +30,8 @@
 namespace pcl {
 namespace {
 
-Device& device() {
-    static Device d = Device::open("auto");
-    return d;
-}
-
-std::map<std::string, double>& rates() {
-    static std::map<std::string, double> r;
-    return r;
-}
+using bench::device;
+using bench::rates;
 
 template <class K>
 std::vector<K> randomKeys(size_t n) {
@@ -174,10 +168,7 @@ void registerAll() {
 }  // namespace pcl
 
 int main(int argc, char** argv) {
-    pcl::registerAll();
-    benchmark::Initialize(&argc, argv);
-    benchmark::RunSpecifiedBenchmarks();
-    benchmark::Shutdown();
+    pcl::bench::runBenchmarks(argc, argv, pcl::registerAll);
     auto& r = pcl::rates();
     std::printf("std side: __gnu_parallel::sort (OpenMP, %u hardware threads) of (key, value) pairs by key\n",
                 std::thread::hardware_concurrency());
