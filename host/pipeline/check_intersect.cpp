@@ -7,23 +7,13 @@
 #include <thread>
 
 #include "pipeline/intersect.h"
+#include "reference/parallel_for.h"
 
 namespace pcl {
 namespace {
 
 constexpr double kRelT = 1e-5;
 const char* const kSets[3] = {"camera", "inside", "shadow"};
-
-template <class F>
-void parallelFor(size_t n, F f) {
-    unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t)
-        pool.emplace_back([&, t] {
-            for (size_t i = t * n / threads; i < (t + 1) * n / threads; ++i) f(i);
-        });
-    for (auto& th : pool) th.join();
-}
 
 double seconds(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -94,7 +84,7 @@ IntersectCheckReport checkIntersect(Device& device, const Scene& scene, const Sc
     auto start = std::chrono::steady_clock::now();
     std::vector<PclHit> hostClosest(n);
     std::vector<char> hostAny(n);
-    parallelFor(n, [&](size_t i) {
+    parallelForEveryThread(n, [&](size_t i) {
         g.intersect(rays[i], hostClosest[i]);
         hostAny[i] = g.occluded(rays[i]);
     });

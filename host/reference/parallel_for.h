@@ -1,5 +1,6 @@
-// A static split of [0, n) over std::threads for the CPU twin. Each index writes only its own
-// outputs, so results never depend on the thread count or on scheduling.
+// Static splits of [0, n) over std::threads, for the CPU twin (referenceParallelFor) and the host
+// side of checks and benchmarks. Each index writes only its own outputs, so results never depend
+// on the thread count or on scheduling.
 #pragma once
 #include <algorithm>
 #include <cstddef>
@@ -7,6 +8,24 @@
 #include <vector>
 
 namespace pcl {
+
+// [0, n) in `threads` contiguous slices, one std::thread each.
+template <class F>
+void parallelForSlices(size_t n, unsigned threads, F f) {
+    std::vector<std::thread> pool;
+    for (unsigned t = 0; t < threads; ++t)
+        pool.emplace_back([&, t] {
+            for (size_t i = t * n / threads; i < (t + 1) * n / threads; ++i) f(i);
+        });
+    for (auto& th : pool) th.join();
+}
+
+// One slice per hardware thread however small n is (the host side of the traversal check and
+// benchmark).
+template <class F>
+void parallelForEveryThread(size_t n, F f) {
+    parallelForSlices(n, std::max(1u, std::thread::hardware_concurrency()), f);
+}
 
 template <class F>
 void referenceParallelFor(size_t n, unsigned threads, F f) {
@@ -16,12 +35,7 @@ void referenceParallelFor(size_t n, unsigned threads, F f) {
         for (size_t i = 0; i < n; ++i) f(i);
         return;
     }
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t)
-        pool.emplace_back([&, t] {
-            for (size_t i = t * n / threads; i < (t + 1) * n / threads; ++i) f(i);
-        });
-    for (auto& th : pool) th.join();
+    parallelForSlices(n, threads, f);
 }
 
 }  // namespace pcl

@@ -22,6 +22,7 @@
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
 #include "pipeline/intersect.h"
+#include "reference/parallel_for.h"
 #if __has_include("scene/load_scene.h")
 #include "scene/load_scene.h"
 #define PCL_HAVE_LOAD_SCENE 1
@@ -95,17 +96,6 @@ const std::vector<PclRay>& rays(const std::string& name) {
     return out;
 }
 
-template <class F>
-void parallelFor(size_t n, F f) {
-    unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-    std::vector<std::thread> pool;
-    for (unsigned t = 0; t < threads; ++t)
-        pool.emplace_back([&, t] {
-            for (size_t i = t * n / threads; i < (t + 1) * n / threads; ++i) f(i);
-        });
-    for (auto& th : pool) th.join();
-}
-
 void BM_Build(benchmark::State& state, const std::string& name) {
     const Scene* s = scene(name);
     if (!s) { state.SkipWithError("scene not found"); return; }
@@ -131,7 +121,7 @@ void BM_HostClosest(benchmark::State& state, const std::string& name) {
     const SceneGeometry& g = geometry(name);
     const auto& rs = rays(name);
     std::vector<PclHit> hits(rs.size());
-    for (auto _ : state) parallelFor(rs.size(), [&](size_t i) { g.intersect(rs[i], hits[i]); });
+    for (auto _ : state) parallelForEveryThread(rs.size(), [&](size_t i) { g.intersect(rs[i], hits[i]); });
     state.counters["rays_per_s"] =
         benchmark::Counter(double(rs.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
@@ -198,7 +188,7 @@ void BM_EmbreeClosest(benchmark::State& state, const std::string& name) {
     const auto& rays_ = rays(name);
     std::vector<float> tfar(rays_.size());
     for (auto _ : state) {
-        parallelFor(rays_.size(), [&](size_t i) {
+        parallelForEveryThread(rays_.size(), [&](size_t i) {
             const PclRay& r = rays_[i];
             RTCIntersectContext ctx;
             rtcInitIntersectContext(&ctx);
