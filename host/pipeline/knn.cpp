@@ -31,6 +31,21 @@ double seconds(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The common tail of the *OnDevice calls, once the structure is built: uploads the queries, runs
+// `search(queryBuffer, out)` (one search launch, returning its device seconds) and downloads the
+// result with both timings.
+template <class Search>
+KnnResult searchAndDownload(Device& device, const std::vector<PclKnnQuery>& queries, double buildSeconds,
+                            Search search) {
+    cl::Buffer q = device.upload(queries);
+    DeviceKnnOutput out;
+    const double searchSeconds = search(q, out);
+    KnnResult r = downloadKnn(device, out);
+    r.searchSeconds = searchSeconds;
+    r.buildSeconds = buildSeconds;
+    return r;
+}
+
 }  // namespace
 
 KnnResult downloadKnn(Device& device, const DeviceKnnOutput& out) {
@@ -120,14 +135,9 @@ KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNo
     built.count = heapNodes.size();
     const KnnKdTree tree = packKdTree(device, built);
     device.finish();
-    const double build = seconds(t0);
-    cl::Buffer q = device.upload(queries);
-    DeviceKnnOutput out;
-    const double search = knnSearchKdTree(device, tree, q, queries.size(), maxK, out);
-    KnnResult r = downloadKnn(device, out);
-    r.searchSeconds = search;
-    r.buildSeconds = build;
-    return r;
+    return searchAndDownload(device, queries, seconds(t0), [&](const cl::Buffer& q, DeviceKnnOutput& out) {
+        return knnSearchKdTree(device, tree, q, queries.size(), maxK, out);
+    });
 }
 
 KnnResult knnHashGridOnDevice(Device& device, const std::vector<PclPhoton>& map, const std::vector<PclKnnQuery>& queries) {
@@ -143,14 +153,9 @@ KnnResult knnHashGridOnDevice(Device& device, const std::vector<PclPhoton>& map,
     cl::Buffer photons = device.upload(map);
     DeviceHashGrid grid = buildHashGrid(device, photons, map.size(), params);
     device.finish();
-    const double build = seconds(t0);
-    cl::Buffer q = device.upload(queries);
-    DeviceKnnOutput out;
-    const double search = knnSearchHashGrid(device, grid, q, queries.size(), maxK, out);
-    KnnResult r = downloadKnn(device, out);
-    r.searchSeconds = search;
-    r.buildSeconds = build;
-    return r;
+    return searchAndDownload(device, queries, seconds(t0), [&](const cl::Buffer& q, DeviceKnnOutput& out) {
+        return knnSearchHashGrid(device, grid, q, queries.size(), maxK, out);
+    });
 }
 
 KnnResult knnOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStructure structure,
@@ -161,14 +166,9 @@ KnnResult knnOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStru
     cl::Buffer photons = device.upload(map);
     const KnnKdTree tree = packKdTree(device, buildKdTree(device, photons, map.size()));
     device.finish();
-    const double build = seconds(t0);
-    cl::Buffer q = device.upload(queries);
-    DeviceKnnOutput out;
-    const double search = knnSearchKdTree(device, tree, q, queries.size(), maxK, out);
-    KnnResult r = downloadKnn(device, out);
-    r.searchSeconds = search;
-    r.buildSeconds = build;
-    return r;
+    return searchAndDownload(device, queries, seconds(t0), [&](const cl::Buffer& q, DeviceKnnOutput& out) {
+        return knnSearchKdTree(device, tree, q, queries.size(), maxK, out);
+    });
 }
 
 }  // namespace pcl
