@@ -61,6 +61,21 @@ void sort_histogram(__global const sort_key* keys, uint n, uint shift, uint mask
     }
 }
 
+/* The exclusive prefix sum over the work-group of each work-item's s: a Hillis & Steele scan,
+ * double-buffered in buf. Every work-item of the group calls it (barriers inside). */
+inline uint sort_group_exclusive_scan(uint s, __local uint buf[2][PCL_SORT_GROUP], uint l) {
+    int src = 0;
+    buf[0][l] = s;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (uint step = 1u; step < PCL_SORT_GROUP; step <<= 1) {
+        const uint x = buf[src][l] + (l >= step ? buf[src][l - step] : 0u);
+        buf[1 - src][l] = x;
+        src = 1 - src;
+        barrier(CLK_LOCAL_MEM_FENCE);
+    }
+    return buf[src][l] - s;
+}
+
 /* Exclusive prefix sum of m values in place, by one work-group: work-item l sums a contiguous
  * chunk, a Hillis & Steele scan of the chunk sums, then each chunk rewritten. */
 __kernel __attribute__((reqd_work_group_size(PCL_SORT_GROUP, 1, 1)))
@@ -72,16 +87,7 @@ void sort_scan(__global uint* values, uint m) {
     const uint end = min(begin + chunk, m);
     uint s = 0u;
     for (uint i = begin; i < end; ++i) s += values[i];
-    int src = 0;
-    buf[0][l] = s;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (uint step = 1u; step < PCL_SORT_GROUP; step <<= 1) {
-        const uint x = buf[src][l] + (l >= step ? buf[src][l - step] : 0u);
-        buf[1 - src][l] = x;
-        src = 1 - src;
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    uint run = buf[src][l] - s;
+    uint run = sort_group_exclusive_scan(s, buf, l);
     for (uint i = begin; i < end; ++i) {
         const uint v = values[i];
         values[i] = run;
@@ -105,16 +111,7 @@ void sort_scatter(__global const sort_key* keysIn, __global const uint* valuesIn
      * l*RADIX .. l*RADIX+RADIX-1 (GROUP * RADIX entries in all). */
     uint s = 0u;
     for (uint j = 0u; j < PCL_SORT_RADIX; ++j) s += counts[l * PCL_SORT_RADIX + j];
-    int src = 0;
-    buf[0][l] = s;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    for (uint step = 1u; step < PCL_SORT_GROUP; step <<= 1) {
-        const uint x = buf[src][l] + (l >= step ? buf[src][l - step] : 0u);
-        buf[1 - src][l] = x;
-        src = 1 - src;
-        barrier(CLK_LOCAL_MEM_FENCE);
-    }
-    uint run = buf[src][l] - s;
+    uint run = sort_group_exclusive_scan(s, buf, l);
     for (uint j = 0u; j < PCL_SORT_RADIX; ++j) {
         const uint v = counts[l * PCL_SORT_RADIX + j];
         counts[l * PCL_SORT_RADIX + j] = run;
