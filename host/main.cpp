@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
     add(pcl::cli::addCheckCommand(app));
     add(pcl::cli::addCompareCommand(app));
     add(pcl::cli::addAnalyzeCommand(app));
+    add(pcl::cli::addPhotonsCommand(app));
 
     try {
         app.parse(argc, argv);

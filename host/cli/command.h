@@ -15,5 +15,6 @@ Run addRenderCommand(CLI::App& app);
 Run addCheckCommand(CLI::App& app);
 Run addCompareCommand(CLI::App& app);
 Run addAnalyzeCommand(CLI::App& app);
+Run addPhotonsCommand(CLI::App& app);
 
 }  // namespace pcl::cli
