@@ -13,6 +13,7 @@
 #include <system_error>
 #include <unistd.h>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #ifdef PHOTONCL_HAVE_OIIO
@@ -27,31 +28,6 @@ namespace fs = std::filesystem;
 
 namespace pcl {
 namespace {
-
-// A temporary name in the same folder (so rename is atomic), hidden, keeping the extension
-// so a format chosen by extension still applies: "dir/.name.tmp-<pid>-<n>.ext".
-std::string temporaryPathFor(const std::string& path) {
-    static std::atomic<unsigned> counter{0};
-    fs::path p(path);
-    std::string name = "." + p.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                       std::to_string(counter++) + p.extension().string();
-    return (p.parent_path() / name).string();
-}
-
-// Runs `write(tmp)`, then renames tmp to path; on any failure removes tmp and rethrows.
-void writeThroughTemporary(const std::string& path, const std::function<void(const std::string&)>& write) {
-    std::string tmp = temporaryPathFor(path);
-    try {
-        write(tmp);
-        std::error_code ec;
-        fs::rename(tmp, path, ec);
-        if (ec) throw InputError(path + ": cannot write: " + ec.message());
-    } catch (...) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw;
-    }
-}
 
 void checkImage(const std::string& path, const Image& image) {
     if (image.width <= 0 || image.height <= 0 || image.rgb.size() != image.pixelCount() * 3)

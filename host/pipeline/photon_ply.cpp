@@ -11,6 +11,7 @@
 #include <system_error>
 #include <unistd.h>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "shared/sampling.h"
 
@@ -28,15 +29,6 @@ std::string oneLine(std::string s) {
     for (char& c : s)
         if (c == '\n' || c == '\r') c = ' ';
     return s;
-}
-
-// "dir/.name.tmp-<pid>-<n>.ply": same folder, so the rename is atomic.
-std::string temporaryPathFor(const std::string& path) {
-    static std::atomic<unsigned> counter{0};
-    fs::path p(path);
-    std::string name = "." + p.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                       std::to_string(counter++) + p.extension().string();
-    return (p.parent_path() / name).string();
 }
 
 void putFloat(std::string& out, float f) {
@@ -107,24 +99,7 @@ void writePhotonPly(const std::string& path, const PhotonMaps& maps, const Photo
     for (const PclPhoton& p : maps.global) appendVertex(out, decodePhoton(p, kPlyMapGlobal), ascii);
     for (const PclPhoton& p : maps.caustic) appendVertex(out, decodePhoton(p, kPlyMapCaustic), ascii);
 
-    std::string tmp = temporaryPathFor(path);
-    std::error_code ec;
-    {
-        std::ofstream file(tmp, std::ios::binary);
-        if (!file) throw InputError(path + ": cannot write: cannot open " + tmp);
-        file.write(out.data(), std::streamsize(out.size()));
-        file.close();
-        if (!file) {
-            fs::remove(tmp, ec);
-            throw InputError(path + ": cannot write " + tmp + " (disk full?)");
-        }
-    }
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        std::error_code ignored;
-        fs::remove(tmp, ignored);
-        throw InputError(path + ": cannot write: " + ec.message());
-    }
+    writeFileAtomically(path, out);
 }
 
 PhotonPly readPhotonPly(const std::string& path) {
