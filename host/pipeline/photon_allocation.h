@@ -11,6 +11,14 @@
 
 namespace pcl {
 
+// The scalar power that photon allocation is proportional to: (Φr + Φg + Φb) / 3.
+double scalarPower(const PclLight& light);
+
+// Largest-remainder allocation of `photons` in proportion to `weights` (kernels/README.md,
+// "Photon allocation"): returns first[], size weights.size() + 1, light i owning photons
+// [first[i], first[i+1]). Every positive weight gets at least one photon when photons allow.
+std::vector<uint32_t> allocatePhotons(const std::vector<double>& weights, uint32_t photons);
+
 // The seed of progressive pass `pass`: seed + pass * 0x9E3779B97F4A7C15 (64-bit wrap).
 uint64_t photonPassSeed(uint64_t seed, uint32_t pass);
 

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 #include "core/error.h"
 
@@ -42,10 +41,6 @@ PclLight emptyLight(uint32_t type) {
 }
 
 }  // namespace
-
-double scalarPower(const PclLight& light) {
-    return (double(light.power[0]) + double(light.power[1]) + double(light.power[2])) / 3.0;
-}
 
 SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry) {
     SceneBuffers b;
@@ -140,46 +135,6 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
         }
     }
     return b;
-}
-
-std::vector<uint32_t> allocatePhotons(const std::vector<double>& weights, uint32_t photons) {
-    const size_t n = weights.size();
-    std::vector<uint32_t> count(n, 0);
-    double total = 0.0;
-    for (double w : weights) total += std::max(0.0, w);
-    if (total > 0.0 && photons > 0) {
-        std::vector<double> remainder(n, 0.0);
-        uint64_t given = 0;
-        for (size_t i = 0; i < n; ++i) {
-            double exact = photons * (std::max(0.0, weights[i]) / total);
-            count[i] = static_cast<uint32_t>(std::floor(exact));
-            remainder[i] = exact - count[i];
-            given += count[i];
-        }
-        std::vector<size_t> order(n);
-        std::iota(order.begin(), order.end(), size_t(0));
-        // Largest remainder first, ties to the lower index (stable sort keeps index order).
-        std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return remainder[a] > remainder[b]; });
-        for (size_t k = 0; given < photons && k < n; ++k) {
-            if (weights[order[k]] > 0.0) {
-                ++count[order[k]];
-                ++given;
-            }
-        }
-        // Every light with power gets a photon (taken from the largest allocation), so none
-        // of its power is lost.
-        for (size_t i = 0; i < n; ++i) {
-            if (weights[i] > 0.0 && count[i] == 0) {
-                size_t largest = static_cast<size_t>(std::max_element(count.begin(), count.end()) - count.begin());
-                if (count[largest] <= 1) break;  // fewer photons than lights: nothing to take
-                --count[largest];
-                ++count[i];
-            }
-        }
-    }
-    std::vector<uint32_t> first(n + 1, 0);
-    for (size_t i = 0; i < n; ++i) first[i + 1] = first[i] + count[i];
-    return first;
 }
 
 }  // namespace pcl

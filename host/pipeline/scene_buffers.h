@@ -24,12 +24,4 @@ struct SceneBuffers {
 
 SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry);
 
-// The scalar power that photon allocation is proportional to: (Φr + Φg + Φb) / 3.
-double scalarPower(const PclLight& light);
-
-// Largest-remainder allocation of `photons` in proportion to `weights` (kernels/README.md,
-// "Photon allocation"): returns first[], size weights.size() + 1, light i owning photons
-// [first[i], first[i+1]). Every positive weight gets at least one photon when photons allow.
-std::vector<uint32_t> allocatePhotons(const std::vector<double>& weights, uint32_t photons);
-
 }  // namespace pcl

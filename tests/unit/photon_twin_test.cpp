@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "pipeline/scene_buffers.h"
+#include "pipeline/photon_allocation.h"
 #include "reference/bsdf.h"
 #include "reference/emit.h"
 #include "reference/photon_pass.h"

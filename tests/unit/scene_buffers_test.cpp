@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "pipeline/scene_buffers.h"
+#include "pipeline/photon_allocation.h"
 #include "scene/load_scene.h"
 
 namespace pcl {
