@@ -23,13 +23,14 @@
 
 #pragma OPENCL FP_CONTRACT OFF
 
-inline PclPhoton trace_make_photon(PclV3 p, const float phi[3], PclV3 d, uint bounces, uint flags) {
+inline PclPhoton trace_make_photon(PclV3 p, PclV3 nf, const float phi[3], PclV3 d, uint bounces, uint flags) {
     PclPhoton ph;
     ph.x = p.x;
     ph.y = p.y;
     ph.z = p.z;
     ph.rgbe = photon_rgbe_encode(phi[0], phi[1], phi[2]);
     ph.packed = photon_dir_encode(-d.x, -d.y, -d.z) | (bounces << PCL_PHOTON_BOUNCE_SHIFT) | flags;
+    ph.normal = photon_normal_encode(nf.x, nf.y, nf.z);
     return ph;
 }
 
@@ -87,7 +88,7 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
             else
                 stored = params.storeGlobal != 0u;
             if (stored)
-                slot[count++] = trace_make_photon(p, phi, d, b - 1u, flags | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
+                slot[count++] = trace_make_photon(p, nf, phi, d, b - 1u, flags | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
         }
         /* A caustic path that ends at this hit is STORED when it deposited here. */
         const uint endHere = (caustic && stored) ? PCL_END_STORED : PCL_END_ABSORBED;

@@ -21,8 +21,10 @@ namespace pcl {
 namespace {
 
 const char* const kProperties[] = {"float x",  "float y",  "float z",  "float r",     "float g",     "float b",
-                                   "float dx", "float dy", "float dz", "uchar map", "uchar bounce"};
-constexpr size_t kBinaryVertexBytes = 9 * 4 + 2;
+                                   "float dx", "float dy", "float dz", "float nx",    "float ny",    "float nz",
+                                   "uchar map", "uchar bounce"};
+constexpr int kFloats = 12;
+constexpr size_t kBinaryVertexBytes = kFloats * 4 + 2;
 
 // A comment is one header line: no line breaks inside.
 std::string oneLine(std::string s) {
@@ -45,7 +47,7 @@ float getFloat(const unsigned char* b) {
 }
 
 void appendVertex(std::string& out, const PlyPhoton& p, bool ascii) {
-    const float f[9] = {p.x, p.y, p.z, p.r, p.g, p.b, p.dx, p.dy, p.dz};
+    const float f[kFloats] = {p.x, p.y, p.z, p.r, p.g, p.b, p.dx, p.dy, p.dz, p.nx, p.ny, p.nz};
     if (ascii) {
         char buf[32];
         for (float v : f) {
@@ -73,6 +75,10 @@ PlyPhoton decodePhoton(const PclPhoton& p, uint8_t map) {
     v.dx = w.x;
     v.dy = w.y;
     v.dz = w.z;
+    PclV3 n = photon_normal_decode(p.normal);
+    v.nx = n.x;
+    v.ny = n.y;
+    v.nz = n.z;
     v.map = map;
     v.bounce = uint8_t((p.packed >> PCL_PHOTON_BOUNCE_SHIFT) & 255u);
     return v;
@@ -95,7 +101,7 @@ void writePhotonPly(const std::string& path, const PhotonMaps& maps, const Photo
     out += "element vertex " + std::to_string(n) + "\n";
     for (const char* p : kProperties) out += std::string("property ") + p + "\n";
     out += "end_header\n";
-    out.reserve(out.size() + n * (ascii ? 120 : kBinaryVertexBytes));
+    out.reserve(out.size() + n * (ascii ? 160 : kBinaryVertexBytes));
     for (const PclPhoton& p : maps.global) appendVertex(out, decodePhoton(p, kPlyMapGlobal), ascii);
     for (const PclPhoton& p : maps.caustic) appendVertex(out, decodePhoton(p, kPlyMapCaustic), ascii);
 
@@ -136,7 +142,7 @@ PhotonPly readPhotonPly(const std::string& path) {
 
     ply.photons.resize(ply.declaredVertices);
     for (PlyPhoton& p : ply.photons) {
-        float* f[9] = {&p.x, &p.y, &p.z, &p.r, &p.g, &p.b, &p.dx, &p.dy, &p.dz};
+        float* f[kFloats] = {&p.x, &p.y, &p.z, &p.r, &p.g, &p.b, &p.dx, &p.dy, &p.dz, &p.nx, &p.ny, &p.nz};
         if (ply.ascii) {
             unsigned map = 0, bounce = 0;
             for (float* v : f) in >> *v;
@@ -147,9 +153,9 @@ PhotonPly readPhotonPly(const std::string& path) {
         } else {
             unsigned char b[kBinaryVertexBytes];
             if (!in.read(reinterpret_cast<char*>(b), sizeof b)) throw bad("fewer vertices than declared");
-            for (int i = 0; i < 9; ++i) *f[i] = getFloat(b + 4 * i);
-            p.map = b[36];
-            p.bounce = b[37];
+            for (int i = 0; i < kFloats; ++i) *f[i] = getFloat(b + 4 * i);
+            p.map = b[4 * kFloats];
+            p.bounce = b[4 * kFloats + 1];
         }
     }
     return ply;

@@ -1,5 +1,5 @@
 // Photon maps as PLY (`photoncl photons`, issue 5 part 6): one vertex per stored photon with its
-// position, decoded power (W), decoded direction (unit), map (0 global, 1 caustic) and bounce,
+// position, decoded power (W), decoded direction and surface normal (unit), map (0 global, 1 caustic) and bounce,
 // for viewing in a point-cloud tool and diffing between devices. Binary little-endian by
 // default, ASCII on request; the file is written to a temporary name in the destination folder
 // and renamed, so the final name never holds a partial file.
@@ -19,6 +19,7 @@ struct PlyPhoton {
     float x = 0, y = 0, z = 0;     // position
     float r = 0, g = 0, b = 0;     // power, W
     float dx = 0, dy = 0, dz = 0;  // the record's direction (centre of its θ/φ byte cell), unit
+    float nx = 0, ny = 0, nz = 1;  // the surface normal on the side the photon arrived from, unit
     uint8_t map = 0;               // 0 global, 1 caustic
     uint8_t bounce = 0;            // bounces before this hit
 };

@@ -111,6 +111,21 @@ uint32_t referenceEncodeDirection(Vec3 w) {
     return tb | (static_cast<uint32_t>(pb) & 255u) << 8;
 }
 
+uint32_t referenceEncodeNormal(Vec3 n) {
+    const float s = std::fabs(n.x) + std::fabs(n.y) + std::fabs(n.z);
+    float u = s > 0.0f ? n.x / s : 0.0f, v = s > 0.0f ? n.y / s : 0.0f;
+    if (n.z < 0.0f) {  // fold the lower hemisphere over the octahedron's edges
+        const float fu = (1.0f - std::fabs(v)) * (u >= 0.0f ? 1.0f : -1.0f);
+        v = (1.0f - std::fabs(u)) * (v >= 0.0f ? 1.0f : -1.0f);
+        u = fu;
+    }
+    auto snorm16 = [](float c) {
+        const float q = std::floor(std::min(1.0f, std::max(-1.0f, c)) * 32767.0f + 0.5f);
+        return static_cast<uint32_t>(static_cast<int32_t>(q)) & 0xFFFFu;
+    };
+    return snorm16(u) | snorm16(v) << 16;
+}
+
 // ---- One path ---------------------------------------------------------------------------
 uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                   const PclPhotonParams& params, const PclPhotonRay& ray, uint32_t i,
@@ -126,11 +141,12 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
     uint32_t flags = 0;  // AFTER_SPECULAR / AFTER_DIFFUSE: the path so far
     count = 0;
 
-    auto deposit = [&](Vec3 p, uint32_t b, uint32_t extra) {
+    auto deposit = [&](Vec3 p, Vec3 nf, uint32_t b, uint32_t extra) {
         PclPhoton& ph = slots[count++];
         ph.x = p.x; ph.y = p.y; ph.z = p.z;
         ph.rgbe = referenceEncodeRgbe(power);
         ph.packed = referenceEncodeDirection(-d) | (b - 1) << PCL_PHOTON_BOUNCE_SHIFT | flags | extra;
+        ph.normal = referenceEncodeNormal(nf);
     };
 
     for (uint32_t b = 1;; ++b) {
@@ -147,6 +163,7 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
                            ? Vec3(info.a, info.b, info.c)
                            : (p - (Vec3(info.a, info.b, info.c) + Vec3(info.mx, info.my, info.mz) * time)) / info.radius;
         const PclMaterial& m = buffers.materials[info.material];
+        const Vec3 nf = dot(d, n) < 0.0f ? n : -n;  // the side the photon arrives on
 
         // 1. Deposit at a diffuse surface: global map L(S|D)*D, caustic map LS+D. A caustic
         //    path is only ever specular so far (it stops at its first diffuse bounce), so LS+D
@@ -155,9 +172,9 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         bool depositedHere = false;
         if (maxComponent(vec(m.rhoD)) > 0.0f) {
             if (!caustic) {
-                if (params.storeGlobal) deposit(p, b, 0u);
+                if (params.storeGlobal) deposit(p, nf, b, 0u);
             } else if (b > 1 && !(flags & PCL_PHOTON_AFTER_DIFFUSE)) {
-                deposit(p, b, PCL_PHOTON_CAUSTIC);
+                deposit(p, nf, b, PCL_PHOTON_CAUSTIC);
                 depositedHere = true;
             }
         }
@@ -178,7 +195,6 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         if (b >= params.maxDepth) return b | PCL_END_MAX_DEPTH << 8;
 
         // 3. Spawn on the side the new direction leaves from.
-        const Vec3 nf = dot(d, n) < 0.0f ? n : -n;
         const Vec3 ns = dot(s.direction, nf) > 0.0f ? nf : -nf;
         o = p + ns * params.rayEpsilon;
         d = s.direction;

@@ -46,6 +46,7 @@ ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Ve
 uint32_t referenceEncodeRgbe(Vec3 power);
 Vec3 referenceDecodeRgbe(uint32_t rgbe);
 uint32_t referenceEncodeDirection(Vec3 w);  // θ | φ << 8
+uint32_t referenceEncodeNormal(Vec3 n);     // octahedral u | v << 16, snorm16 each
 
 // Traces path i of the batch (global photon index params.firstPhoton + i) from `ray`; writes
 // its slots (S of them) and returns the end word. `hits`, when given, receives every hit.

@@ -280,4 +280,37 @@ PCL_INLINE PclV3 photon_dir_decode(pcl_u32 packed) {
     return sampling_v3(st * PCL_COSF(phi), st * PCL_SINF(phi), PCL_COSF(theta));
 }
 
+/* Octahedral unit vector (Meyer et al. 2010), u and v rounded to snorm16: u | v << 16.
+ * s = |x| + |y| + |z|, (u, v) = (x, y)/s; below the equator (z < 0) folded to
+ * ((1 − |v|) sgn u, (1 − |u|) sgn v) with sgn 0 = +1; q = ⌊clamp(·, −1, 1)·32767 + 0.5⌋. */
+PCL_INLINE pcl_u32 photon_snorm16(pcl_f32 c) {
+    pcl_f32 q = PCL_FLOORF((c > 1.0f ? 1.0f : (c < -1.0f ? -1.0f : c)) * 32767.0f + 0.5f);
+    return ((pcl_u32)(pcl_i32)q) & 0xFFFFu;
+}
+PCL_INLINE pcl_u32 photon_normal_encode(pcl_f32 x, pcl_f32 y, pcl_f32 z) {
+    pcl_f32 s = PCL_FABSF(x) + PCL_FABSF(y) + PCL_FABSF(z);
+    pcl_f32 u = s > 0.0f ? x / s : 0.0f, v = s > 0.0f ? y / s : 0.0f;
+    if (z < 0.0f) {
+        pcl_f32 fu = (1.0f - PCL_FABSF(v)) * (u >= 0.0f ? 1.0f : -1.0f);
+        pcl_f32 fv = (1.0f - PCL_FABSF(u)) * (v >= 0.0f ? 1.0f : -1.0f);
+        u = fu;
+        v = fv;
+    }
+    return photon_snorm16(u) | (photon_snorm16(v) << 16);
+}
+/* The unit normal of a photon_normal_encode word. */
+PCL_INLINE PclV3 photon_normal_decode(pcl_u32 w) {
+    pcl_f32 u = (pcl_f32)(pcl_i32)(short)(w & 0xFFFFu) / 32767.0f;
+    pcl_f32 v = (pcl_f32)(pcl_i32)(short)(w >> 16) / 32767.0f;
+    pcl_f32 z = 1.0f - PCL_FABSF(u) - PCL_FABSF(v);
+    if (z < 0.0f) {
+        pcl_f32 fu = (1.0f - PCL_FABSF(v)) * (u >= 0.0f ? 1.0f : -1.0f);
+        pcl_f32 fv = (1.0f - PCL_FABSF(u)) * (v >= 0.0f ? 1.0f : -1.0f);
+        u = fu;
+        v = fv;
+    }
+    pcl_f32 l = PCL_SQRTF(u * u + v * v + z * z);
+    return sampling_v3(u / l, v / l, z / l);
+}
+
 #endif /* PCL_SAMPLING_H */

@@ -139,8 +139,11 @@ typedef struct PclPhotonRay {
 } PclPhotonRay;
 PCL_STATIC_ASSERT(sizeof(PclPhotonRay) == 48, PclPhotonRay_size);
 
-/* A stored photon, 20 bytes as Jensen's: position, power in Ward's RGBE, incoming direction
- * compressed to (theta, phi) bytes, and flags. */
+/* A stored photon, 24 bytes: Jensen's 20 (position, power in Ward's RGBE, incoming direction
+ * compressed to (theta, phi) bytes, flags) plus the surface normal on the side the photon
+ * arrived from, octahedral-encoded in two 16-bit snorms: the radiance estimate rejects photons
+ * whose surface faces another way (n_p·n_q < 0.9), which stops light leaking through thin
+ * walls and round corners (kernels/README.md, "estimate"). */
 #define PCL_PHOTON_THETA_SHIFT 0
 #define PCL_PHOTON_PHI_SHIFT 8
 #define PCL_PHOTON_BOUNCE_SHIFT 16      /* bounces before this hit (0: straight from the light) */
@@ -151,8 +154,9 @@ typedef struct PclPhoton {
     pcl_f32 x, y, z;
     pcl_u32 rgbe;     /* r | g << 8 | b << 16 | e << 24 */
     pcl_u32 packed;   /* theta | phi << 8 | bounce << 16 | flags */
+    pcl_u32 normal;   /* octahedral u | v << 16, snorm16 each (photon_normal_encode) */
 } PclPhoton;
-PCL_STATIC_ASSERT(sizeof(PclPhoton) == 20, PclPhoton_size);
+PCL_STATIC_ASSERT(sizeof(PclPhoton) == 24, PclPhoton_size);
 
 /* How a photon path ended (trace_photons output, one per path): bits 0..7 bounces traced,
  * bits 8..11 the cause. */

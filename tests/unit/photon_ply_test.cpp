@@ -73,6 +73,7 @@ PhotonMaps randomMaps(size_t nGlobal, size_t nCaustic, std::vector<Source>* sour
         p.rgbe = photon_rgbe_encode(s.r, s.g, s.b);
         p.packed = photon_dir_encode(s.wx, s.wy, s.wz) | (s.bounce << PCL_PHOTON_BOUNCE_SHIFT) |
                    (i >= nGlobal ? PCL_PHOTON_CAUSTIC : 0u) | (2u << PCL_PHOTON_AXIS_SHIFT);
+        p.normal = photon_normal_encode(s.wz, -s.wx, s.wy);  // any unit vector
         (i < nGlobal ? maps.global : maps.caustic).push_back(p);
         if (sources) sources->push_back(s);
     }
@@ -99,6 +100,9 @@ void expectSame(const PlyPhoton& a, const PlyPhoton& b) {
     EXPECT_EQ(a.dx, b.dx);
     EXPECT_EQ(a.dy, b.dy);
     EXPECT_EQ(a.dz, b.dz);
+    EXPECT_EQ(a.nx, b.nx);
+    EXPECT_EQ(a.ny, b.ny);
+    EXPECT_EQ(a.nz, b.nz);
     EXPECT_EQ(a.map, b.map);
     EXPECT_EQ(a.bounce, b.bounce);
 }
@@ -139,6 +143,9 @@ TEST_F(PhotonPlyTest, RoundTripDecodesPhotons) {
         EXPECT_NEAR(len, 1.0, 1e-6);
         const double cosAngle = p.dx * sources[i].wx + p.dy * sources[i].wy + p.dz * sources[i].wz;
         EXPECT_GT(cosAngle, std::cos(0.03));
+        // Normal: octahedral snorm16 keeps it within 1e-3 rad.
+        const double cosN = p.nx * sources[i].wz - p.ny * sources[i].wx + p.nz * sources[i].wy;
+        EXPECT_GT(cosN, std::cos(1e-3));
     }
     EXPECT_EQ(ply.photons[3].r, 0.0f);
 }
@@ -159,8 +166,8 @@ TEST_F(PhotonPlyTest, AsciiAndBinaryAgree) {
     }
     EXPECT_NE(headerOf(txt).find("format ascii 1.0\n"), std::string::npos);
     EXPECT_NE(headerOf(bin).find("format binary_little_endian 1.0\n"), std::string::npos);
-    // Binary: header + 38 bytes a vertex, nothing else.
-    EXPECT_EQ(readBytes(bin).size(), headerOf(bin).size() + 370u * 38u);
+    // Binary: header + 50 bytes a vertex (12 floats, 2 bytes), nothing else.
+    EXPECT_EQ(readBytes(bin).size(), headerOf(bin).size() + 370u * 50u);
 }
 
 TEST_F(PhotonPlyTest, HeaderDeclaresCountsAndMetadata) {
@@ -171,7 +178,7 @@ TEST_F(PhotonPlyTest, HeaderDeclaresCountsAndMetadata) {
     EXPECT_EQ(header.rfind("ply\nformat binary_little_endian 1.0\ncomment ", 0), 0u) << header;
     EXPECT_NE(header.find("element vertex 22\n"), std::string::npos) << header;
     for (const char* p : {"float x", "float y", "float z", "float r", "float g", "float b", "float dx", "float dy",
-                          "float dz", "uchar map", "uchar bounce"})
+                          "float dz", "float nx", "float ny", "float nz", "uchar map", "uchar bounce"})
         EXPECT_NE(header.find(std::string("property ") + p + "\n"), std::string::npos) << p;
     PhotonPly ply = readPhotonPly(path.string());
     ASSERT_EQ(ply.comments.size(), 1u);
