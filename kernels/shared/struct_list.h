@@ -20,6 +20,9 @@
     X(PclPhoton)              \
     X(PclPhotonParams)        \
     X(PclGridParams)          \
-    X(PclKnnQuery)
+    X(PclKnnQuery)            \
+    X(PclEstimateQuery)       \
+    X(PclEstimateParams)      \
+    X(PclEstimate)
 
 #endif /* PCL_STRUCT_LIST_H */

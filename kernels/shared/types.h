@@ -210,4 +210,74 @@ typedef struct PclKnnQuery {
 PCL_STATIC_ASSERT(sizeof(PclKnnQuery) == 32, PclKnnQuery_size);
 #define PCL_KNN_MAX_K 500u
 
+/* ---- Radiance estimate (kernels/estimate.cl; kernels/README.md, "estimate") ---------------- */
+
+/* One irradiance estimate: at (x, y, z) on the side of unit normal (nx, ny, nz), from the k
+ * photons nearest within sqrt(maxRadius2). The first four floats are PclKnnQuery's. */
+typedef struct PclEstimateQuery {
+    pcl_f32 x, y, z, maxRadius2;
+    pcl_f32 nx, ny, nz;
+    pcl_u32 k;            /* 1 .. PCL_KNN_MAX_K */
+} PclEstimateQuery;
+PCL_STATIC_ASSERT(sizeof(PclEstimateQuery) == 32, PclEstimateQuery_size);
+
+#define PCL_FILTER_BOX 0u
+#define PCL_FILTER_CONE 1u
+#define PCL_FILTER_EPANECHNIKOV 2u
+#define PCL_FILTER_GAUSSIAN 3u
+#define PCL_GAUSSIAN_BETA 1.953f  /* Jensen 2001, §7.2.2 (Pavicic's Gaussian) */
+
+/* One estimate launch (a batch of queries). */
+typedef struct PclEstimateParams {
+    pcl_u32 filter;        /* PCL_FILTER_* */
+    pcl_f32 coneK;         /* cone: k_c >= 1 */
+    pcl_f32 norm;          /* the filter's normalisation: mean of w over the unit disc (float) */
+    pcl_f32 gaussianScale; /* Gaussian: 1 / (1 - e^-beta) (float) */
+    pcl_f32 minNormalCos;  /* a photon counts when n_p . n_q >= this */
+    pcl_u32 visibility;    /* 1: reject photons whose lifted segment to the query is occluded */
+    pcl_f32 rayEpsilon;    /* visibility: lift h = rayEpsilon + liftFraction * r */
+    pcl_f32 liftFraction;  /* 0.25 */
+    pcl_u32 firstQuery;    /* this batch's first query (queries and results are indexed from 0) */
+    pcl_u32 queryCount;    /* queries in this batch */
+    pcl_u32 stride;        /* kNN slots per query (the batch's largest k) */
+    pcl_u32 pad0;
+} PclEstimateParams;
+PCL_STATIC_ASSERT(sizeof(PclEstimateParams) == 48, PclEstimateParams_size);
+
+/* The estimate at one query. */
+typedef struct PclEstimate {
+    pcl_f32 r, g, b;       /* irradiance E in W/m^2; exactly 0 when no photon counts */
+    pcl_f32 radius2;       /* r^2: the kNN's squared distance to its last photon (0 if none) */
+    pcl_u32 used;          /* photons that passed the rejection tests */
+    pcl_u32 found;         /* photons the kNN returned */
+    pcl_u32 pad0, pad1;
+} PclEstimate;
+PCL_STATIC_ASSERT(sizeof(PclEstimate) == 32, PclEstimate_size);
+
+/* ---- Precomputed irradiance (Christensen 1999; kernels/README.md, "precomputed irradiance") --
+ * The irradiance estimated at every m-th photon of the global map, stored with the photon's
+ * position and normal, so a later lookup is one nearest-neighbour search (with the normal test)
+ * instead of a k-nearest-neighbour estimate. Floats, not RGBE: a lookup at a stored point's own
+ * position returns exactly what was estimated there. */
+#define PCL_IRRADIANCE_AXIS_SHIFT 30
+#define PCL_IRRADIANCE_INDEX_MASK 0x3FFFFFFFu
+typedef struct PclIrradiancePoint {
+    pcl_f32 x, y, z;
+    pcl_u32 normal;   /* the photon's octahedral normal word (photon_normal_encode) */
+    pcl_f32 r, g, b;  /* irradiance in W/m² */
+    pcl_u32 photon;   /* map index of the photon it was estimated at (bits 0..29); in the lookup
+                         tree, the node's split axis in bits 30..31 */
+} PclIrradiancePoint;
+PCL_STATIC_ASSERT(sizeof(PclIrradiancePoint) == 32, PclIrradiancePoint_size);
+
+/* One lookup: the irradiance of the stored point nearest (x, y, z) within sqrt(maxRadius2)
+ * whose normal agrees with (nx, ny, nz) (a unit vector): n_p·n_q ≥ PCL_IRRADIANCE_NORMAL_COS. */
+#define PCL_IRRADIANCE_NORMAL_COS 0.9f
+typedef struct PclIrradianceQuery {
+    pcl_f32 x, y, z, maxRadius2;
+    pcl_f32 nx, ny, nz;
+    pcl_u32 pad0;
+} PclIrradianceQuery;
+PCL_STATIC_ASSERT(sizeof(PclIrradianceQuery) == 32, PclIrradianceQuery_size);
+
 #endif /* PCL_TYPES_H */
