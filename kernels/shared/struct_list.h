@@ -23,6 +23,7 @@
     X(PclKnnQuery)            \
     X(PclEstimateQuery)       \
     X(PclEstimateParams)      \
-    X(PclEstimate)
+    X(PclEstimate)            \
+    X(PclIrradiancePoint)
 
 #endif /* PCL_STRUCT_LIST_H */

@@ -258,7 +258,8 @@ PCL_STATIC_ASSERT(sizeof(PclEstimate) == 32, PclEstimate_size);
  * The irradiance estimated at every m-th photon of the global map, stored with the photon's
  * position and normal, so a later lookup is one nearest-neighbour search (with the normal test)
  * instead of a k-nearest-neighbour estimate. Floats, not RGBE: a lookup at a stored point's own
- * position returns exactly what was estimated there. */
+ * position returns exactly what was estimated there. Lookups take PclEstimateQuery (k unused),
+ * so one query buffer serves the full estimate and the lookup. */
 #define PCL_IRRADIANCE_AXIS_SHIFT 30
 #define PCL_IRRADIANCE_INDEX_MASK 0x3FFFFFFFu
 typedef struct PclIrradiancePoint {
@@ -269,15 +270,5 @@ typedef struct PclIrradiancePoint {
                          tree, the node's split axis in bits 30..31 */
 } PclIrradiancePoint;
 PCL_STATIC_ASSERT(sizeof(PclIrradiancePoint) == 32, PclIrradiancePoint_size);
-
-/* One lookup: the irradiance of the stored point nearest (x, y, z) within sqrt(maxRadius2)
- * whose normal agrees with (nx, ny, nz) (a unit vector): n_p·n_q ≥ PCL_IRRADIANCE_NORMAL_COS. */
-#define PCL_IRRADIANCE_NORMAL_COS 0.9f
-typedef struct PclIrradianceQuery {
-    pcl_f32 x, y, z, maxRadius2;
-    pcl_f32 nx, ny, nz;
-    pcl_u32 pad0;
-} PclIrradianceQuery;
-PCL_STATIC_ASSERT(sizeof(PclIrradianceQuery) == 32, PclIrradianceQuery_size);
 
 #endif /* PCL_TYPES_H */
