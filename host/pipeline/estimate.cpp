@@ -1,0 +1,248 @@
+#include "pipeline/estimate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/error.h"
+#include "reference/estimate.h"
+
+namespace pcl {
+namespace {
+
+// Work-group size of the estimate launches (fixed: PoCL compiles a kernel per size).
+constexpr size_t kEstimateGroup = 64;
+cl::NDRange estimateGlobalRange(size_t n) {
+    return cl::NDRange((n + kEstimateGroup - 1) / kEstimateGroup * kEstimateGroup);
+}
+
+constexpr float kLiftFraction = 0.25f;
+
+double seconds(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+float largestRadius(const std::vector<PclEstimateQuery>& queries) {
+    float maxRadius2 = 0.0f;
+    for (const PclEstimateQuery& q : queries) maxRadius2 = std::max(maxRadius2, q.maxRadius2);
+    if (!std::isfinite(maxRadius2))
+        throw InputError("estimate: the hash grid needs a finite search radius (a query has maxRadius2 = inf)");
+    const float r = std::sqrt(maxRadius2);
+    return r > 0.0f ? r : 1.0f;  // every radius 0: any cell size finds the photons at the query
+}
+
+}  // namespace
+
+const char* estimateFilterName(EstimateFilter f) {
+    switch (f) {
+        case EstimateFilter::Box: return "box";
+        case EstimateFilter::Cone: return "cone";
+        case EstimateFilter::Epanechnikov: return "epanechnikov";
+        case EstimateFilter::Gaussian: return "gaussian";
+    }
+    return "?";
+}
+
+const std::vector<EstimateFilter>& allEstimateFilters() {
+    static const std::vector<EstimateFilter> all = {EstimateFilter::Box, EstimateFilter::Cone,
+                                                    EstimateFilter::Epanechnikov, EstimateFilter::Gaussian};
+    return all;
+}
+
+EstimateFilter parseEstimateFilter(const std::string& name) {
+    for (EstimateFilter f : allEstimateFilters())
+        if (name == estimateFilterName(f)) return f;
+    throw InputError("estimate: unknown filter \"" + name + "\", expected one of box|cone|epanechnikov|gaussian");
+}
+
+uint32_t estimateFilterCode(EstimateFilter f) {
+    switch (f) {
+        case EstimateFilter::Box: return PCL_FILTER_BOX;
+        case EstimateFilter::Cone: return PCL_FILTER_CONE;
+        case EstimateFilter::Epanechnikov: return PCL_FILTER_EPANECHNIKOV;
+        case EstimateFilter::Gaussian: return PCL_FILTER_GAUSSIAN;
+    }
+    return PCL_FILTER_BOX;
+}
+
+void validateEstimateSettings(const EstimateSettings& s) {
+    if (!(s.coneK >= 1.0f) || !std::isfinite(s.coneK))
+        throw InputError("estimate: cone filter k = " + std::to_string(s.coneK) + ", expected a finite k ≥ 1");
+    if (std::isnan(s.minNormalCos))
+        throw InputError("estimate: minNormalCos is NaN, expected a cosine in [-1, 1]");
+    if (!(s.rayEpsilon >= 0.0f) || !std::isfinite(s.rayEpsilon))
+        throw InputError("estimate: rayEpsilon = " + std::to_string(s.rayEpsilon) + ", expected a finite value ≥ 0");
+}
+
+PclEstimateParams estimateParams(const EstimateSettings& s, uint32_t firstQuery, uint32_t queryCount,
+                                 uint32_t stride) {
+    PclEstimateParams p{};
+    p.filter = estimateFilterCode(s.filter);
+    p.coneK = s.coneK;
+    p.norm = float(estimateFilterNorm(s.filter, s.coneK));
+    p.gaussianScale = float(estimateGaussianScale());
+    p.minNormalCos = s.minNormalCos;
+    p.visibility = s.visibility ? 1u : 0u;
+    p.rayEpsilon = s.rayEpsilon;
+    p.liftFraction = kLiftFraction;
+    p.firstQuery = firstQuery;
+    p.queryCount = queryCount;
+    p.stride = stride;
+    return p;
+}
+
+uint32_t estimateMaxK(const std::vector<PclEstimateQuery>& queries) {
+    uint32_t maxK = 1;
+    for (size_t i = 0; i < queries.size(); ++i) {
+        const PclEstimateQuery& q = queries[i];
+        if (q.k == 0 || q.k > PCL_KNN_MAX_K)
+            throw InputError("estimate: query " + std::to_string(i) + " asks k = " + std::to_string(q.k) +
+                             ", expected 1.." + std::to_string(PCL_KNN_MAX_K));
+        if (!(q.maxRadius2 >= 0.0f))
+            throw InputError("estimate: query " + std::to_string(i) + " has maxRadius2 = " +
+                             std::to_string(q.maxRadius2) + ", expected ≥ 0");
+        if (!std::isfinite(q.nx) || !std::isfinite(q.ny) || !std::isfinite(q.nz))
+            throw InputError("estimate: query " + std::to_string(i) + " has a non-finite normal, expected a unit vector");
+        maxK = std::max(maxK, q.k);
+    }
+    return maxK;
+}
+
+// ---- PhotonMapOnDevice -------------------------------------------------------------------
+
+PhotonMapOnDevice::PhotonMapOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStructure structure,
+                                     float maxRadius)
+    : structure_(structure), count_(map.size()), maxRadius_(maxRadius) {
+    const auto t0 = std::chrono::steady_clock::now();
+    float lo[3] = {0.0f, 0.0f, 0.0f};
+    if (!map.empty()) {
+        lo[0] = map[0].x, lo[1] = map[0].y, lo[2] = map[0].z;
+        for (const PclPhoton& p : map) {
+            lo[0] = std::min(lo[0], p.x);
+            lo[1] = std::min(lo[1], p.y);
+            lo[2] = std::min(lo[2], p.z);
+        }
+    }
+    photons_ = device.upload(map);
+    build(device, lo);
+    device.finish();
+    buildSeconds_ = seconds(t0);
+}
+
+PhotonMapOnDevice::PhotonMapOnDevice(Device& device, const cl::Buffer& photons, size_t count,
+                                     KnnStructure structure, float maxRadius, const float lo[3])
+    : structure_(structure), count_(count), maxRadius_(maxRadius), photons_(photons) {
+    const auto t0 = std::chrono::steady_clock::now();
+    build(device, lo);
+    device.finish();
+    buildSeconds_ = seconds(t0);
+}
+
+void PhotonMapOnDevice::build(Device& device, const float lo[3]) {
+    if (structure_ == KnnStructure::KdTree) {
+        tree_ = packKdTree(device, buildKdTree(device, photons_, count_));
+        return;
+    }
+    if (!(maxRadius_ > 0.0f) || !std::isfinite(maxRadius_))
+        throw InputError("estimate: the hash grid needs a positive finite maxRadius, got " + std::to_string(maxRadius_));
+    if (count_ > (size_t(1) << 31))
+        throw InputError("estimate: " + std::to_string(count_) + " photons exceed the hash grid's 32-bit table");
+    PclGridParams g{};  // as hashGridParams, with the caller's bounds minimum
+    g.ox = lo[0], g.oy = lo[1], g.oz = lo[2];
+    g.cellSize = 2.0f * maxRadius_;
+    g.invCellSize = 1.0f / g.cellSize;
+    uint32_t table = 1;
+    while (table < count_) table <<= 1;
+    g.tableSize = table;
+    g.photonCount = uint32_t(count_);
+    grid_ = buildHashGrid(device, photons_, count_, g);
+}
+
+double PhotonMapOnDevice::search(Device& device, const cl::Buffer& queries, size_t queryCount, uint32_t maxK,
+                                 DeviceKnnOutput& out) const {
+    if (structure_ == KnnStructure::KdTree) return knnSearchKdTree(device, tree_, queries, queryCount, maxK, out);
+    return knnSearchHashGrid(device, grid_, queries, queryCount, maxK, out);
+}
+
+// ---- Estimates ---------------------------------------------------------------------------
+
+size_t estimateBatchQueries(const Device& device, uint32_t maxK) {
+    const size_t budget = device.info().maxAlloc / 4;
+    const size_t perQuery = size_t(std::max(maxK, 1u)) * 8;
+    return std::min<size_t>(std::max<size_t>(budget / perQuery, 1), size_t(1) << 20);
+}
+
+EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, const cl::Buffer& queries,
+                               size_t queryCount, uint32_t maxK, const EstimateSettings& settings,
+                               const DeviceScene* scene, cl::Buffer& results) {
+    validateEstimateSettings(settings);
+    knnHeapCapacity(maxK);  // InputError outside 1..PCL_KNN_MAX_K
+    if (settings.visibility && !scene)
+        throw InputError("estimate: the visibility test needs the scene on the device, got none");
+    if (queryCount >= (size_t(1) << 32))
+        throw InputError("estimate: " + std::to_string(queryCount) + " queries exceed 32-bit indices");
+    EstimateTiming timing;
+    if (queryCount == 0) return timing;
+
+    const std::string options = scene ? scene->geometry.programOptions() : std::string();
+    auto convert = device.kernel<PclEstimateParams, cl::Buffer, cl::Buffer>("estimate", "estimate_knn_queries", options);
+    auto estimate = device.kernel<PclEstimateParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
+                                  cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+        "estimate", "estimate_irradiance", options);
+    // Without a scene the BVH arguments are one-element placeholders the kernel never reads.
+    cl::Buffer placeholder;
+    if (!scene) placeholder = device.allocate<uint32_t>(1);
+    const cl::Buffer& nodes = scene ? scene->geometry.nodes : placeholder;
+    const cl::Buffer& packets = scene ? scene->geometry.packets : placeholder;
+    const cl::Buffer& spheres = scene ? scene->geometry.spheres : placeholder;
+
+    const size_t batch = std::min(queryCount, estimateBatchQueries(device, maxK));
+    timing.batchQueries = batch;
+    cl::Buffer knnQueries = device.allocate<PclKnnQuery>(batch);
+    for (size_t first = 0; first < queryCount; first += batch) {
+        const size_t n = std::min(batch, queryCount - first);
+        const PclEstimateParams params = estimateParams(settings, uint32_t(first), uint32_t(n), maxK);
+        cl::Event c = device.launchLocal("estimate", convert, estimateGlobalRange(n), cl::NDRange(kEstimateGroup),
+                                         params, queries, knnQueries);
+        DeviceKnnOutput knn;
+        timing.knnSeconds += map.search(device, knnQueries, n, maxK, knn);
+        cl::Event e = device.launchLocal("estimate", estimate, estimateGlobalRange(n), cl::NDRange(kEstimateGroup),
+                                         params, queries, map.photons(), knn.counts, knn.indices, knn.dist2,
+                                         knn.radius2, nodes, packets, spheres, results);
+        e.wait();
+        timing.estimateSeconds += Device::elapsedSeconds(c) + Device::elapsedSeconds(e);
+        ++timing.batches;
+    }
+    return timing;
+}
+
+EstimateResult estimateOnDevice(Device& device, const PhotonMapOnDevice& map,
+                                const std::vector<PclEstimateQuery>& queries, const EstimateSettings& settings,
+                                const DeviceScene* sceneForVisibility) {
+    const uint32_t maxK = estimateMaxK(queries);
+    if (map.structure() == KnnStructure::HashGrid)
+        for (size_t i = 0; i < queries.size(); ++i)
+            if (!(std::sqrt(queries[i].maxRadius2) <= map.maxRadius()))
+                throw InputError("estimate: query " + std::to_string(i) + " has radius " +
+                                 std::to_string(std::sqrt(queries[i].maxRadius2)) +
+                                 ", above the hash grid's maxRadius " + std::to_string(map.maxRadius()));
+    EstimateResult r;
+    cl::Buffer q = device.upload(queries);
+    cl::Buffer out = device.allocate<PclEstimate>(queries.size());
+    r.timing = estimateBuffers(device, map, q, queries.size(), maxK, settings, sceneForVisibility, out);
+    r.values = device.download<PclEstimate>(out, queries.size());
+    r.buildSeconds = map.buildSeconds();
+    return r;
+}
+
+EstimateResult estimateOnDevice(Device& device, const std::vector<PclPhoton>& map,
+                                const std::vector<PclEstimateQuery>& queries, const EstimateSettings& settings,
+                                const DeviceScene* sceneForVisibility) {
+    estimateMaxK(queries);
+    validateEstimateSettings(settings);
+    const float rMax = settings.structure == KnnStructure::HashGrid ? largestRadius(queries) : 0.0f;
+    const PhotonMapOnDevice built(device, map, settings.structure, rMax);
+    return estimateOnDevice(device, built, queries, settings, sceneForVisibility);
+}
+
+}  // namespace pcl

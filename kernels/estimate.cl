@@ -1,0 +1,115 @@
+/* estimate.cl: the irradiance estimate at each query from its k nearest photons (kernels/
+ * README.md, "estimate"; Jensen 2001 §7.2), one query per work-item, after the kNN search
+ * (knn.cl) of the same batch.
+ *
+ * estimate_knn_queries
+ *   in:  params (firstQuery, queryCount, stride), queries[firstQuery + i] PclEstimateQuery
+ *   out: knnQueries[i] PclKnnQuery = (x, y, z, maxRadius2, min(k, stride)), i < queryCount
+ * estimate_irradiance
+ *   in:  params                      PclEstimateParams (filter, coneK, norm, gaussianScale,
+ *                                    minNormalCos, visibility, rayEpsilon, liftFraction, batch)
+ *        queries[firstQuery + i]     position, unit normal n_q of the shaded side
+ *        photons[]                   the map in map order (kNN indices refer to it)
+ *        counts[i], indices[i·stride + j], dist2[i·stride + j], radius2[i]   the kNN's output
+ *        nodes, packets, spheres     the scene BVH (shared/bvh.h), read only with visibility
+ *   out: results[firstQuery + i]     PclEstimate: E rgb = Σ w(u²) ΔΦ_p / ((norm·π)·r²) over the
+ *                                    neighbours that pass the tests, in kNN order; r² = radius2;
+ *                                    used; found = counts[i]. r² = 0 gives exactly 0.
+ *
+ * Tests per neighbour (in this order): w_p·n_q > 0 (incoming direction on the shaded side),
+ * n_p·n_q ≥ minNormalCos, and with visibility no hit in (0, 1) along the segment from
+ * x + h n_q to p + h n_p, h = rayEpsilon + liftFraction·r (closest-hit traversal, time 0).
+ * Dot products are (a.x b.x + a.y b.y) + a.z b.z; FP_CONTRACT is off so the twin repeats the
+ * arithmetic (up to exp, sin and cos: see the README).
+ * options: -DPCL_BVH_STACK_SIZE=n (DeviceGeometry::programOptions) */
+#pragma OPENCL FP_CONTRACT OFF
+#include "shared/types.h"
+#include "shared/sampling.h"
+#include "shared/bvh.h"
+
+__kernel void estimate_knn_queries(const PclEstimateParams params, __global const PclEstimateQuery* queries,
+                                   __global PclKnnQuery* knnQueries) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= params.queryCount) return;
+    const PclEstimateQuery q = queries[params.firstQuery + i];
+    PclKnnQuery k;
+    k.x = q.x;
+    k.y = q.y;
+    k.z = q.z;
+    k.maxRadius2 = q.maxRadius2;
+    k.k = min(q.k, params.stride);
+    k.pad0 = k.pad1 = k.pad2 = 0u;
+    knnQueries[i] = k;
+}
+
+/* w at u² = d²/r² (u² ≤ 1). */
+inline float estimate_weight(const PclEstimateParams* p, float u2) {
+    switch (p->filter) {
+        case PCL_FILTER_CONE: return 1.0f - sqrt(u2) / p->coneK;
+        case PCL_FILTER_EPANECHNIKOV: return 1.0f - u2;
+        case PCL_FILTER_GAUSSIAN: return 1.0f - (1.0f - exp(u2 * (-0.5f * PCL_GAUSSIAN_BETA))) * p->gaussianScale;
+        default: return 1.0f;
+    }
+}
+
+inline float estimate_dot(PclV3 a, float bx, float by, float bz) { return a.x * bx + a.y * by + a.z * bz; }
+
+__kernel void estimate_irradiance(const PclEstimateParams params, __global const PclEstimateQuery* queries,
+                                  __global const PclPhoton* photons, __global const uint* counts,
+                                  __global const uint* indices, __global const float* dist2,
+                                  __global const float* radius2, __global const PclBvhNode* nodes,
+                                  __global const PclTriPacket* packets, __global const PclSphere* spheres,
+                                  __global PclEstimate* results) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= params.queryCount) return;
+    const PclEstimateQuery q = queries[params.firstQuery + i];
+    const uint found = counts[i];
+    const float r2 = radius2[i];
+    float sr = 0.0f, sg = 0.0f, sb = 0.0f;
+    uint used = 0u;
+    if (r2 > 0.0f) {
+        const float h = params.rayEpsilon + params.liftFraction * sqrt(r2);
+        const float ax = q.x + h * q.nx, ay = q.y + h * q.ny, az = q.z + h * q.nz;
+        const size_t base = (size_t)i * params.stride;
+        for (uint j = 0u; j < found; ++j) {
+            const PclPhoton p = photons[indices[base + j]];
+            const PclV3 w = photon_dir_decode(p.packed);
+            if (!(estimate_dot(w, q.nx, q.ny, q.nz) > 0.0f)) continue;
+            const PclV3 n = photon_normal_decode(p.normal);
+            if (!(estimate_dot(n, q.nx, q.ny, q.nz) >= params.minNormalCos)) continue;
+            if (params.visibility) {
+                PclRay ray;
+                ray.ox = ax; ray.oy = ay; ray.oz = az; ray.tmin = 0.0f;
+                ray.dx = (p.x + h * n.x) - ax;
+                ray.dy = (p.y + h * n.y) - ay;
+                ray.dz = (p.z + h * n.z) - az;
+                ray.tmax = 1.0f;
+                ray.time = 0.0f;
+                ray.pad0 = ray.pad1 = ray.pad2 = 0u;
+                PclHit hit;
+                if (bvh_trace(nodes, packets, spheres, ray, false, &hit)) continue;
+            }
+            const float wt = estimate_weight(&params, dist2[base + j] / r2);
+            float pr, pg, pb;
+            photon_rgbe_decode(p.rgbe, &pr, &pg, &pb);
+            sr += wt * pr;
+            sg += wt * pg;
+            sb += wt * pb;
+            ++used;
+        }
+    }
+    PclEstimate e;
+    if (used > 0u) {
+        const float denom = (params.norm * PCL_PI_F) * r2;
+        e.r = sr / denom;
+        e.g = sg / denom;
+        e.b = sb / denom;
+    } else {
+        e.r = e.g = e.b = 0.0f;
+    }
+    e.radius2 = r2;
+    e.used = used;
+    e.found = found;
+    e.pad0 = e.pad1 = 0u;
+    results[params.firstQuery + i] = e;
+}
