@@ -12,6 +12,7 @@
  *        photons[]                   the map in map order (kNN indices refer to it)
  *        counts[i], indices[i·stride + j], dist2[i·stride + j], radius2[i]   the kNN's output
  *        nodes, packets, spheres     the scene BVH (shared/bvh.h), read only with visibility
+ *        dirTable[1024]              cos θ, sin θ, cos φ, sin φ per direction byte (host-made)
  *   out: results[firstQuery + i]     PclEstimate: E rgb = Σ w(u²) ΔΦ_p / ((norm·π)·r²) over the
  *                                    neighbours that pass the tests, in kNN order; r² = radius2;
  *                                    used; found = counts[i]. r² = 0 gives exactly 0.
@@ -20,7 +21,7 @@
  * n_p·n_q ≥ minNormalCos, and with visibility no hit in (0, 1) along the segment from
  * x + h n_q to p + h n_p, h = rayEpsilon + liftFraction·r (closest-hit traversal, time 0).
  * Dot products are (a.x b.x + a.y b.y) + a.z b.z; FP_CONTRACT is off so the twin repeats the
- * arithmetic (up to exp, sin and cos: see the README).
+ * arithmetic (up to exp, and division and sqrt where not correctly rounded: see the README).
  * options: -DPCL_BVH_STACK_SIZE=n (DeviceGeometry::programOptions) */
 #pragma OPENCL FP_CONTRACT OFF
 #include "shared/types.h"
@@ -54,12 +55,21 @@ inline float estimate_weight(const PclEstimateParams* p, float u2) {
 
 inline float estimate_dot(PclV3 a, float bx, float by, float bz) { return a.x * bx + a.y * by + a.z * bz; }
 
+/* The incoming direction of a photon record from the host's table (Jensen's lookup tables,
+ * §5.4): dirTable[b] = cos θ_b, [256 + b] = sin θ_b, [512 + b] = cos φ_b, [768 + b] = sin φ_b
+ * at the byte cells' centres, so no sin or cos runs per photon and the twin gets the same bits. */
+inline PclV3 estimate_dir(__constant const float* dirTable, uint packed) {
+    const uint t = packed & 255u, p = (packed >> 8) & 255u;
+    const float st = dirTable[256u + t];
+    return sampling_v3(st * dirTable[512u + p], st * dirTable[768u + p], dirTable[t]);
+}
+
 __kernel void estimate_irradiance(const PclEstimateParams params, __global const PclEstimateQuery* queries,
                                   __global const PclPhoton* photons, __global const uint* counts,
                                   __global const uint* indices, __global const float* dist2,
                                   __global const float* radius2, __global const PclBvhNode* nodes,
                                   __global const PclTriPacket* packets, __global const PclSphere* spheres,
-                                  __global PclEstimate* results) {
+                                  __constant const float* dirTable, __global PclEstimate* results) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.queryCount) return;
     const PclEstimateQuery q = queries[params.firstQuery + i];
@@ -73,7 +83,7 @@ __kernel void estimate_irradiance(const PclEstimateParams params, __global const
         const size_t base = (size_t)i * params.stride;
         for (uint j = 0u; j < found; ++j) {
             const PclPhoton p = photons[indices[base + j]];
-            const PclV3 w = photon_dir_decode(p.packed);
+            const PclV3 w = estimate_dir(dirTable, p.packed);
             if (!(estimate_dot(w, q.nx, q.ny, q.nz) > 0.0f)) continue;
             const PclV3 n = photon_normal_decode(p.normal);
             if (!(estimate_dot(n, q.nx, q.ny, q.nz) >= params.minNormalCos)) continue;

@@ -8,7 +8,7 @@
 // box with random unit normals. r_max = radiusFraction × the scene's bounding-box diagonal
 // (each query its own maxRadius2, uniform in [¼, 1] × r_max²). For each map × query set ×
 // structure × filter × visibility (off, and on for surface queries): the same photons found
-// and used per query, irradiance within 1e-5 relative (exp, sin and cos may differ by an ulp
+// and used per query, irradiance within 1e-5 relative (exp, division and sqrt may differ by an ulp
 // between the device and the host library), r² equal, no NaN. Any divergence fails.
 #pragma once
 #include <cstdint>

@@ -22,6 +22,22 @@ double seconds(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// cos θ, sin θ, cos φ, sin φ at the centres of the direction bytes' cells (kernels/README.md,
+// "estimate"): θ = (b + 0.5)·π/256, φ = (b as a signed byte + 0.5)·π/128, in float.
+std::vector<float> directionTable() {
+    constexpr float pi = 3.14159265358979323846f;
+    std::vector<float> t(1024);
+    for (uint32_t b = 0; b < 256; ++b) {
+        const float theta = (float(b) + 0.5f) * (pi / 256.0f);
+        const float phi = (float(b >= 128 ? int(b) - 256 : int(b)) + 0.5f) * (pi / 128.0f);
+        t[b] = std::cos(theta);
+        t[256 + b] = std::sin(theta);
+        t[512 + b] = std::cos(phi);
+        t[768 + b] = std::sin(phi);
+    }
+    return t;
+}
+
 float largestRadius(const std::vector<PclEstimateQuery>& queries) {
     float maxRadius2 = 0.0f;
     for (const PclEstimateQuery& q : queries) maxRadius2 = std::max(maxRadius2, q.maxRadius2);
@@ -187,7 +203,7 @@ EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, con
     const std::string options = scene ? scene->geometry.programOptions() : std::string();
     auto convert = device.kernel<PclEstimateParams, cl::Buffer, cl::Buffer>("estimate", "estimate_knn_queries", options);
     auto estimate = device.kernel<PclEstimateParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                                  cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+                                  cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "estimate", "estimate_irradiance", options);
     // Without a scene the BVH arguments are one-element placeholders the kernel never reads.
     cl::Buffer placeholder;
@@ -196,6 +212,8 @@ EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, con
     const cl::Buffer& packets = scene ? scene->geometry.packets : placeholder;
     const cl::Buffer& spheres = scene ? scene->geometry.spheres : placeholder;
 
+    static const std::vector<float> table = directionTable();
+    cl::Buffer dirTable = device.upload(table);
     const size_t batch = std::min(queryCount, estimateBatchQueries(device, maxK));
     timing.batchQueries = batch;
     cl::Buffer knnQueries = device.allocate<PclKnnQuery>(batch);
@@ -208,7 +226,7 @@ EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, con
         timing.knnSeconds += map.search(device, knnQueries, n, maxK, knn);
         cl::Event e = device.launchLocal("estimate", estimate, estimateGlobalRange(n), cl::NDRange(kEstimateGroup),
                                          params, queries, map.photons(), knn.counts, knn.indices, knn.dist2,
-                                         knn.radius2, nodes, packets, spheres, results);
+                                         knn.radius2, nodes, packets, spheres, dirTable, results);
         e.wait();
         timing.estimateSeconds += Device::elapsedSeconds(c) + Device::elapsedSeconds(e);
         ++timing.batches;

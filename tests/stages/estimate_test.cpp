@@ -2,7 +2,7 @@
 // (reference/estimate) and against analytic densities:
 //   a. twin cross-check per filter and structure on a random map and on cornell-box surface
 //      points (checkEstimate): the same photons found and used, irradiance within 1e-5 relative
-//      (exp, sin and cos of the device and the host library may differ by an ulp), no NaN;
+//      (exp, division and sqrt of the device and the host may differ by an ulp), no NaN;
 //   b. uniform density on a plane: mean within 0.5 % of the analytic expectation, relative
 //      spread within 20 % of its expectation, for every filter;
 //   c. boundary bias: edge and corner of uniformly lit squares read 0.5 and 0.25 of the interior
