@@ -269,11 +269,20 @@ TEST(Estimate, UniformDensityMeanAndSpreadMatchTheAnalyticExpectation) {
     const PhotonMapOnDevice built(device, map, KnnStructure::KdTree, 0.03f);
     std::printf("[figure] uniform plane: %zu photons, %zu queries, k = %d; kd-tree build %.2f s\n", n, qs.size(), k,
                 built.buildSeconds());
+    // The twin on the first 200 queries (brute force over the 1M photons): the same estimates.
+    const std::vector<PclEstimateQuery> twinQs(qs.begin(), qs.begin() + 200);
+    const ReferenceKnn brute = referenceKnnBruteForce(map, estimateKnnQueries(twinQs));
     for (EstimateFilter f : allEstimateFilters()) {
         EstimateSettings settings;
         settings.filter = f;
         const EstimateResult r = estimateOnDevice(device, built, qs, settings, nullptr);
         for (const PclEstimate& e : r.values) ASSERT_EQ(e.used, uint32_t(k));
+        double twinErr = 0.0;
+        expectSame(referenceEstimateWithKnn(map, twinQs, brute, settings, nullptr),
+                   std::vector<PclEstimate>(r.values.begin(), r.values.begin() + twinQs.size()),
+                   estimateFilterName(f), &twinErr);
+        std::printf("[figure] uniform %-12s twin vs device on 200 queries: max rel diff %.2e\n", estimateFilterName(f),
+                    twinErr);
         const Moments got = moments(r.values, 0, r.values.size());
         const Expectation want = uniformExpectation(f, settings.coneK, lambdaPhi, k);
         std::printf("[figure] uniform %-12s mean/λΦ %.5f (expected %.5f, rel err %+.3f %%), rel spread %.4f "
