@@ -3,6 +3,7 @@
 #include <string>
 
 #include "cli/command.h"
+#include "cli/memory_option.h"
 #include "core/error.h"
 #include "device/device.h"
 #include "pipeline/check_intersect.h"
@@ -19,6 +20,7 @@ Run addCheckCommand(CLI::App& app) {
         size_t rays = 100000;
         uint32_t photons = 50000;
         uint64_t seed = 1;
+        uint64_t maxBufferMib = 0;
     };
     auto o = std::make_shared<Options>();
     CLI::App* sub = app.add_subcommand(
@@ -35,10 +37,12 @@ Run addCheckCommand(CLI::App& app) {
     sub->add_option("--rays", o->rays, "Rays for the trace check")->capture_default_str();
     sub->add_option("--photons", o->photons, "Photon paths per pass for the photon checks")->capture_default_str();
     sub->add_option("--seed", o->seed, "Seed of the random inputs")->capture_default_str();
+    addMaxBufferMibOption(sub, o->maxBufferMib, "Cap every device buffer at this many MiB (the stages split their work)");
     return [o] {
         if (o->device == "ref") throw InputError("check: --device ref has no kernels to check; pick an OpenCL device");
         Scene scene = loadScene(o->scene);
         Device device = Device::open(o->device);
+        applyBufferCap(device, o->maxBufferMib);
         std::printf("check %s on %s (%s)\n", o->scene.c_str(), device.info().name.c_str(),
                     device.info().platform.c_str());
         bool ok = true;

@@ -6,9 +6,11 @@
 #include <string>
 
 #include "cli/command.h"
+#include "cli/memory_option.h"
 #include "core/error.h"
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
+#include "pipeline/memory_plan.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/photon_ply.h"
 #include "pipeline/plan.h"
@@ -24,6 +26,7 @@ struct PhotonsOptions {
     PlanSettings settings;
     uint64_t seed = 1;
     bool ascii = false;
+    uint64_t maxBufferMib = 0;  // --max-buffer-mib; 0: the driver's limit
 };
 
 int runPhotons(const PhotonsOptions& o) {
@@ -54,6 +57,12 @@ int runPhotons(const PhotonsOptions& o) {
         std::fprintf(stderr, "photons: the plan builds no caustic map for %s; none written\n", o.scene.c_str());
 
     Device device = Device::open(o.device);
+    // The memory plan, before any work: a map that cannot fit under the max allocation (capped
+    // or not) fails here with its size and what to change; the batch is the plan's.
+    applyBufferCap(device, o.maxBufferMib);
+    const MemoryPlan memory = planMemory(photonPassMemoryRequest(geometry, buffers, pass), memoryLimits(device.info()));
+    requireMemoryFits(memory);
+    pass.batchSize = memory.photonBatch;
     std::fprintf(stderr, "photons %s on %s (%s): global %u, caustic %u photons, seed %llu\n", o.scene.c_str(),
                  device.info().name.c_str(), device.info().platform.c_str(), pass.globalPhotons,
                  pass.causticPhotons, static_cast<unsigned long long>(o.seed));
@@ -96,6 +105,9 @@ Run addPhotonsCommand(CLI::App& app) {
         ->check(CLI::IsMember({"global", "caustic", "both"}))
         ->capture_default_str();
     sub->add_flag("--ascii", o->ascii, "ASCII PLY instead of binary little-endian");
+    addMaxBufferMibOption(sub, o->maxBufferMib,
+                          "Cap every device buffer at this many MiB (smaller batches, same PLY bytes; a map that "
+                          "cannot fit fails before work)");
     return [o] { return runPhotons(*o); };
 }
 

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "cli/command.h"
+#include "cli/memory_option.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "geometry/scene_geometry.h"
@@ -29,6 +30,7 @@ struct RenderOptions {
     uint64_t seed = 0;
     int threads = 0;
     bool quiet = false, noPng = false;
+    uint64_t maxBufferMib = 0;  // --max-buffer-mib: for the OpenCL methods (applyBufferCap on their Device)
 };
 
 std::string defaultOutput(const std::string& scenePath) {
@@ -145,6 +147,9 @@ Run addRenderCommand(CLI::App& app) {
     sub->add_option("--seed", o->seed, "Random seed: same seed, same image bits")->capture_default_str();
     sub->add_option("--threads", o->threads, "CPU threads (default: all cores)");
     sub->add_flag("--no-png", o->noPng, "Write only the EXR");
+    addMaxBufferMibOption(sub, o->maxBufferMib,
+                          "Cap every OpenCL buffer at this many MiB (photon-mapping methods; --method path allocates "
+                          "none)");
     sub->add_flag("-q,--quiet", o->quiet, "No progress output");
     return [o] { return runRender(*o); };
 }

@@ -72,6 +72,7 @@ std::vector<DeviceInfo> listDevices() {
             info.computeUnits = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
             info.globalMem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
             info.maxAlloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+            info.driverMaxAlloc = info.maxAlloc;
             info.clPlatform = p;
             info.clDevice = d;
             out.push_back(std::move(info));
@@ -181,6 +182,18 @@ std::string clErrorName(cl_int code) {
     }
 }
 
+std::string formatMiB(size_t bytes) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.1f MiB", double(bytes) / (1024.0 * 1024.0));
+    return buf;
+}
+
+std::string describeMaxAlloc(const DeviceInfo& info) {
+    const bool capped = info.bufferCap && info.bufferCap <= info.driverMaxAlloc;
+    return formatMiB(info.maxAlloc) +
+           (capped ? " (cap from --max-buffer-mib)" : " (the driver's CL_DEVICE_MAX_MEM_ALLOC_SIZE)");
+}
+
 DeviceError deviceError(const std::string& stage, const cl::Error& e) {
     std::ostringstream s;
     s << "stage " << stage << ": " << clErrorName(e.err()) << " (" << e.err() << ")";
@@ -245,6 +258,27 @@ cl::Program Device::program(const std::string& stage, const std::string& options
     cl::Program p = programs_->cache->build(stage, options);
     programs_->built.emplace(key, p);
     return p;
+}
+
+void Device::setBufferCap(size_t bytes) {
+    info_.bufferCap = bytes;
+    info_.maxAlloc = bytes ? std::min(bytes, info_.driverMaxAlloc) : info_.driverMaxAlloc;
+}
+
+void Device::throwTooLarge(const std::string& what, size_t count, size_t elementBytes) const {
+    throw DeviceError((what.empty() ? std::string("allocate: a buffer") : what) + " of " + std::to_string(count) +
+                      " elements of " + std::to_string(elementBytes) + " bytes overflows size_t");
+}
+
+cl::Buffer Device::allocateBytes(size_t bytes, cl_mem_flags flags, const std::string& what) {
+    bytes = std::max<size_t>(bytes, 1);
+    if (observer_) observer_(what, bytes);
+    if (bytes > info_.maxAlloc)
+        throw DeviceError((what.empty() ? std::string("allocate: a buffer") : what) + " needs " + formatMiB(bytes) +
+                          " (" + std::to_string(bytes) + " bytes), above the device's max allocation " +
+                          describeMaxAlloc(info_));
+    return guard(what.empty() ? std::string("allocate") : what,
+                 [&] { return cl::Buffer(context_, flags, bytes); });
 }
 
 double Device::elapsedSeconds(const cl::Event& e) {

@@ -17,6 +17,8 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -37,7 +39,10 @@ struct DeviceInfo {
     cl_device_type type = 0;   // CL_DEVICE_TYPE_CPU / _GPU / _ACCELERATOR
     size_t computeUnits = 0;
     size_t globalMem = 0;      // bytes
-    size_t maxAlloc = 0;       // bytes: the largest single buffer
+    size_t maxAlloc = 0;       // bytes: the largest single buffer this Device allocates: the
+                               // driver's, or the buffer cap when that is lower (Device::setBufferCap)
+    size_t driverMaxAlloc = 0; // bytes: CL_DEVICE_MAX_MEM_ALLOC_SIZE as the driver reports it
+    size_t bufferCap = 0;      // bytes: the cap from setBufferCap (--max-buffer-mib); 0: none
     cl::Platform clPlatform;
     cl::Device clDevice;
 };
@@ -54,6 +59,13 @@ std::string deviceTypeName(cl_device_type type);
 
 // "CL_OUT_OF_RESOURCES" for -5; "CL_UNKNOWN_ERROR" for codes it does not know.
 std::string clErrorName(cl_int code);
+
+// "64.0 MiB": bytes in MiB with one decimal (memory messages and the memory plan's table).
+std::string formatMiB(size_t bytes);
+
+// The max allocation and where it comes from, for messages: "64.0 MiB (cap from
+// --max-buffer-mib)" or "6016.0 MiB (the driver's CL_DEVICE_MAX_MEM_ALLOC_SIZE)".
+std::string describeMaxAlloc(const DeviceInfo& info);
 
 // The DeviceError for a failed OpenCL call during `stage`.
 DeviceError deviceError(const std::string& stage, const cl::Error& e);
@@ -115,18 +127,34 @@ public:
         });
     }
 
+    // Caps every buffer this Device allocates at `bytes` (0: no cap). info().maxAlloc becomes
+    // min(driver's, bytes), so every stage that sizes its batches from it splits its work under
+    // the cap, and allocateBytes() refuses anything larger. The cap belongs to this copy: a copy
+    // of the tests' shared Device can be capped without touching the others.
+    void setBufferCap(size_t bytes);
+
+    // Told (what, bytes) before each buffer is created: tests compare the memory plan
+    // (pipeline/memory_plan.h) with what the stages really allocate. Empty: none.
+    using AllocationObserver = std::function<void(const std::string& what, size_t bytes)>;
+    void setAllocationObserver(AllocationObserver observer) { observer_ = std::move(observer); }
+
+    // The one way a buffer is made: `what` names it in errors ("photon pass: slots"). A buffer
+    // above info().maxAlloc throws DeviceError "<what> needs N MiB, above the device's max
+    // allocation M MiB (cap from --max-buffer-mib)" instead of failing later, or silently, in
+    // the driver. Zero bytes become one element's worth (OpenCL refuses empty buffers).
+    cl::Buffer allocateBytes(size_t bytes, cl_mem_flags flags, const std::string& what);
+
     // Buffers hold at least one element: OpenCL refuses zero-sized buffers, and an empty scene
     // part (no spheres, say) still needs a valid kernel argument.
     template <class T>
-    cl::Buffer allocate(size_t count, cl_mem_flags flags = CL_MEM_READ_WRITE) {
-        return guard("allocate", [&] {
-            return cl::Buffer(context_, flags, std::max<size_t>(count, 1) * sizeof(T));
-        });
+    cl::Buffer allocate(size_t count, cl_mem_flags flags = CL_MEM_READ_WRITE, const std::string& what = {}) {
+        if (count > SIZE_MAX / sizeof(T)) throwTooLarge(what, count, sizeof(T));
+        return allocateBytes(std::max<size_t>(count, 1) * sizeof(T), flags, what);
     }
     // A buffer holding a copy of `data` (blocking write, so `data` may go away after the call).
     template <class T>
-    cl::Buffer upload(const std::vector<T>& data, cl_mem_flags flags = CL_MEM_READ_ONLY) {
-        cl::Buffer buf = allocate<T>(data.size(), flags);
+    cl::Buffer upload(const std::vector<T>& data, cl_mem_flags flags = CL_MEM_READ_ONLY, const std::string& what = {}) {
+        cl::Buffer buf = allocate<T>(data.size(), flags, what);
         if (!data.empty())
             guard("upload", [&] {
                 queue_.enqueueWriteBuffer(buf, CL_TRUE, 0, data.size() * sizeof(T), data.data());
@@ -165,8 +193,11 @@ private:
         return r.dimensions() == 0;
     }
 
+    [[noreturn]] void throwTooLarge(const std::string& what, size_t count, size_t elementBytes) const;
+
     struct Programs;  // the memo and the ProgramCache, shared by copies
     DeviceInfo info_;
+    AllocationObserver observer_;
     cl::Context context_;
     cl::CommandQueue queue_;
     std::shared_ptr<Programs> programs_;

@@ -14,10 +14,11 @@ constexpr size_t kScanGroup = 256;  // PCL_SCAN_GROUP in kernels/deposit.cl
 
 }  // namespace
 
-DevicePhotonMap makeDevicePhotonMap(Device& device, size_t capacity) {
+DevicePhotonMap makeDevicePhotonMap(Device& device, size_t capacity, const std::string& name) {
     DevicePhotonMap map;
+    map.name = name;
     map.capacity = std::max<size_t>(capacity, 1);
-    map.photons = device.allocate<PclPhoton>(map.capacity);
+    map.photons = device.allocate<PclPhoton>(map.capacity, CL_MEM_READ_WRITE, name);
     return map;
 }
 
@@ -26,13 +27,13 @@ uint64_t exclusiveScan(Device& device, const cl::Buffer& values, cl::Buffer& exc
     auto scan = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint>("deposit", "deposit_scan");
     auto add = device.kernel<cl::Buffer, cl::Buffer, cl_uint>("deposit", "deposit_scan_add");
     const size_t groups = (n + kScanGroup - 1) / kScanGroup;
-    cl::Buffer sums = device.allocate<uint32_t>(groups);
+    cl::Buffer sums = device.allocate<uint32_t>(groups, CL_MEM_READ_WRITE, "deposit: group sums");
     std::vector<cl::Event> events;
     events.push_back(device.launchLocal("deposit", scan, cl::NDRange(groups * kScanGroup), cl::NDRange(kScanGroup),
                                         values, exclusive, sums, cl_uint(n)));
     uint64_t total = 0;
     if (groups > 1) {
-        cl::Buffer groupOffsets = device.allocate<uint32_t>(groups);
+        cl::Buffer groupOffsets = device.allocate<uint32_t>(groups, CL_MEM_READ_WRITE, "deposit: group offsets");
         total = exclusiveScan(device, sums, groupOffsets, groups, seconds);
         events.push_back(device.launchLocal("deposit", add, photonGlobalRange(n), cl::NDRange(kPhotonGroup), exclusive, groupOffsets, cl_uint(n)));
         device.finish();
@@ -49,7 +50,7 @@ size_t depositPhotons(Device& device, const cl::Buffer& counts, const cl::Buffer
     if (paths == 0) return 0;
     DepositTiming local;
     DepositTiming& t = timing ? *timing : local;
-    cl::Buffer offsets = device.allocate<uint32_t>(paths);
+    cl::Buffer offsets = device.allocate<uint32_t>(paths, CL_MEM_READ_WRITE, "deposit: offsets");
     const uint64_t total = exclusiveScan(device, counts, offsets, paths, &t.scanSeconds);
     if (total == 0) return 0;
     const uint64_t needed = map.count + total;
@@ -58,8 +59,16 @@ size_t depositPhotons(Device& device, const cl::Buffer& counts, const cl::Buffer
                           " records exceeds the 32-bit offsets of deposit_scatter");
     if (needed > map.capacity) {
         // Grow, never truncate: a larger buffer, the old records copied over, the event counted.
-        size_t capacity = std::max<size_t>(needed, map.capacity * 2);
-        cl::Buffer grown = device.allocate<PclPhoton>(capacity);
+        // Never past one max allocation (the memory plan checked the paths emitted fit; more
+        // records than that can only be found here).
+        const size_t limit = maxMapRecords(device.info().maxAlloc);
+        if (needed > limit)
+            throw InputError(map.name + " needs " + std::to_string(needed) + " records (" +
+                             formatMiB(needed * sizeof(PclPhoton)) + ") after this batch, above the device's max "
+                             "allocation " + describeMaxAlloc(device.info()) + ", which holds " + std::to_string(limit) +
+                             " records; emit fewer photons or raise --max-buffer-mib");
+        size_t capacity = std::min(std::max<size_t>(needed, map.capacity * 2), limit);
+        cl::Buffer grown = device.allocate<PclPhoton>(capacity, CL_MEM_READ_WRITE, map.name);
         if (map.count) {
             cl::Event e;
             Device::guard("deposit", [&] {

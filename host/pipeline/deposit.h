@@ -4,6 +4,7 @@
 // host/reference/deposit.cpp.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "device/device.h"
@@ -18,9 +19,14 @@ struct DevicePhotonMap {
     size_t count = 0;
     size_t capacity = 0;
     uint32_t growths = 0;
+    std::string name = "photon map";  // in allocation labels and errors ("photon pass: global map")
 };
 
-DevicePhotonMap makeDevicePhotonMap(Device& device, size_t capacity);
+DevicePhotonMap makeDevicePhotonMap(Device& device, size_t capacity, const std::string& name = "photon map");
+
+// Records one buffer of maxAlloc bytes holds: the largest map a device (or a --max-buffer-mib
+// cap) allows. Growth stops there; a map that needs more fails with an InputError saying so.
+inline size_t maxMapRecords(size_t maxAlloc) { return maxAlloc / sizeof(PclPhoton); }
 
 // Device seconds of one deposit, from event profiling.
 struct DepositTiming {

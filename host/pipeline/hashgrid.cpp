@@ -43,11 +43,12 @@ DeviceHashGrid buildHashGrid(Device& device, const cl::Buffer& photons, size_t c
     DeviceHashGrid g;
     g.params = params;
     g.count = count;
-    g.keys = device.allocate<uint32_t>(count);
-    g.order = device.allocate<uint32_t>(count);
-    g.cellStart = device.allocate<uint32_t>(params.tableSize);
-    g.cellEnd = device.allocate<uint32_t>(params.tableSize);
-    g.points = device.allocate<cl_float4>(count);
+    const cl_mem_flags rw = CL_MEM_READ_WRITE;
+    g.keys = device.allocate<uint32_t>(count, rw, "hash grid: keys");
+    g.order = device.allocate<uint32_t>(count, rw, "hash grid: order");
+    g.cellStart = device.allocate<uint32_t>(params.tableSize, rw, "hash grid: cell starts");
+    g.cellEnd = device.allocate<uint32_t>(params.tableSize, rw, "hash grid: cell ends");
+    g.points = device.allocate<cl_float4>(count, rw, "hash grid: points");
     device.fill(g.cellStart, uint32_t(0), params.tableSize);
     device.fill(g.cellEnd, uint32_t(0), params.tableSize);
     if (count == 0) {
@@ -81,7 +82,7 @@ DeviceHashGrid buildHashGrid(Device& device, const cl::Buffer& photons, size_t c
 HashGridTables hashGridOnDevice(Device& device, const std::vector<PclPhoton>& photons, float maxRadius) {
     HashGridTables t;
     t.params = hashGridParams(photons, maxRadius);
-    cl::Buffer buf = device.upload(photons);
+    cl::Buffer buf = device.upload(photons, CL_MEM_READ_ONLY, "hash grid: photons");
     DeviceHashGrid g = buildHashGrid(device, buf, photons.size(), t.params);
     t.keys = device.download<uint32_t>(g.keys, g.count);
     t.order = device.download<uint32_t>(g.order, g.count);

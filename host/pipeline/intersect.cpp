@@ -5,8 +5,9 @@
 namespace pcl {
 
 DeviceGeometry::DeviceGeometry(Device& device, const SceneGeometry& g)
-    : nodes(device.upload(g.nodes)), packets(device.upload(g.packets)),
-      spheres(device.upload(g.spheres)) {
+    : nodes(device.upload(g.nodes, CL_MEM_READ_ONLY, "scene: BVH nodes")),
+      packets(device.upload(g.packets, CL_MEM_READ_ONLY, "scene: triangle packets")),
+      spheres(device.upload(g.spheres, CL_MEM_READ_ONLY, "scene: spheres")) {
     // Round up so trees of similar depth share one compiled program.
     stackSize = std::max(16, (g.stats().maxStack + 15) / 16 * 16);
 }

@@ -32,19 +32,33 @@ int bitLength(uint64_t v) {
 
 }  // namespace
 
+int kdTreeFinishSize(cl_device_type type) {
+    // GPUs: small private arrays (they spill to memory); CPUs: longer finished subtrees.
+    return (type & CL_DEVICE_TYPE_GPU) ? 32 : 128;
+}
+
+bool kdTreeUses64BitKeys(size_t n, int finishSize) {
+    const int rankBits = bitLength(n ? n - 1 : 0);
+    for (uint64_t first = 0; first < n; first = 2 * first + 1) {
+        const uint64_t count = std::min<uint64_t>(first + 1, n - first);
+        if (rankBits + bitLength(count) > 32) return true;
+        if (subtreeSize(first, n) <= uint64_t(finishSize)) break;
+    }
+    return false;
+}
+
 DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing,
                          int finishSize) {
     if (n >= (size_t(1) << 31))
         throw InputError("buildKdTree: " + std::to_string(n) + " photons (at most 2^31 - 1)");
     DeviceKdTree tree;
     tree.count = n;
-    tree.photons = device.allocate<PclPhoton>(n);
-    tree.index = device.allocate<uint32_t>(n);
+    tree.photons = device.allocate<PclPhoton>(n, CL_MEM_READ_WRITE, "kd-tree: nodes");
+    tree.index = device.allocate<uint32_t>(n, CL_MEM_READ_WRITE, "kd-tree: node index");
     if (n == 0) return tree;
 
     const std::string stage = "kdtree";
-    // GPUs: small private arrays (they spill to memory); CPUs: longer finished subtrees.
-    if (finishSize < 0) finishSize = (device.info().type & CL_DEVICE_TYPE_GPU) ? 32 : 128;
+    if (finishSize < 0) finishSize = kdTreeFinishSize(device.info().type);
     const std::string opts = "-DPCL_KD_FINISH=" + std::to_string(std::max(finishSize, 1)) + "u";
     auto init = device.kernel<cl_uint, cl::Buffer>(stage, "kdtree_init", opts);
     auto boundsInit = device.kernel<cl::Buffer, cl_uint, cl_uint>(stage, "kdtree_bounds_init", opts);
@@ -73,13 +87,14 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     auto finish = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer,
                                 cl::Buffer>(stage, "kdtree_finish", opts);
 
-    cl::Buffer sub = device.allocate<uint32_t>(n);
-    cl::Buffer keys = device.allocate<uint64_t>(n);  // 32- or 64-bit keys, per level
-    cl::Buffer values = device.allocate<uint32_t>(n);
-    cl::Buffer ranks = device.allocate<uint32_t>(3 * n);
-    cl::Buffer boxes = device.allocate<uint32_t>(6 * n);
-    cl::Buffer segStart = device.allocate<uint32_t>(n);
-    cl::Buffer segEnd = device.allocate<uint32_t>(n);
+    const cl_mem_flags rw = CL_MEM_READ_WRITE;
+    cl::Buffer sub = device.allocate<uint32_t>(n, rw, "kd-tree: subtrees");
+    cl::Buffer keys = device.allocate<uint64_t>(n, rw, "kd-tree: keys");  // 32- or 64-bit keys, per level
+    cl::Buffer values = device.allocate<uint32_t>(n, rw, "kd-tree: values");
+    cl::Buffer ranks = device.allocate<uint32_t>(3 * n, rw, "kd-tree: ranks");
+    cl::Buffer boxes = device.allocate<uint32_t>(6 * n, rw, "kd-tree: boxes");
+    cl::Buffer segStart = device.allocate<uint32_t>(n, rw, "kd-tree: segment starts");
+    cl::Buffer segEnd = device.allocate<uint32_t>(n, rw, "kd-tree: segment ends");
     SortWorkspace workspace[2];
 
     std::vector<cl::Event> events;
@@ -132,7 +147,7 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
 
 KdTree buildKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& photons, KdTreeTiming* timing,
                            int finishSize) {
-    cl::Buffer in = device.upload(photons);
+    cl::Buffer in = device.upload(photons, CL_MEM_READ_ONLY, "kd-tree: photons");
     DeviceKdTree t = buildKdTree(device, in, photons.size(), timing, finishSize);
     KdTree out;
     out.photons = device.download<PclPhoton>(t.photons, t.count);

@@ -38,6 +38,12 @@ struct KdTreeTiming {
 DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing = nullptr,
                          int finishSize = -1);
 
+// The memory plan's view of a build (buildKdTree's own loop, replayed): the finishSize -1
+// stands for on a device of this type, and whether a level of a tree of n photons needs 64-bit
+// sort keys (and so a second, 64-bit sort workspace).
+int kdTreeFinishSize(cl_device_type type);
+bool kdTreeUses64BitKeys(size_t n, int finishSize);
+
 struct KdTree {
     std::vector<PclPhoton> photons;  // heap order, axis bits set
     std::vector<uint32_t> index;     // heap position → input photon index

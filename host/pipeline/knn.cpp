@@ -20,10 +20,11 @@ DeviceKnnOutput allocateOutput(Device& device, size_t queryCount, uint32_t maxK)
     DeviceKnnOutput out;
     out.stride = maxK;
     out.queries = queryCount;
-    out.counts = device.allocate<uint32_t>(queryCount);
-    out.indices = device.allocate<uint32_t>(queryCount * maxK);
-    out.dist2 = device.allocate<float>(queryCount * maxK);
-    out.radius2 = device.allocate<float>(queryCount);
+    const cl_mem_flags wo = CL_MEM_WRITE_ONLY;
+    out.counts = device.allocate<uint32_t>(queryCount, wo, "knn: counts");
+    out.indices = device.allocate<uint32_t>(queryCount * maxK, wo, "knn: indices");
+    out.dist2 = device.allocate<float>(queryCount * maxK, wo, "knn: dist2");
+    out.radius2 = device.allocate<float>(queryCount, wo, "knn: radius2");
     return out;
 }
 
@@ -31,22 +32,54 @@ double seconds(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The common tail of the *OnDevice calls, once the structure is built: uploads the queries, runs
-// `search(queryBuffer, out)` (one search launch, returning its device seconds) and downloads the
-// result with both timings.
+// The common tail of the *OnDevice calls, once the structure is built: in batches of
+// knnQueryBatch queries (so no output buffer passes the device's max allocation, capped or
+// not), uploads the batch, runs `search(queryBuffer, count, out)` (one search launch, returning
+// its device seconds) and downloads it into its place. Queries are independent, so the result is
+// the same bits whatever the batch.
 template <class Search>
-KnnResult searchAndDownload(Device& device, const std::vector<PclKnnQuery>& queries, double buildSeconds,
-                            Search search) {
-    cl::Buffer q = device.upload(queries);
-    DeviceKnnOutput out;
-    const double searchSeconds = search(q, out);
-    KnnResult r = downloadKnn(device, out);
-    r.searchSeconds = searchSeconds;
+KnnResult searchAndDownload(Device& device, const std::vector<PclKnnQuery>& queries, uint32_t maxK,
+                            double buildSeconds, Search search) {
+    const size_t n = queries.size();
+    const size_t batch = std::min(std::max<size_t>(n, 1),
+                                  knnQueryBatch(device.info().maxAlloc, device.info().globalMem, maxK));
+    KnnResult r;
+    r.stride = maxK;
+    r.counts.resize(n);
+    r.indices.resize(n * maxK);
+    r.dist2.resize(n * maxK);
+    r.radius2.resize(n);
     r.buildSeconds = buildSeconds;
+    if (n == 0) return r;
+    cl::Buffer q = device.allocate<PclKnnQuery>(batch, CL_MEM_READ_ONLY, "knn: queries");
+    for (size_t first = 0; first < n; first += batch) {
+        const size_t m = std::min(batch, n - first);
+        Device::guard("upload", [&] {
+            device.queue().enqueueWriteBuffer(q, CL_TRUE, 0, m * sizeof(PclKnnQuery), queries.data() + first);
+        });
+        DeviceKnnOutput out;
+        r.searchSeconds += search(q, m, out);
+        Device::guard("download", [&] {
+            cl::CommandQueue& cq = device.queue();
+            cq.enqueueReadBuffer(out.counts, CL_FALSE, 0, m * 4, r.counts.data() + first);
+            cq.enqueueReadBuffer(out.indices, CL_FALSE, 0, m * maxK * 4, r.indices.data() + first * maxK);
+            cq.enqueueReadBuffer(out.dist2, CL_FALSE, 0, m * maxK * 4, r.dist2.data() + first * maxK);
+            cq.enqueueReadBuffer(out.radius2, CL_TRUE, 0, m * 4, r.radius2.data() + first);
+        });
+    }
     return r;
 }
 
 }  // namespace
+
+size_t knnQueryBatch(size_t maxAlloc, size_t globalMem, uint32_t maxK) {
+    const size_t k = std::max<uint32_t>(maxK, 1);
+    const size_t widest = std::max<size_t>(k * sizeof(uint32_t), sizeof(PclKnnQuery));  // bytes per query, largest buffer
+    const size_t perQuery = sizeof(PclKnnQuery) + 2 * sizeof(uint32_t) + 2 * k * sizeof(uint32_t);
+    size_t batch = std::min(maxAlloc / widest, globalMem / 4 / perQuery);
+    batch = batch >= kKnnGroup ? batch / kKnnGroup * kKnnGroup : std::max<size_t>(batch, 1);
+    return batch;
+}
 
 KnnResult downloadKnn(Device& device, const DeviceKnnOutput& out) {
     KnnResult r;
@@ -88,7 +121,7 @@ KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree) {
         throw InputError("knn: a kd-tree of " + std::to_string(tree.count) + " photons exceeds the 2^30 of the packed index");
     KnnKdTree packed;
     packed.count = tree.count;
-    packed.nodes = device.allocate<cl_float4>(tree.count);
+    packed.nodes = device.allocate<cl_float4>(tree.count, CL_MEM_READ_WRITE, "knn: packed kd-tree");
     // Any specialisation holds the packing kernel: the smallest one.
     auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>("knn", "knn_pack_kdtree", capOption(1));
     device.launchLocal("knn", k, knnGlobalRange(tree.count), cl::NDRange(kKnnGroup), tree.photons, tree.index,
@@ -130,14 +163,15 @@ KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNo
     const uint32_t maxK = knnMaxK(queries);
     const auto t0 = std::chrono::steady_clock::now();
     DeviceKdTree built;
-    built.photons = device.upload(heapNodes);
-    built.index = device.upload(nodeIndex);
+    built.photons = device.upload(heapNodes, CL_MEM_READ_ONLY, "kd-tree: nodes");
+    built.index = device.upload(nodeIndex, CL_MEM_READ_ONLY, "kd-tree: node index");
     built.count = heapNodes.size();
     const KnnKdTree tree = packKdTree(device, built);
     device.finish();
-    return searchAndDownload(device, queries, seconds(t0), [&](const cl::Buffer& q, DeviceKnnOutput& out) {
-        return knnSearchKdTree(device, tree, q, queries.size(), maxK, out);
-    });
+    return searchAndDownload(device, queries, maxK, seconds(t0),
+                             [&](const cl::Buffer& q, size_t count, DeviceKnnOutput& out) {
+                                 return knnSearchKdTree(device, tree, q, count, maxK, out);
+                             });
 }
 
 KnnResult knnHashGridOnDevice(Device& device, const std::vector<PclPhoton>& map, const std::vector<PclKnnQuery>& queries) {
@@ -150,12 +184,13 @@ KnnResult knnHashGridOnDevice(Device& device, const std::vector<PclPhoton>& map,
     if (!(rMax > 0.0f)) rMax = 1.0f;  // every radius 0: any cell size finds the photons at the query
     const auto t0 = std::chrono::steady_clock::now();
     const PclGridParams params = hashGridParams(map, rMax);
-    cl::Buffer photons = device.upload(map);
+    cl::Buffer photons = device.upload(map, CL_MEM_READ_ONLY, "hash grid: photons");
     DeviceHashGrid grid = buildHashGrid(device, photons, map.size(), params);
     device.finish();
-    return searchAndDownload(device, queries, seconds(t0), [&](const cl::Buffer& q, DeviceKnnOutput& out) {
-        return knnSearchHashGrid(device, grid, q, queries.size(), maxK, out);
-    });
+    return searchAndDownload(device, queries, maxK, seconds(t0),
+                             [&](const cl::Buffer& q, size_t count, DeviceKnnOutput& out) {
+                                 return knnSearchHashGrid(device, grid, q, count, maxK, out);
+                             });
 }
 
 KnnResult knnOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStructure structure,
@@ -163,12 +198,13 @@ KnnResult knnOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStru
     if (structure == KnnStructure::HashGrid) return knnHashGridOnDevice(device, map, queries);
     const uint32_t maxK = knnMaxK(queries);
     const auto t0 = std::chrono::steady_clock::now();
-    cl::Buffer photons = device.upload(map);
+    cl::Buffer photons = device.upload(map, CL_MEM_READ_ONLY, "kd-tree: photons");
     const KnnKdTree tree = packKdTree(device, buildKdTree(device, photons, map.size()));
     device.finish();
-    return searchAndDownload(device, queries, seconds(t0), [&](const cl::Buffer& q, DeviceKnnOutput& out) {
-        return knnSearchKdTree(device, tree, q, queries.size(), maxK, out);
-    });
+    return searchAndDownload(device, queries, maxK, seconds(t0),
+                             [&](const cl::Buffer& q, size_t count, DeviceKnnOutput& out) {
+                                 return knnSearchKdTree(device, tree, q, count, maxK, out);
+                             });
 }
 
 }  // namespace pcl

@@ -54,6 +54,12 @@ KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree);
 // 256, 500 holding maxK. InputError outside 1..PCL_KNN_MAX_K.
 uint32_t knnHeapCapacity(uint32_t maxK);
 
+// Queries per search launch for the *OnDevice conveniences (and the memory plan): as many as
+// keep every buffer of the batch (queries 32 B, indices and dist2 4·maxK B each per query) under
+// maxAlloc and the batch's buffers together under a quarter of globalMem; whole work-groups of
+// 64. A smaller maxAlloc (--max-buffer-mib) only splits the work: the results are the same.
+size_t knnQueryBatch(size_t maxAlloc, size_t globalMem, uint32_t maxK);
+
 // The searches on structures and queries already on the device (the kd-tree from
 // pipeline/kdtree's buildKdTree, packed); `out` is allocated for
 // queryCount × maxK. Return the kernel's device seconds. The hash-grid search needs every

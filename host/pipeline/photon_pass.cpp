@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <string>
 
 #include "core/error.h"
 #include "pipeline/deposit.h"
@@ -41,16 +42,15 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
     const uint32_t batch = std::min(total, options.batchSize ? options.batchSize : defaultPhotonBatch(device, slotsPerPath));
     s.batchSize = batch;
 
-    cl::Buffer lightFirst = device.upload(first);
-    cl::Buffer rays = device.allocate<PclPhotonRay>(batch);
-    cl::Buffer slots = device.allocate<PclPhoton>(size_t(batch) * slotsPerPath);
-    cl::Buffer counts = device.allocate<uint32_t>(batch);
-    cl::Buffer ends = device.allocate<uint32_t>(batch);
-    // A caustic path deposits about once (more only through mixed surfaces); a global one
-    // about 1/(1 - albedo) times. Growth covers a wrong guess.
-    size_t capacity = options.initialCapacity ? options.initialCapacity
-                                              : (passKind == PCL_PASS_CAUSTIC ? size_t(total) : size_t(total) * 2);
-    DevicePhotonMap map = makeDevicePhotonMap(device, capacity);
+    cl::Buffer lightFirst = device.upload(first, CL_MEM_READ_ONLY, "photon pass: light offsets");
+    cl::Buffer rays = device.allocate<PclPhotonRay>(batch, CL_MEM_READ_WRITE, "photon pass: rays");
+    cl::Buffer slots = device.allocate<PclPhoton>(size_t(batch) * slotsPerPath, CL_MEM_READ_WRITE, "photon pass: slots");
+    cl::Buffer counts = device.allocate<uint32_t>(batch, CL_MEM_READ_WRITE, "photon pass: counts");
+    cl::Buffer ends = device.allocate<uint32_t>(batch, CL_MEM_READ_WRITE, "photon pass: ends");
+    const std::string mapName = passKind == PCL_PASS_CAUSTIC ? "caustic" : "global";
+    DevicePhotonMap map = makeDevicePhotonMap(
+        device, options.initialCapacity ? options.initialCapacity : initialMapCapacity(device.info().maxAlloc, passKind, total),
+        "photon pass: " + mapName + " map");
 
     for (uint32_t firstPhoton = 0; firstPhoton < total; firstPhoton += batch) {
         params.firstPhoton = firstPhoton;
@@ -76,6 +76,11 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
 }
 
 }  // namespace
+
+size_t initialMapCapacity(size_t maxAlloc, uint32_t passKind, uint32_t paths) {
+    const size_t guess = passKind == PCL_PASS_CAUSTIC ? size_t(paths) : size_t(paths) * 2;
+    return std::max<size_t>(1, std::min(guess, maxMapRecords(maxAlloc)));
+}
 
 std::string PhotonPassStats::summary() const {
     char buf[768];

@@ -55,6 +55,12 @@ struct PhotonMaps {
     PhotonPassStats stats;
 };
 
+// Records a map buffer starts with (PhotonPassOptions::initialCapacity 0): a caustic path
+// deposits about once (more only through mixed surfaces), a global one about 1/(1 - albedo)
+// times, so `paths` or 2 × `paths` records, never more than one buffer of maxAlloc bytes holds
+// (growth covers a wrong guess, up to that limit). The memory plan predicts the same.
+size_t initialMapCapacity(size_t maxAlloc, uint32_t passKind, uint32_t paths);
+
 // Runs the photon pass. The caustic pass uses buffers.projCells / light.projFirst/projCount;
 // lights with no marked cell emit no caustic photons, and a scene without any gets no caustic map.
 PhotonMaps runPhotonPass(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,

@@ -22,9 +22,9 @@ struct SortShape {
     size_t group = 16, items = 512;
 };
 
-SortShape sortShape(Device& device) {
+SortShape sortShape(cl_device_type type) {
     SortShape s;
-    if (device.info().type & CL_DEVICE_TYPE_GPU) s = SortShape{4, 256, 16};
+    if (type & CL_DEVICE_TYPE_GPU) s = SortShape{4, 256, 16};
     if (const char* e = std::getenv("PHOTONCL_SORT_SHAPE")) {  // tests and tuning: "bits,group,items"
         int b = 0;
         unsigned long g = 0, i = 0;
@@ -45,6 +45,12 @@ std::string options(int keyBits, const SortShape& s) {
 
 }  // namespace
 
+size_t sortHistogramEntries(cl_device_type type, size_t n) {
+    const SortShape shape = sortShape(type);
+    const size_t tile = shape.group * shape.items;
+    return ((n + tile - 1) / tile) << shape.radixBits;
+}
+
 void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, size_t n, int keyBits,
                        int sortBits, double* seconds, SortWorkspace* workspace) {
     if (keyBits != 32 && keyBits != 64)
@@ -56,7 +62,7 @@ void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, siz
     if (n >= (size_t(1) << 31))
         throw InputError("sortPairsOnDevice: " + std::to_string(n) + " pairs (at most 2^31 - 1)");
     if (n < 2) return;
-    const SortShape shape = sortShape(device);
+    const SortShape shape = sortShape(device.info().type);
     const size_t kSortGroup = shape.group, kSortTile = shape.group * shape.items;
     const int kRadixBits = shape.radixBits;
     const size_t keySize = keyBits == 64 ? 8 : 4;
@@ -66,13 +72,14 @@ void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, siz
     SortWorkspace local;
     SortWorkspace& ws = workspace ? *workspace : local;
     if (ws.capacity < n || ws.keyBits != keyBits) {
-        ws.keys = keyBits == 64 ? device.allocate<uint64_t>(n) : device.allocate<uint32_t>(n);
-        ws.values = device.allocate<uint32_t>(n);
+        ws.keys = keyBits == 64 ? device.allocate<uint64_t>(n, CL_MEM_READ_WRITE, "sort: scratch keys (64-bit)")
+                                : device.allocate<uint32_t>(n, CL_MEM_READ_WRITE, "sort: scratch keys (32-bit)");
+        ws.values = device.allocate<uint32_t>(n, CL_MEM_READ_WRITE, "sort: scratch values");
         ws.capacity = n;
         ws.keyBits = keyBits;
     }
     if (ws.histCapacity < histSize) {
-        ws.hist = device.allocate<uint32_t>(histSize);
+        ws.hist = device.allocate<uint32_t>(histSize, CL_MEM_READ_WRITE, "sort: tile histogram");
         ws.histCapacity = histSize;
     }
     const std::string opts = options(keyBits, shape);

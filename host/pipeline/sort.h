@@ -32,6 +32,10 @@ struct SortWorkspace {
 void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, size_t n, int keyBits,
                        int sortBits = 0, double* seconds = nullptr, SortWorkspace* workspace = nullptr);
 
+// Entries of the tile histogram a sort of n pairs allocates on a device of this type (the
+// memory plan's prediction; the pass shape follows the type and PHOTONCL_SORT_SHAPE).
+size_t sortHistogramEntries(cl_device_type type, size_t n);
+
 // Vector conveniences: upload, sort, download.
 void sortPairsOnDevice(Device& device, std::vector<uint32_t>& keys, std::vector<uint32_t>& values);
 void sortPairsOnDevice(Device& device, std::vector<uint64_t>& keys, std::vector<uint32_t>& values,

@@ -7,13 +7,18 @@
 namespace pcl {
 
 uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath) {
-    size_t budget = std::min<size_t>(size_t(256) << 20, device.info().maxAlloc / 4);
+    return defaultPhotonBatch(device.info().maxAlloc, (device.info().type & CL_DEVICE_TYPE_GPU) != 0, slotsPerPath);
+}
+
+uint32_t defaultPhotonBatch(size_t maxAlloc, bool gpu, uint32_t slotsPerPath) {
+    size_t budget = std::min<size_t>(size_t(256) << 20, maxAlloc / 4);
     size_t paths = budget / (size_t(std::max(1u, slotsPerPath)) * sizeof(PclPhoton));
     // A GPU needs many paths in flight; a CPU is as busy with fewer, and a smaller slot buffer
     // spends less on first-touch page faults (PoCL: ~10 % faster at 2^16 than at 2^18).
-    const bool gpu = (device.info().type & CL_DEVICE_TYPE_GPU) != 0;
     paths = std::min<size_t>(paths, size_t(1) << (gpu ? 18 : 16));
-    paths = std::max<size_t>(paths / 1024 * 1024, 1024);
+    // Whole 1024s; below that (a buffer cap of a few MiB) whole work-groups, so the slot buffer
+    // stays under the cap.
+    paths = paths >= 1024 ? paths / 1024 * 1024 : std::max<size_t>(paths / kPhotonGroup * kPhotonGroup, kPhotonGroup);
     return uint32_t(paths);
 }
 
@@ -52,10 +57,10 @@ PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geom
     // In launches of at most a pass's batch, so a large check neither outgrows a buffer nor
     // runs one long launch; photon indices (and so the random numbers) are unchanged.
     const size_t chunk = std::min<size_t>(std::max<size_t>(n, 1), defaultPhotonBatch(device, uint32_t(S)));
-    cl::Buffer rayBuf = device.allocate<PclPhotonRay>(chunk);
-    cl::Buffer slots = device.allocate<PclPhoton>(chunk * S);
-    cl::Buffer counts = device.allocate<uint32_t>(chunk);
-    cl::Buffer ends = device.allocate<uint32_t>(chunk);
+    cl::Buffer rayBuf = device.allocate<PclPhotonRay>(chunk, CL_MEM_READ_WRITE, "photon pass: rays");
+    cl::Buffer slots = device.allocate<PclPhoton>(chunk * S, CL_MEM_READ_WRITE, "photon pass: slots");
+    cl::Buffer counts = device.allocate<uint32_t>(chunk, CL_MEM_READ_WRITE, "photon pass: counts");
+    cl::Buffer ends = device.allocate<uint32_t>(chunk, CL_MEM_READ_WRITE, "photon pass: ends");
     for (size_t first = 0; first < n; first += chunk) {
         const size_t m = std::min(chunk, n - first);
         Device::guard("upload", [&] {

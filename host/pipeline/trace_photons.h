@@ -11,9 +11,12 @@
 namespace pcl {
 
 // Paths per batch: at most 2^18 on a GPU (every SM busy, a launch well under 0.5 s) and 2^16
-// on a CPU, fewer when the slot buffer (paths × slots × 20 bytes) would pass a quarter of the
-// device's largest allocation or 256 MiB.
+// on a CPU, fewer when the slot buffer (paths × slots × 24 bytes) would pass a quarter of the
+// device's largest allocation (capped by --max-buffer-mib) or 256 MiB; whole 1024s, or whole
+// work-groups of 64 under a cap of a few MiB.
 uint32_t defaultPhotonBatch(const Device& device, uint32_t slotsPerPath);
+// The same from the limits alone (the memory plan sizes batches before there is a Device).
+uint32_t defaultPhotonBatch(size_t maxAlloc, bool gpu, uint32_t slotsPerPath);
 
 // Slots per path: maxDepth in either pass (one record per hit at most; a caustic path can
 // deposit at several hits when it bounces specularly off mixed surfaces).

@@ -1,0 +1,311 @@
+// The memory plan against the device (pipeline/memory_plan, Device::setBufferCap; issue 5 part
+// 7): the bytes it predicts for every buffer equal the bytes the stages allocate (observed
+// through Device::setAllocationObserver, buffer by buffer); under a 64 MiB per-buffer cap the
+// photon pass and a kNN search whose outputs pass 64 MiB split into more launches and give the
+// same bits as without the cap; a buffer above the cap fails with a message naming it.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "device_fixture.h"
+#include "photon_test_scenes.h"
+#include "pipeline/kdtree.h"
+#include "pipeline/knn.h"
+#include "pipeline/memory_plan.h"
+#include "pipeline/photon_pass.h"
+
+namespace pcl {
+namespace {
+
+constexpr size_t kMiB = size_t(1) << 20;
+
+std::string shippedScene(const char* name) { return std::string(PHOTONCL_SOURCE_DIR) + "/scenes/" + name; }
+
+struct BuiltScene {
+    Scene scene;
+    SceneGeometry geometry;
+    SceneBuffers buffers;
+};
+
+BuiltScene buildScene(const std::string& path) {
+    BuiltScene b;
+    b.scene = loadScene(path);
+    b.geometry = SceneGeometry::build(b.scene);
+    b.buffers = buildSceneBuffers(b.scene, b.geometry);
+    buildProjectionMaps(b.scene, b.geometry, b.buffers);
+    return b;
+}
+
+// Every allocation: the largest bytes per (phase, label), and the largest buffer overall.
+struct AllocationLog {
+    std::string phase;  // the phase the test is running; "scene:" labels always go to "scene"
+    std::map<std::pair<std::string, std::string>, size_t> largest;
+    size_t maxBytes = 0, count = 0;
+    void observe(Device& device) {
+        device.setAllocationObserver([this](const std::string& what, size_t bytes) {
+            std::string p = what.rfind("scene:", 0) == 0 ? "scene" : phase;
+            if (what.rfind("knn: ", 0) == 0 && what != "knn: packed kd-tree") p = mapName + " search";
+            size_t& b = largest[{p, what}];
+            b = std::max(b, bytes);
+            maxBytes = std::max(maxBytes, bytes);
+            ++count;
+        });
+    }
+    std::string mapName = "global";
+};
+
+std::vector<PclPhoton> randomMap(size_t n, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<PclPhoton> map(n);
+    for (PclPhoton& p : map) {
+        p = PclPhoton{};
+        p.x = u(rng), p.y = u(rng), p.z = u(rng);
+    }
+    return map;
+}
+
+std::vector<PclKnnQuery> randomQueries(size_t n, uint32_t k, float radius, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<PclKnnQuery> qs(n);
+    for (PclKnnQuery& q : qs) {
+        q = PclKnnQuery{};
+        q.x = u(rng), q.y = u(rng), q.z = u(rng);
+        q.maxRadius2 = radius * radius;
+        q.k = k;
+    }
+    return qs;
+}
+
+template <class T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+TEST(MemoryPlan, CapLowersMaxAllocAndRefusesLargerBuffersByName) {
+    Device device = test::testDevice();  // a copy: the shared device keeps its limits
+    const size_t driver = device.info().driverMaxAlloc;
+    ASSERT_EQ(device.info().maxAlloc, driver);
+    device.setBufferCap(64 * kMiB);
+    EXPECT_EQ(device.info().maxAlloc, std::min(driver, 64 * kMiB));
+    EXPECT_EQ(test::testDevice().info().maxAlloc, driver);
+    EXPECT_NO_THROW(device.allocate<uint32_t>(16 * kMiB, CL_MEM_READ_WRITE, "test: exactly 64 MiB"));
+    try {
+        device.allocate<uint32_t>(16 * kMiB + 1, CL_MEM_READ_WRITE, "test stage: big buffer");
+        FAIL() << "a buffer above the cap was allocated";
+    } catch (const DeviceError& e) {
+        const std::string m = e.what();
+        std::printf("[figure] over-cap message: %s\n", m.c_str());
+        EXPECT_NE(m.find("test stage: big buffer needs 64.0 MiB (67108868 bytes)"), std::string::npos) << m;
+        EXPECT_NE(m.find("above the device's max allocation 64.0 MiB (cap from --max-buffer-mib)"), std::string::npos)
+            << m;
+    }
+    device.setBufferCap(0);
+    EXPECT_EQ(device.info().maxAlloc, driver);
+}
+
+// Both maps of a scene with caustics, a kd-tree and a hash grid per map, a kNN search: every
+// planned buffer is allocated with exactly the predicted bytes, and nothing unplanned is.
+TEST(MemoryPlan, PredictedBytesEqualAllocatedBytesForEveryBuffer) {
+    const BuiltScene s = buildScene(shippedScene("cornell-spheres.json"));
+    Device device = test::testDevice();
+    AllocationLog log;
+    log.observe(device);
+
+    PhotonPassOptions o;
+    o.globalPhotons = 20000;
+    o.causticPhotons = 20000;
+    o.maxDepth = 16;
+    o.batchSize = 8192;  // several batches and a partial last one
+    PhotonMaps maps;
+    for (bool global : {true, false}) {
+        PhotonPassOptions one = o;
+        one.buildGlobal = global;
+        one.buildCaustic = !global;
+        log.phase = global ? "global photon pass" : "caustic photon pass";
+        PhotonMaps m = runPhotonPass(device, s.geometry, s.buffers, one);
+        (global ? maps.global : maps.caustic) = global ? m.global : m.caustic;
+        ASSERT_EQ((global ? m.stats.global : m.stats.caustic).growths, 0u) << "the initial capacity was predicted";
+    }
+    ASSERT_GT(maps.global.size(), 1000u);
+    ASSERT_GT(maps.caustic.size(), 100u);
+
+    MemoryRequest req = photonPassMemoryRequest(s.geometry, s.buffers, o);
+    req.globalRecords = maps.global.size();
+    req.causticRecords = maps.caustic.size();
+    req.kdTree = req.hashGrid = true;
+    req.queries = 3000;
+    req.k = 50;
+    for (const char* name : {"global", "caustic"}) {
+        const std::vector<PclPhoton>& map = std::string(name) == "global" ? maps.global : maps.caustic;
+        const std::vector<PclKnnQuery> qs = randomQueries(req.queries, req.k, 0.2f, 7);
+        log.mapName = name;
+        log.phase = std::string(name) + " kd-tree";
+        knnOnDevice(device, map, KnnStructure::KdTree, qs);
+        log.phase = std::string(name) + " hash grid";
+        knnOnDevice(device, map, KnnStructure::HashGrid, qs);
+    }
+    device.setAllocationObserver(nullptr);
+
+    const MemoryPlan plan = planMemory(req, memoryLimits(device.info()));
+    ASSERT_TRUE(plan.fits()) << formatMemoryPlan(plan);
+    EXPECT_EQ(plan.photonBatch, 8192u);
+    std::printf("%s", formatMemoryPlan(plan).c_str());
+    std::map<std::string, std::pair<size_t, size_t>> byPhase;  // predicted, allocated
+    for (const PlannedBuffer& b : plan.buffers) {
+        auto it = log.largest.find({b.phase, b.what});
+        ASSERT_NE(it, log.largest.end()) << b.phase << " / " << b.what << " was planned but never allocated";
+        EXPECT_EQ(it->second, b.bytes) << b.phase << " / " << b.what;
+        byPhase[b.phase].first += b.bytes;
+        byPhase[b.phase].second += it->second;
+    }
+    for (const auto& [key, bytes] : log.largest)
+        EXPECT_NE(plan.find(key.first, key.second), nullptr)
+            << key.first << " / " << key.second << " (" << bytes << " bytes) was allocated but not planned";
+    for (const auto& [phase, b] : byPhase)
+        std::printf("[figure] %-20s predicted %10zu bytes, allocated %10zu bytes\n", phase.c_str(), b.first, b.second);
+    std::printf("[figure] %zu buffers planned, %zu allocations observed\n", plan.buffers.size(), log.count);
+}
+
+// A map large enough that the kd-tree's deeper sorted levels need 64-bit keys (a second sort
+// workspace): predicted as built.
+TEST(MemoryPlan, LargeKdTreeBuildIsPredictedWithItsSecondWorkspace) {
+    const size_t n = 800000;
+    const std::vector<PclPhoton> map = randomMap(n, 11);
+    Device device = test::testDevice();
+    AllocationLog log;
+    log.phase = "global kd-tree";
+    log.observe(device);
+    cl::Buffer photons = device.upload(map, CL_MEM_READ_ONLY, "kd-tree: photons");
+    packKdTree(device, buildKdTree(device, photons, n));
+    device.setAllocationObserver(nullptr);
+
+    MemoryRequest req;
+    req.globalPaths = uint32_t(n);
+    const MemoryPlan plan = planMemory(req, memoryLimits(device.info()));
+    ASSERT_TRUE(kdTreeUses64BitKeys(n, kdTreeFinishSize(device.info().type)));
+    size_t checked = 0;
+    for (const PlannedBuffer& b : plan.buffers) {
+        if (b.phase != "global kd-tree") continue;
+        auto it = log.largest.find({b.phase, b.what});
+        ASSERT_NE(it, log.largest.end()) << b.what << " was planned but never allocated";
+        EXPECT_EQ(it->second, b.bytes) << b.what;
+        ++checked;
+    }
+    for (const auto& [key, bytes] : log.largest)
+        EXPECT_NE(plan.find(key.first, key.second), nullptr) << key.second << " was allocated but not planned";
+    EXPECT_NE(plan.find("global kd-tree", "sort: scratch keys (64-bit)"), nullptr);
+    size_t phaseBytes = 0;
+    for (const MemoryPhase& p : plan.phases)
+        if (p.name == "global kd-tree") phaseBytes = p.bytes;
+    std::printf("[figure] kd-tree of %zu photons: %zu buffers predicted to the byte, %zu allocations, %.1f MiB at once\n",
+                n, checked, log.count, double(phaseBytes) / kMiB);
+}
+
+// Enough paths × slots that the uncapped slot buffer passes 64 MiB: under the cap the pass runs
+// in more, smaller batches and stores the same records, bit for bit.
+TEST(MemoryPlan, PhotonPassUnderA64MiBCapEqualsUncapped) {
+    const BuiltScene s = buildScene(shippedScene("cornell-box.json"));
+    PhotonPassOptions o;
+    o.globalPhotons = 100000;
+    o.maxDepth = 64;
+    o.buildCaustic = false;
+
+    Device uncapped = test::testDevice();
+    AllocationLog freeLog;
+    freeLog.observe(uncapped);
+    const PhotonMaps a = runPhotonPass(uncapped, s.geometry, s.buffers, o);
+
+    Device capped = test::testDevice();
+    capped.setBufferCap(64 * kMiB);
+    AllocationLog capLog;
+    capLog.observe(capped);
+    const MemoryPlan plan = planMemory(photonPassMemoryRequest(s.geometry, s.buffers, o), memoryLimits(capped.info()));
+    requireMemoryFits(plan);
+    const PhotonMaps b = runPhotonPass(capped, s.geometry, s.buffers, o);
+
+    std::printf("[figure] uncapped: %u batches of %u, largest buffer %.1f MiB; 64 MiB cap: %u batches of %u (plan: "
+                "%u), largest %.1f MiB; %zu records\n",
+                a.stats.global.batches, a.stats.global.batchSize, double(freeLog.maxBytes) / kMiB,
+                b.stats.global.batches, b.stats.global.batchSize, plan.photonBatch, double(capLog.maxBytes) / kMiB,
+                a.global.size());
+    EXPECT_GT(freeLog.maxBytes, 64 * kMiB) << "the uncapped slot buffer should pass the cap for this test to mean much";
+    EXPECT_LE(capLog.maxBytes, 64 * kMiB);
+    EXPECT_GT(b.stats.global.batches, a.stats.global.batches);
+    EXPECT_EQ(b.stats.global.batchSize, plan.photonBatch);
+    ASSERT_GT(a.global.size(), 100000u);
+    EXPECT_TRUE(sameBits(a.global, b.global));
+    EXPECT_EQ(a.stats.global.absorbed, b.stats.global.absorbed);
+    EXPECT_EQ(a.stats.global.escaped, b.stats.global.escaped);
+}
+
+// A search whose index and distance outputs pass 64 MiB each: under the cap it runs in several
+// launches and returns the same neighbours and distances, bit for bit.
+TEST(MemoryPlan, KnnUnderA64MiBCapEqualsUncapped) {
+    const uint32_t k = 100;
+    const size_t queries = 172032;  // × k × 4 bytes = 65.6 MiB per output
+    const std::vector<PclPhoton> map = randomMap(30000, 3);
+    // A radius holding ~12 photons on average: the outputs are sized by k all the same, and the
+    // search stays quick (a full k = 100 per query costs seconds under PoCL).
+    const std::vector<PclKnnQuery> qs = randomQueries(queries, k, 0.046f, 5);
+
+    Device uncapped = test::testDevice();
+    AllocationLog freeLog;
+    freeLog.observe(uncapped);
+    const KnnResult a = knnOnDevice(uncapped, map, KnnStructure::KdTree, qs);
+
+    Device capped = test::testDevice();
+    capped.setBufferCap(64 * kMiB);
+    AllocationLog capLog;
+    capLog.observe(capped);
+    const KnnResult b = knnOnDevice(capped, map, KnnStructure::KdTree, qs);
+
+    const size_t batch = knnQueryBatch(capped.info().maxAlloc, capped.info().globalMem, k);
+    std::printf("[figure] kNN %zu queries k = %u: uncapped largest buffer %.1f MiB in one launch; 64 MiB cap: %zu "
+                "launches of %zu, largest %.1f MiB; search %.3f s vs %.3f s\n",
+                queries, k, double(freeLog.maxBytes) / kMiB, (queries + batch - 1) / batch, batch,
+                double(capLog.maxBytes) / kMiB, a.searchSeconds, b.searchSeconds);
+    const size_t uncappedIndices = freeLog.largest[std::make_pair(std::string("global search"), std::string("knn: indices"))];
+    EXPECT_GT(uncappedIndices, 64 * kMiB);
+    EXPECT_LE(capLog.maxBytes, 64 * kMiB);
+    EXPECT_GT((queries + batch - 1) / batch, 1u);
+    size_t found = 0, most = 0;
+    for (uint32_t c : a.counts) found += c, most = std::max<size_t>(most, c);
+    std::printf("[figure] neighbours found: mean %.1f, most %zu\n", double(found) / queries, most);
+    EXPECT_GT(found, 8 * queries) << "the queries should find neighbours";
+    EXPECT_EQ(a.stride, b.stride);
+    EXPECT_TRUE(sameBits(a.counts, b.counts));
+    EXPECT_TRUE(sameBits(a.indices, b.indices));
+    EXPECT_TRUE(sameBits(a.dist2, b.dist2));
+    EXPECT_TRUE(sameBits(a.radius2, b.radius2));
+}
+
+// A map that turns out larger than its photon count (the plan's assumption) stops growing at the
+// cap and fails there with the same kind of message.
+TEST(MemoryPlan, MapOutgrowingTheCapMidPassFailsWithItsName) {
+    const BuiltScene s = buildScene(shippedScene("cornell-box.json"));
+    Device device = test::testDevice();
+    device.setBufferCap(1 * kMiB);  // 43690 records
+    PhotonPassOptions o;
+    o.globalPhotons = 40000;        // fits the plan (one record per path) but stores ~1.75 per path
+    o.maxDepth = 8;
+    o.buildCaustic = false;
+    requireMemoryFits(planMemory(photonPassMemoryRequest(s.geometry, s.buffers, o), memoryLimits(device.info())));
+    try {
+        runPhotonPass(device, s.geometry, s.buffers, o);
+        FAIL() << "a map above the cap was built";
+    } catch (const InputError& e) {
+        const std::string m = e.what();
+        std::printf("[figure] growth message: %s\n", m.c_str());
+        EXPECT_NE(m.find("photon pass: global map needs"), std::string::npos) << m;
+        EXPECT_NE(m.find("1.0 MiB (cap from --max-buffer-mib), which holds 43690 records"), std::string::npos) << m;
+    }
+}
+
+}  // namespace
+}  // namespace pcl
