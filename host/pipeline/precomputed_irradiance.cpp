@@ -1,0 +1,174 @@
+#include "pipeline/precomputed_irradiance.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "pipeline/kdtree.h"
+
+namespace pcl {
+namespace {
+
+const char* const kStage = "precomputed_irradiance";
+
+// Fixed work-group size: PoCL compiles a kernel per work-group size.
+constexpr size_t kGroup = 64;
+cl::NDRange range(size_t n) { return cl::NDRange((n + kGroup - 1) / kGroup * kGroup); }
+
+double since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+void validatePrecomputedIrradianceOptions(const PrecomputedIrradianceOptions& o) {
+    if (o.every < 2)  // the estimates search the photons not selected: there must be some
+        throw InputError("precomputed irradiance: every = " + std::to_string(o.every) +
+                         ", expected a photon step ≥ 2");
+    if (o.k == 0 || o.k > PCL_KNN_MAX_K)
+        throw InputError("precomputed irradiance: k = " + std::to_string(o.k) + ", expected 1.." +
+                         std::to_string(PCL_KNN_MAX_K));
+    if (!(o.maxRadius > 0.0f) || !std::isfinite(o.maxRadius))
+        throw InputError("precomputed irradiance: maxRadius = " + std::to_string(o.maxRadius) +
+                         ", expected a positive finite radius");
+    validateEstimateSettings(o.estimate);
+}
+
+DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photons, size_t n,
+                                         const PrecomputedIrradianceOptions& options, const DeviceScene* scene,
+                                         const float* lo) {
+    validatePrecomputedIrradianceOptions(options);
+    if (n >= (size_t(1) << 30))
+        throw InputError("precomputed irradiance: a global map of " + std::to_string(n) +
+                         " photons exceeds the 2^30 of the stored photon index");
+    if (options.estimate.structure == KnnStructure::HashGrid && !lo)
+        throw InputError("precomputed irradiance: a hash grid over the other photons needs the map's bounds minimum");
+    const size_t count = n == 0 ? 0 : (n - 1) / options.every + 1;
+    const size_t others = n - count;
+    cl::Buffer points = device.allocate<PclIrradiancePoint>(count);
+    cl::Buffer queries = device.allocate<PclEstimateQuery>(count);
+    cl::Buffer otherPhotons = device.allocate<PclPhoton>(others);
+    auto select = device.kernel<cl::Buffer, cl_uint, cl_uint, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
+        kStage, "precomputed_irradiance_select");
+    auto unselected =
+        device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_unselected");
+    const cl::Event selected =
+        device.launchLocal(kStage, select, range(count), cl::NDRange(kGroup), photons, cl_uint(n),
+                           cl_uint(options.every), cl_float(options.maxRadius * options.maxRadius),
+                           cl_uint(options.k), points, queries);
+    const cl::Event split = device.launchLocal(kStage, unselected, range(n), cl::NDRange(kGroup), photons, cl_uint(n),
+                                               cl_uint(options.every), otherPhotons);
+    device.finish();
+    IrradianceTiming timing;
+    if (count) timing.selectSeconds = Device::elapsedSeconds(selected) + Device::elapsedSeconds(split);
+
+    if (count) {
+        const float zero[3] = {0.0f, 0.0f, 0.0f};
+        const PhotonMapOnDevice otherMap(device, otherPhotons, others, options.estimate.structure, options.maxRadius,
+                                         lo ? lo : zero);
+        timing.mapSeconds = otherMap.buildSeconds();
+        cl::Buffer estimates = device.allocate<PclEstimate>(count);
+        timing.estimate =
+            estimateBuffers(device, otherMap, queries, count, options.k, options.estimate, scene, estimates);
+        const float scale = float(options.every) / float(options.every - 1);
+        auto store = device.kernel<cl::Buffer, cl_float, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_store");
+        device.launchLocal(kStage, store, range(count), cl::NDRange(kGroup), estimates, cl_float(scale),
+                           cl_uint(count), points);
+    }
+    DeviceIrradianceMap map = buildIrradianceTree(device, points, count, options.estimate.minNormalCos);
+    timing.treeSeconds = map.timing.treeSeconds;
+    map.timing = timing;
+    return map;
+}
+
+DeviceIrradianceMap precomputeIrradiance(Device& device, const std::vector<PclPhoton>& map,
+                                         const PrecomputedIrradianceOptions& options, const DeviceScene* scene) {
+    float lo[3] = {0.0f, 0.0f, 0.0f};
+    if (!map.empty()) {
+        lo[0] = map[0].x, lo[1] = map[0].y, lo[2] = map[0].z;
+        for (const PclPhoton& p : map) lo[0] = std::min(lo[0], p.x), lo[1] = std::min(lo[1], p.y), lo[2] = std::min(lo[2], p.z);
+    }
+    return precomputeIrradiance(device, device.upload(map), map.size(), options, scene, lo);
+}
+
+DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, size_t count, float minNormalCos) {
+    if (count >= (size_t(1) << 30))
+        throw InputError("precomputed irradiance: " + std::to_string(count) +
+                         " points exceed the 2^30 of the stored photon index");
+    if (std::isnan(minNormalCos)) throw InputError("precomputed irradiance: minNormalCos is NaN");
+    const auto t0 = std::chrono::steady_clock::now();
+    DeviceIrradianceMap map;
+    map.points = points;
+    map.count = count;
+    map.minNormalCos = minNormalCos;
+    map.nodes = device.allocate<PclIrradiancePoint>(count);
+    if (count) {
+        // The photon kd-tree builder orders the points (it reads only position; the normal word
+        // rides along), then the pack copies each point into its heap slot with the split axis.
+        cl::Buffer asPhotons = device.allocate<PclPhoton>(count);
+        auto toPhotons =
+            device.kernel<cl::Buffer, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_as_photons");
+        device.launchLocal(kStage, toPhotons, range(count), cl::NDRange(kGroup), points, cl_uint(count), asPhotons);
+        const DeviceKdTree tree = buildKdTree(device, asPhotons, count);
+        auto pack = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(
+            kStage, "precomputed_irradiance_pack");
+        device.launchLocal(kStage, pack, range(count), cl::NDRange(kGroup), tree.photons, tree.index, points,
+                           cl_uint(count), map.nodes);
+        device.finish();
+    }
+    map.timing.treeSeconds = since(t0);
+    return map;
+}
+
+DeviceIrradianceMap uploadIrradiancePoints(Device& device, const std::vector<PclIrradiancePoint>& points,
+                                           float minNormalCos) {
+    return buildIrradianceTree(device, device.upload(points, CL_MEM_READ_WRITE), points.size(), minNormalCos);
+}
+
+std::vector<PclIrradiancePoint> downloadIrradiancePoints(Device& device, const DeviceIrradianceMap& map) {
+    return device.download<PclIrradiancePoint>(map.points, map.count);
+}
+
+std::vector<PclIrradiancePoint> downloadIrradianceNodes(Device& device, const DeviceIrradianceMap& map) {
+    return device.download<PclIrradiancePoint>(map.nodes, map.count);
+}
+
+double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl::Buffer& queries, size_t queryCount,
+                        DeviceIrradianceLookup& out) {
+    if (out.queries != queryCount || queryCount == 0) {
+        out.irradiance = device.allocate<cl_float4>(queryCount);
+        out.chosen = device.allocate<uint32_t>(queryCount);
+        out.queries = queryCount;
+    }
+    if (queryCount == 0) return 0.0;
+    auto k = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_float, cl::Buffer, cl::Buffer>(
+        kStage, "precomputed_irradiance_lookup");
+    cl::Event e = device.launchLocal(kStage, k, range(queryCount), cl::NDRange(kGroup), map.nodes,
+                                     cl_uint(map.count), queries, cl_uint(queryCount), cl_float(map.minNormalCos),
+                                     out.irradiance, out.chosen);
+    e.wait();
+    return Device::elapsedSeconds(e);
+}
+
+IrradianceLookupResult lookupIrradianceOnDevice(Device& device, const DeviceIrradianceMap& map,
+                                                const std::vector<PclEstimateQuery>& queries) {
+    for (size_t i = 0; i < queries.size(); ++i) {
+        const PclEstimateQuery& q = queries[i];
+        if (!(q.maxRadius2 >= 0.0f))
+            throw InputError("precomputed irradiance: query " + std::to_string(i) + " has maxRadius2 = " +
+                             std::to_string(q.maxRadius2) + ", expected ≥ 0");
+        if (!std::isfinite(q.nx) || !std::isfinite(q.ny) || !std::isfinite(q.nz))
+            throw InputError("precomputed irradiance: query " + std::to_string(i) + " has a non-finite normal");
+    }
+    IrradianceLookupResult r;
+    cl::Buffer q = device.upload(queries);
+    DeviceIrradianceLookup out;
+    r.seconds = lookupIrradiance(device, map, q, queries.size(), out);
+    r.irradiance = device.download<float>(out.irradiance, queries.size() * 4);
+    r.chosen = device.download<uint32_t>(out.chosen, queries.size());
+    return r;
+}
+
+}  // namespace pcl

@@ -1,0 +1,109 @@
+// Precomputed irradiance on the device (Christensen 1999, "Faster Photon Map Global
+// Illumination"; kernels/precomputed_irradiance.cl; kernels/README.md, "precomputed
+// irradiance"): the irradiance is estimated once at every m-th photon of the global map (in
+// deposit order) with that photon's own normal, through the full estimate (pipeline/estimate),
+// and stored with the photon's position and normal in a left-balanced kd-tree; a later lookup
+// is one nearest-neighbour search with the normal test inside it, instead of a k-nearest-
+// neighbour estimate. Built once per photon pass, looked up by any number of query batches.
+//
+// Unlike Christensen, the estimates search the OTHER photons (those not selected, a map of
+// (m − 1)/m of the records, their result scaled by m/(m − 1)): an estimate that counts the
+// stored points' photons correlates with how the stored points crowd, and the nearest-point
+// lookup, which picks points with large Voronoi cells more often, then reads low (−3 % at m = 4,
+// k = 50 on a uniform plane; +2 % when the photon itself is counted). Leaving them out makes the
+// two independent (a thinned Poisson process), and the mean lookup matches the full estimate's.
+// The CPU twin is host/reference/precomputed_irradiance.h.
+//
+//   PrecomputedIrradianceOptions o;  o.maxRadius = rMax;              // every 4th photon, k = 50
+//   DeviceIrradianceMap irr = precomputeIrradiance(device, globalPhotons, n, o, nullptr);
+//   DeviceIrradianceLookup out;
+//   lookupIrradiance(device, irr, queryBuffer, queryCount, out);      // PclEstimateQuery, k unused
+//   // out.irradiance: float4 (r, g, b, d²) per query; out.chosen: the photon index or PCL_NO_HIT
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "device/device.h"
+#include "pipeline/device_scene.h"
+#include "pipeline/estimate.h"
+#include "shared/types.h"
+
+namespace pcl {
+
+struct PrecomputedIrradianceOptions {
+    uint32_t every = 4;           // m ≥ 2: photons 0, m, 2m, … of the global map get a stored point
+    uint32_t k = 50;              // photons per estimate at a stored point (from the other photons)
+    float maxRadius = 0.0f;       // those estimates' r_max
+    EstimateSettings estimate;    // filter, normal test, visibility, structure of the others' map;
+                                  // estimate.minNormalCos is also the lookup's normal threshold
+};
+
+// InputError when every < 2, k is outside 1..PCL_KNN_MAX_K, maxRadius is not positive and
+// finite, or the estimate settings are invalid.
+void validatePrecomputedIrradianceOptions(const PrecomputedIrradianceOptions& o);
+
+struct IrradianceTiming {
+    double selectSeconds = 0.0;   // device: selection, the estimate queries, the others' map
+    double mapSeconds = 0.0;      // wall: the others' search structure (PhotonMapOnDevice)
+    EstimateTiming estimate;      // device: the estimates at the stored points
+    double treeSeconds = 0.0;     // wall: the lookup kd-tree (build and pack)
+};
+
+// The stored points on the device.
+struct DeviceIrradianceMap {
+    cl::Buffer points;            // PclIrradiancePoint[count] in selection order: point j is photon j·m
+    cl::Buffer nodes;             // the same points in left-balanced heap order (node h's children
+                                  // 2h+1, 2h+2), split axis in bits 30..31 of `photon`
+    size_t count = 0;
+    float minNormalCos = 0.9f;    // the lookup's normal threshold
+    IrradianceTiming timing;
+};
+
+// (a) select, (b) estimate, (c) store and build: the whole precomputation from the global map's
+// `count` records in `photons` (deposit order; left untouched). `scene` is needed when
+// options.estimate.visibility is on. The others' map is built with options.estimate.structure
+// (the hash grid's origin from `lo`, the map's bounds minimum; the kd-tree needs none).
+DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photons, size_t count,
+                                         const PrecomputedIrradianceOptions& options, const DeviceScene* scene,
+                                         const float* lo = nullptr);
+// Upload and precompute.
+DeviceIrradianceMap precomputeIrradiance(Device& device, const std::vector<PclPhoton>& map,
+                                         const PrecomputedIrradianceOptions& options, const DeviceScene* scene);
+
+// (c) alone: the lookup tree over `count` points already on the device (irradiance filled in,
+// `photon` below 2^30 and distinct: it breaks ties). The map keeps `points`.
+DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, size_t count,
+                                        float minNormalCos);
+// Upload and build.
+DeviceIrradianceMap uploadIrradiancePoints(Device& device, const std::vector<PclIrradiancePoint>& points,
+                                           float minNormalCos);
+
+// The points in selection order, and the tree nodes in heap order, downloaded.
+std::vector<PclIrradiancePoint> downloadIrradiancePoints(Device& device, const DeviceIrradianceMap& map);
+std::vector<PclIrradiancePoint> downloadIrradianceNodes(Device& device, const DeviceIrradianceMap& map);
+
+// (d) lookups on the device.
+struct DeviceIrradianceLookup {
+    cl::Buffer irradiance;        // float4 per query: r, g, b (W/m²), d² to the chosen point; 0s if none
+    cl::Buffer chosen;            // uint per query: the chosen point's photon index, PCL_NO_HIT if none
+    size_t queries = 0;
+};
+
+// For each of `queryCount` PclEstimateQuery (x, y, z, maxRadius2, unit normal; k unused) the
+// nearest stored point within maxRadius2 whose normal agrees. Allocates `out` (reused when it
+// already holds queryCount); returns the kernel's device seconds.
+double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl::Buffer& queries, size_t queryCount,
+                        DeviceIrradianceLookup& out);
+
+struct IrradianceLookupResult {
+    std::vector<float> irradiance;  // queries × 4: r, g, b, d²
+    std::vector<uint32_t> chosen;   // per query
+    double seconds = 0.0;           // device time of the lookup kernel
+};
+
+// Upload the queries, look up, download. InputError when a radius is negative or NaN or a
+// normal is not finite.
+IrradianceLookupResult lookupIrradianceOnDevice(Device& device, const DeviceIrradianceMap& map,
+                                                const std::vector<PclEstimateQuery>& queries);
+
+}  // namespace pcl

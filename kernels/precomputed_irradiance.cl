@@ -1,0 +1,174 @@
+/* precomputed_irradiance.cl: Christensen's precomputed irradiance (Christensen 1999, "Faster
+ * Photon Map Global Illumination"; kernels/README.md, "precomputed irradiance"): the irradiance
+ * is estimated once at every m-th photon of the global map and stored with it, so a later
+ * lookup is one nearest-neighbour search instead of a k-nearest-neighbour estimate.
+ *
+ * precomputed_irradiance_select  in:  photons[n] (the global map in deposit order), every = m ≥ 2
+ *                                out: points[j] for j < ⌈n/m⌉: photon j·m's position and normal
+ *                                     word, photon = j·m, irradiance 0; queries[j]: the estimate's
+ *                                     query at that photon (its decoded normal, maxRadius2, k)
+ * precomputed_irradiance_unselected  in: photons[n], every = m
+ *                                out: others[i − ⌊i/m⌋ − 1] = photon i for every i not a multiple
+ *                                     of m (deposit order kept): the map the estimates search
+ * precomputed_irradiance_store   in:  estimates[j] (PclEstimate of queries[j] in the others),
+ *                                     scale = (float)m / (float)(m − 1)
+ *                                out: points[j].r, g, b = estimate · scale
+ * precomputed_irradiance_as_photons  in: points[n]  out: photons[n] with the points' x, y, z and
+ *                                     normal (rgbe, packed 0): what the kd-tree builder sorts
+ * precomputed_irradiance_pack    in:  the kd-tree of those photons (heap order, split axis in bits
+ *                                     27..28 of packed), index[h] (heap position → point), points
+ *                                out: nodes[h] = points[index[h]], split axis in bits 30..31 of photon
+ * precomputed_irradiance_lookup  in:  nodes[n] (the packed tree), queries[q], minNormalCos
+ *                                out: irradiance[q] = (r, g, b, d²) of the nearest node within
+ *                                     maxRadius2 whose normal agrees, (0, 0, 0, 0) when none;
+ *                                     chosen[q] = its photon index, PCL_NO_HIT when none
+ *
+ * The lookup is Jensen's nearest-photon descent with k = 1: a candidate is taken when
+ * d² ≤ maxRadius2, (d², photon index) is below the best so far (ties go to the lower photon
+ * index), and its normal agrees: n_p·n_q ≥ minNormalCos with n_p = photon_normal_decode(word) and
+ * the dot ((n_p.x q.nx + n_p.y q.ny) + n_p.z q.nz) in float. The normal test sits inside the
+ * search: a rejected point does not shrink the bound, so the search goes on until the nearest
+ * agreeing point is found. A far subtree is skipped only when its splitting plane's d² is
+ * strictly above the bound (maxRadius2 until a point is taken, then the best d²). d² is
+ * ((px−qx)² + (py−qy)²) + (pz−qz)² without contraction, as in knn.cl. */
+#pragma OPENCL FP_CONTRACT OFF
+#include "shared/types.h"
+#include "shared/sampling.h"
+
+#define PCL_IRRADIANCE_STACK 48
+
+__kernel void precomputed_irradiance_select(__global const PclPhoton* photons, uint n, uint every, float maxRadius2,
+                                            uint k, __global PclIrradiancePoint* points,
+                                            __global PclEstimateQuery* queries) {
+    const uint j = (uint)get_global_id(0);
+    const uint count = n == 0u ? 0u : (n - 1u) / every + 1u;
+    if (j >= count) return;
+    const uint i = j * every;
+    const PclPhoton p = photons[i];
+    PclIrradiancePoint s;
+    s.x = p.x, s.y = p.y, s.z = p.z;
+    s.normal = p.normal;
+    s.r = s.g = s.b = 0.0f;
+    s.photon = i;
+    points[j] = s;
+    const PclV3 nrm = photon_normal_decode(p.normal);
+    PclEstimateQuery q;
+    q.x = p.x, q.y = p.y, q.z = p.z;
+    q.maxRadius2 = maxRadius2;
+    q.nx = nrm.x, q.ny = nrm.y, q.nz = nrm.z;
+    q.k = k;
+    queries[j] = q;
+}
+
+/* The selected photons are left out of the estimates: a stored value then does not depend on
+ * where the other stored points lie, so the nearest-point lookup (which picks points with large
+ * Voronoi cells more often) is not biased towards sparse, dim neighbourhoods. The others carry
+ * (m − 1)/m of the flux: scale brings the estimate back to the whole map's. */
+__kernel void precomputed_irradiance_unselected(__global const PclPhoton* photons, uint n, uint every,
+                                                __global PclPhoton* others) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= n || i % every == 0u) return;
+    others[i - i / every - 1u] = photons[i];
+}
+
+__kernel void precomputed_irradiance_store(__global const PclEstimate* estimates, float scale, uint count,
+                                           __global PclIrradiancePoint* points) {
+    const uint j = (uint)get_global_id(0);
+    if (j >= count) return;
+    const PclEstimate e = estimates[j];
+    points[j].r = e.r * scale;
+    points[j].g = e.g * scale;
+    points[j].b = e.b * scale;
+}
+
+__kernel void precomputed_irradiance_as_photons(__global const PclIrradiancePoint* points, uint n,
+                                                __global PclPhoton* photons) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= n) return;
+    const PclIrradiancePoint s = points[i];
+    PclPhoton p;
+    p.x = s.x, p.y = s.y, p.z = s.z;
+    p.rgbe = 0u;
+    p.packed = 0u;
+    p.normal = s.normal;
+    photons[i] = p;
+}
+
+__kernel void precomputed_irradiance_pack(__global const PclPhoton* treePhotons, __global const uint* treeIndex,
+                                          __global const PclIrradiancePoint* points, uint n,
+                                          __global PclIrradiancePoint* nodes) {
+    const uint h = (uint)get_global_id(0);
+    if (h >= n) return;
+    const uint axis = (treePhotons[h].packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT;
+    PclIrradiancePoint s = points[treeIndex[h]];
+    s.photon = (s.photon & PCL_IRRADIANCE_INDEX_MASK) | (axis << PCL_IRRADIANCE_AXIS_SHIFT);
+    nodes[h] = s;
+}
+
+inline float irradiance_dist2(float px, float py, float pz, float qx, float qy, float qz) {
+    const float dx = px - qx, dy = py - qy, dz = pz - qz;
+    return dx * dx + dy * dy + dz * dz;
+}
+
+__kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* nodes, uint n,
+                                            __global const PclEstimateQuery* queries, uint queryCount,
+                                            float minNormalCos, __global float4* irradiance,
+                                            __global uint* chosen) {
+    const uint qi = (uint)get_global_id(0);
+    if (qi >= queryCount) return;
+    const PclEstimateQuery q = queries[qi];
+    float bestD2 = q.maxRadius2;
+    uint best = PCL_NO_HIT;      /* node */
+    uint bestPhoton = PCL_NO_HIT;
+    uint stackNode[PCL_IRRADIANCE_STACK];
+    float stackD[PCL_IRRADIANCE_STACK];
+    uint sp = 0u;
+    uint node = (n > 0u && q.maxRadius2 >= 0.0f) ? 0u : n;
+    for (;;) {
+        while (node < n) {
+            const __global PclIrradiancePoint* p = nodes + node;
+            const float px = p->x, py = p->y, pz = p->z;
+            const uint w = p->photon;
+            const uint axis = w >> PCL_IRRADIANCE_AXIS_SHIFT;
+            const float diff = axis == 0u ? q.x - px : (axis == 1u ? q.y - py : q.z - pz);
+            const uint left = 2u * node + 1u;
+            const uint nearChild = diff < 0.0f ? left : left + 1u;
+            const uint farChild = diff < 0.0f ? left + 1u : left;
+            const float planeD2 = diff * diff;
+            if (farChild < n && planeD2 <= bestD2) {
+                stackNode[sp] = farChild;
+                stackD[sp] = planeD2;
+                ++sp;
+            }
+            const float d = irradiance_dist2(px, py, pz, q.x, q.y, q.z);
+            const uint photon = w & PCL_IRRADIANCE_INDEX_MASK;
+            if (d < bestD2 || (d == bestD2 && photon < bestPhoton)) {
+                const PclV3 np = photon_normal_decode(p->normal);
+                const float c = (np.x * q.nx + np.y * q.ny) + np.z * q.nz;
+                if (c >= minNormalCos) {
+                    bestD2 = d;
+                    best = node;
+                    bestPhoton = photon;
+                }
+            }
+            node = nearChild;
+        }
+        node = n;
+        while (sp > 0u) {
+            --sp;
+            if (stackD[sp] <= bestD2) {
+                node = stackNode[sp];
+                break;
+            }
+        }
+        if (node >= n) break;
+    }
+    if (best == PCL_NO_HIT) {
+        irradiance[qi] = (float4)(0.0f, 0.0f, 0.0f, 0.0f);
+        chosen[qi] = PCL_NO_HIT;
+    } else {
+        const PclIrradiancePoint p = nodes[best];
+        irradiance[qi] = (float4)(p.r, p.g, p.b, bestD2);
+        chosen[qi] = bestPhoton;
+    }
+}
