@@ -92,9 +92,9 @@ IntersectCheckReport checkIntersect(Device& device, const Scene& scene, const Sc
 
     start = std::chrono::steady_clock::now();
     DeviceGeometry dg(device, g);
-    cl::Buffer rayBuf = device.upload(rays);
-    cl::Buffer closestBuf = device.allocate<PclHit>(n, CL_MEM_WRITE_ONLY);
-    cl::Buffer anyBuf = device.allocate<PclHit>(n, CL_MEM_WRITE_ONLY);
+    cl::Buffer rayBuf = device.upload(rays, CL_MEM_READ_ONLY, "check trace: rays");
+    cl::Buffer closestBuf = device.allocate<PclHit>(n, CL_MEM_WRITE_ONLY, "check trace: closest hits");
+    cl::Buffer anyBuf = device.allocate<PclHit>(n, CL_MEM_WRITE_ONLY, "check trace: any hits");
     intersectBuffers(device, dg, rayBuf, closestBuf, n, false);
     intersectBuffers(device, dg, rayBuf, anyBuf, n, true);
     std::vector<PclHit> devClosest = device.download<PclHit>(closestBuf, n);

@@ -181,7 +181,7 @@ KnnCheckReport checkKnn(Device& device, const Scene& scene, const SceneGeometry&
         const std::vector<PclKnnQuery> random =
             randomKnnQueries(lo, hi, options.randomQueries, rMax, maxK, options.seed * 7 + 2);
         // Each structure built once per map, searched for every query set and k.
-        cl::Buffer photons = device.upload(*map);
+        cl::Buffer photons = device.upload(*map, CL_MEM_READ_ONLY, "check knn: photon map");
         const KnnKdTree tree = packKdTree(device, buildKdTree(device, photons, map->size()));
         const DeviceHashGrid grid = buildHashGrid(device, photons, map->size(), hashGridParams(*map, rMax));
         for (const auto& [setName, base] : {std::pair<const char*, const std::vector<PclKnnQuery>*>{"random", &random},
@@ -199,14 +199,12 @@ KnnCheckReport checkKnn(Device& device, const Scene& scene, const SceneGeometry&
                     row.structure = knnStructureName(s);
                     row.k = k;
                     row.photons = map->size();
-                    const uint32_t maxK = knnMaxK(qs);
-                    cl::Buffer qbuf = device.upload(qs);
-                    DeviceKnnOutput out;
-                    row.deviceSeconds = s == KnnStructure::KdTree
-                                            ? knnSearchKdTree(device, tree, qbuf, qs.size(), maxK, out)
-                                            : knnSearchHashGrid(device, grid, qbuf, qs.size(), maxK, out);
+                    // In query batches under the device's max allocation (--max-buffer-mib).
+                    const KnnResult result = s == KnnStructure::KdTree ? knnSearchOnDevice(device, tree, qs)
+                                                                       : knnSearchOnDevice(device, grid, qs);
+                    row.deviceSeconds = result.searchSeconds;
                     report.deviceSeconds += row.deviceSeconds;
-                    compareKnn(qs, brute, downloadKnn(device, out), row);
+                    compareKnn(qs, brute, result, row);
                     report.rows.push_back(row);
                 }
         }

@@ -52,15 +52,15 @@ MapCheckRow sortRow(Device& device, const std::string& input, std::vector<uint64
         referenceSortPairs(twinKeys, twinValues, 64);
     }
     row.hostSeconds = since(t);
-    cl::Buffer vb = device.upload(values, CL_MEM_READ_WRITE);
+    cl::Buffer vb = device.upload(values, CL_MEM_READ_WRITE, "check sort: values");
     if (keyBits == 32) {
         std::vector<uint32_t> k32(keys.begin(), keys.end());
-        cl::Buffer kb = device.upload(k32, CL_MEM_READ_WRITE);
+        cl::Buffer kb = device.upload(k32, CL_MEM_READ_WRITE, "check sort: keys");
         sortPairsOnDevice(device, kb, vb, keys.size(), 32, 0, &row.deviceSeconds);
         k32 = device.download<uint32_t>(kb, keys.size());
         devKeys.assign(k32.begin(), k32.end());
     } else {
-        cl::Buffer kb = device.upload(keys, CL_MEM_READ_WRITE);
+        cl::Buffer kb = device.upload(keys, CL_MEM_READ_WRITE, "check sort: keys");
         sortPairsOnDevice(device, kb, vb, keys.size(), 64, 0, &row.deviceSeconds);
         devKeys = device.download<uint64_t>(kb, keys.size());
     }
@@ -213,7 +213,7 @@ MapCheckReport checkKdTreeBuild(Device& device, const Scene& scene, const MapChe
         ReferenceKdTree twin = referenceBuildKdTree(*map);
         row.hostSeconds = since(t);
         KdTreeTiming timing;
-        cl::Buffer in = device.upload(*map);
+        cl::Buffer in = device.upload(*map, CL_MEM_READ_ONLY, "kd-tree: photons");
         DeviceKdTree dt = buildKdTree(device, in, map->size(), &timing);
         row.deviceSeconds = timing.sortSeconds + timing.otherSeconds;
         row.levels = dt.levels;

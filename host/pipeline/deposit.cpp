@@ -103,9 +103,21 @@ std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_
                              " records in " + std::to_string(slotsPerPath) + " slots");
     const uint64_t total = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
     DevicePhotonMap map = makeDevicePhotonMap(device, initialCapacity ? initialCapacity : size_t(total));
-    cl::Buffer countBuf = device.upload(counts);
-    cl::Buffer slotBuf = device.upload(slots);
-    depositPhotons(device, countBuf, slotBuf, uint32_t(counts.size()), slotsPerPath, map);
+    // All paths in one deposit when their slots fit one buffer; else in chunks of paths that do
+    // (a --max-buffer-mib cap): appended in path order, so the map is the same.
+    const size_t n = counts.size(), S = std::max<uint32_t>(slotsPerPath, 1);
+    size_t chunk = std::max<size_t>(n, 1);
+    if (chunk * S * sizeof(PclPhoton) > device.info().maxAlloc)
+        chunk = std::max<size_t>(device.info().maxAlloc / (S * sizeof(PclPhoton)), 1);
+    for (size_t first = 0; first < n; first += chunk) {
+        const size_t m = std::min(chunk, n - first);
+        cl::Buffer countBuf = device.upload(std::vector<uint32_t>(counts.begin() + first, counts.begin() + first + m),
+                                            CL_MEM_READ_ONLY, "photon pass: counts");
+        cl::Buffer slotBuf = device.upload(
+            std::vector<PclPhoton>(slots.begin() + first * S, slots.begin() + (first + m) * S), CL_MEM_READ_ONLY,
+            "photon pass: slots");
+        depositPhotons(device, countBuf, slotBuf, uint32_t(m), slotsPerPath, map);
+    }
     if (growths) *growths = map.growths;
     return device.download<PclPhoton>(map.photons, map.count);
 }

@@ -15,8 +15,8 @@ std::vector<PclPhotonRay> emitOnDevice(Device& device, const SceneGeometry& geom
                                        const std::vector<uint32_t>& lightFirst,
                                        const PclPhotonParams& params) {
     DeviceScene scene(device, geometry, buffers);
-    cl::Buffer first = device.upload(lightFirst);
-    cl::Buffer rays = device.allocate<PclPhotonRay>(params.batchSize);
+    cl::Buffer first = device.upload(lightFirst, CL_MEM_READ_ONLY, "photon pass: light offsets");
+    cl::Buffer rays = device.allocate<PclPhotonRay>(params.batchSize, CL_MEM_READ_WRITE, "photon pass: rays");
     emitPhotons(device, scene, first, params, rays);
     return device.download<PclPhotonRay>(rays, params.batchSize);
 }

@@ -30,8 +30,8 @@ void intersectBuffers(Device& device, const DeviceGeometry& geometry, const cl::
 std::vector<PclHit> intersectOnDevice(Device& device, const SceneGeometry& geometry,
                                       const std::vector<PclRay>& rays, bool anyHit) {
     DeviceGeometry dg(device, geometry);
-    cl::Buffer rayBuf = device.upload(rays);
-    cl::Buffer hitBuf = device.allocate<PclHit>(rays.size(), CL_MEM_WRITE_ONLY);
+    cl::Buffer rayBuf = device.upload(rays, CL_MEM_READ_ONLY, "intersect: rays");
+    cl::Buffer hitBuf = device.allocate<PclHit>(rays.size(), CL_MEM_WRITE_ONLY, "intersect: hits");
     intersectBuffers(device, dg, rayBuf, hitBuf, rays.size(), anyHit);
     return device.download<PclHit>(hitBuf, rays.size());
 }

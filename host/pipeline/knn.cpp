@@ -155,6 +155,20 @@ double knnSearchHashGrid(Device& device, const DeviceHashGrid& grid, const cl::B
     return Device::elapsedSeconds(e);
 }
 
+KnnResult knnSearchOnDevice(Device& device, const KnnKdTree& tree, const std::vector<PclKnnQuery>& queries) {
+    const uint32_t maxK = knnMaxK(queries);
+    return searchAndDownload(device, queries, maxK, 0.0, [&](const cl::Buffer& q, size_t count, DeviceKnnOutput& out) {
+        return knnSearchKdTree(device, tree, q, count, maxK, out);
+    });
+}
+
+KnnResult knnSearchOnDevice(Device& device, const DeviceHashGrid& grid, const std::vector<PclKnnQuery>& queries) {
+    const uint32_t maxK = knnMaxK(queries);
+    return searchAndDownload(device, queries, maxK, 0.0, [&](const cl::Buffer& q, size_t count, DeviceKnnOutput& out) {
+        return knnSearchHashGrid(device, grid, q, count, maxK, out);
+    });
+}
+
 KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNodes,
                             const std::vector<uint32_t>& nodeIndex, const std::vector<PclKnnQuery>& queries) {
     if (heapNodes.size() != nodeIndex.size())

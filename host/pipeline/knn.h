@@ -69,6 +69,13 @@ double knnSearchKdTree(Device& device, const KnnKdTree& tree, const cl::Buffer& 
 double knnSearchHashGrid(Device& device, const DeviceHashGrid& grid, const cl::Buffer& queries, size_t queryCount,
                          uint32_t maxK, DeviceKnnOutput& out);
 
+// A built structure searched for host queries in batches of knnQueryBatch, so no buffer passes
+// the device's max allocation (capped or not): per batch upload, search, download. The same
+// bits as one launch. searchSeconds sums the launches; buildSeconds is left 0. The hash grid
+// needs every radius ≤ cellSize / 2 (the caller checks).
+KnnResult knnSearchOnDevice(Device& device, const KnnKdTree& tree, const std::vector<PclKnnQuery>& queries);
+KnnResult knnSearchOnDevice(Device& device, const DeviceHashGrid& grid, const std::vector<PclKnnQuery>& queries);
+
 // The outputs downloaded (searchSeconds and buildSeconds left 0).
 KnnResult downloadKnn(Device& device, const DeviceKnnOutput& out);
 

@@ -13,6 +13,7 @@
 
 #include "device_fixture.h"
 #include "photon_test_scenes.h"
+#include "pipeline/deposit.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
 #include "pipeline/memory_plan.h"
@@ -283,6 +284,33 @@ TEST(MemoryPlan, KnnUnderA64MiBCapEqualsUncapped) {
     EXPECT_TRUE(sameBits(a.indices, b.indices));
     EXPECT_TRUE(sameBits(a.dist2, b.dist2));
     EXPECT_TRUE(sameBits(a.radius2, b.radius2));
+}
+
+// depositOnDevice (the deposit check) with more slots than one buffer may hold: deposited in
+// chunks of paths, the same map.
+TEST(MemoryPlan, DepositCheckSplitsUnderTheCap) {
+    const uint32_t S = 16;
+    const size_t paths = 3500;  // 1.3 MiB of slots, a map of ~0.6 MiB
+    std::mt19937 rng(9);
+    std::vector<uint32_t> counts(paths);
+    std::vector<PclPhoton> slots(paths * S);
+    for (size_t i = 0; i < paths; ++i) {
+        counts[i] = rng() % (S + 1);
+        for (uint32_t k = 0; k < counts[i]; ++k) {
+            PclPhoton& p = slots[i * S + k];
+            p.x = float(i), p.y = float(k), p.z = float(rng() % 1000);
+            p.rgbe = uint32_t(rng());
+        }
+    }
+    Device capped = test::testDevice();
+    capped.setBufferCap(1 * kMiB);
+    AllocationLog log;
+    log.observe(capped);
+    const std::vector<PclPhoton> a = depositOnDevice(test::testDevice(), counts, slots, S);
+    const std::vector<PclPhoton> b = depositOnDevice(capped, counts, slots, S);
+    EXPECT_LE(log.maxBytes, 1 * kMiB);
+    ASSERT_GT(a.size(), paths * 4);
+    EXPECT_TRUE(sameBits(a, b));
 }
 
 // A map that turns out larger than its photon count (the plan's assumption) stops growing at the
