@@ -47,9 +47,9 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
         throw InputError("precomputed irradiance: a hash grid over the other photons needs the map's bounds minimum");
     const size_t count = n == 0 ? 0 : (n - 1) / options.every + 1;
     const size_t others = n - count;
-    cl::Buffer points = device.allocate<PclIrradiancePoint>(count);
-    cl::Buffer queries = device.allocate<PclEstimateQuery>(count);
-    cl::Buffer otherPhotons = device.allocate<PclPhoton>(others);
+    cl::Buffer points = device.allocate<PclIrradiancePoint>(count, CL_MEM_READ_WRITE, "precomputed irradiance: points");
+    cl::Buffer queries = device.allocate<PclEstimateQuery>(count, CL_MEM_READ_WRITE, "precomputed irradiance: estimate queries");
+    cl::Buffer otherPhotons = device.allocate<PclPhoton>(others, CL_MEM_READ_WRITE, "precomputed irradiance: other photons");
     auto select = device.kernel<cl::Buffer, cl_uint, cl_uint, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
         kStage, "precomputed_irradiance_select");
     auto unselected =
@@ -69,7 +69,7 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
         const PhotonMapOnDevice otherMap(device, otherPhotons, others, options.estimate.structure, options.maxRadius,
                                          lo ? lo : zero);
         timing.mapSeconds = otherMap.buildSeconds();
-        cl::Buffer estimates = device.allocate<PclEstimate>(count);
+        cl::Buffer estimates = device.allocate<PclEstimate>(count, CL_MEM_READ_WRITE, "precomputed irradiance: estimates");
         timing.estimate =
             estimateBuffers(device, otherMap, queries, count, options.k, options.estimate, scene, estimates);
         const float scale = float(options.every) / float(options.every - 1);
@@ -103,11 +103,11 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
     map.points = points;
     map.count = count;
     map.minNormalCos = minNormalCos;
-    map.nodes = device.allocate<PclIrradiancePoint>(count);
+    map.nodes = device.allocate<PclIrradiancePoint>(count, CL_MEM_READ_WRITE, "precomputed irradiance: tree nodes");
     if (count) {
         // The photon kd-tree builder orders the points (it reads only position; the normal word
         // rides along), then the pack copies each point into its heap slot with the split axis.
-        cl::Buffer asPhotons = device.allocate<PclPhoton>(count);
+        cl::Buffer asPhotons = device.allocate<PclPhoton>(count, CL_MEM_READ_WRITE, "precomputed irradiance: tree input");
         auto toPhotons =
             device.kernel<cl::Buffer, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_as_photons");
         device.launchLocal(kStage, toPhotons, range(count), cl::NDRange(kGroup), points, cl_uint(count), asPhotons);
@@ -138,8 +138,8 @@ std::vector<PclIrradiancePoint> downloadIrradianceNodes(Device& device, const De
 double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl::Buffer& queries, size_t queryCount,
                         DeviceIrradianceLookup& out) {
     if (out.queries != queryCount || queryCount == 0) {
-        out.irradiance = device.allocate<cl_float4>(queryCount);
-        out.chosen = device.allocate<uint32_t>(queryCount);
+        out.irradiance = device.allocate<cl_float4>(queryCount, CL_MEM_READ_WRITE, "precomputed irradiance: lookups");
+        out.chosen = device.allocate<uint32_t>(queryCount, CL_MEM_READ_WRITE, "precomputed irradiance: chosen points");
         out.queries = queryCount;
     }
     if (queryCount == 0) return 0.0;
