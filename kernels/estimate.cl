@@ -3,8 +3,10 @@
  * (knn.cl) of the same batch.
  *
  * estimate_knn_queries
- *   in:  params (firstQuery, queryCount, stride), queries[firstQuery + i] PclEstimateQuery
- *   out: knnQueries[i] PclKnnQuery = (x, y, z, maxRadius2, min(k, stride)), i < queryCount
+ *   in:  params (firstQuery, queryCount, stride), maxSearchRadius2 (the hash grid's r_max², else
+ *        +inf), queries[firstQuery + i] PclEstimateQuery
+ *   out: knnQueries[i] PclKnnQuery = (x, y, z, min(maxRadius2, maxSearchRadius2), min(k, stride)),
+ *        i < queryCount
  * estimate_irradiance
  *   in:  params                      PclEstimateParams (filter, coneK, norm, gaussianScale,
  *                                    minNormalCos, visibility, rayEpsilon, liftFraction, batch)
@@ -28,8 +30,8 @@
 #include "shared/sampling.h"
 #include "shared/bvh.h"
 
-__kernel void estimate_knn_queries(const PclEstimateParams params, __global const PclEstimateQuery* queries,
-                                   __global PclKnnQuery* knnQueries) {
+__kernel void estimate_knn_queries(const PclEstimateParams params, const float maxSearchRadius2,
+                                   __global const PclEstimateQuery* queries, __global PclKnnQuery* knnQueries) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.queryCount) return;
     const PclEstimateQuery q = queries[params.firstQuery + i];
@@ -37,7 +39,7 @@ __kernel void estimate_knn_queries(const PclEstimateParams params, __global cons
     k.x = q.x;
     k.y = q.y;
     k.z = q.z;
-    k.maxRadius2 = q.maxRadius2;
+    k.maxRadius2 = min(q.maxRadius2, maxSearchRadius2);
     k.k = min(q.k, params.stride);
     k.pad0 = k.pad1 = k.pad2 = 0u;
     knnQueries[i] = k;

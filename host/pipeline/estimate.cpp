@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "core/error.h"
 #include "reference/estimate.h"
@@ -139,7 +140,7 @@ PhotonMapOnDevice::PhotonMapOnDevice(Device& device, const std::vector<PclPhoton
             lo[2] = std::min(lo[2], p.z);
         }
     }
-    photons_ = device.upload(map);
+    photons_ = device.upload(map, CL_MEM_READ_ONLY, "estimate: photon map");
     build(device, lo);
     device.finish();
     buildSeconds_ = seconds(t0);
@@ -201,27 +202,31 @@ EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, con
     if (queryCount == 0) return timing;
 
     const std::string options = scene ? scene->geometry.programOptions() : std::string();
-    auto convert = device.kernel<PclEstimateParams, cl::Buffer, cl::Buffer>("estimate", "estimate_knn_queries", options);
+    auto convert = device.kernel<PclEstimateParams, cl_float, cl::Buffer, cl::Buffer>("estimate", "estimate_knn_queries",
+                                                                                    options);
+    // The hash grid finds every photon only within its r_max: larger radii are clamped to it.
+    const float searchRadius2 = map.structure() == KnnStructure::HashGrid ? map.maxRadius() * map.maxRadius()
+                                                                          : std::numeric_limits<float>::infinity();
     auto estimate = device.kernel<PclEstimateParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                                   cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "estimate", "estimate_irradiance", options);
     // Without a scene the BVH arguments are one-element placeholders the kernel never reads.
     cl::Buffer placeholder;
-    if (!scene) placeholder = device.allocate<uint32_t>(1);
+    if (!scene) placeholder = device.allocate<uint32_t>(1, CL_MEM_READ_ONLY, "estimate: BVH placeholder");
     const cl::Buffer& nodes = scene ? scene->geometry.nodes : placeholder;
     const cl::Buffer& packets = scene ? scene->geometry.packets : placeholder;
     const cl::Buffer& spheres = scene ? scene->geometry.spheres : placeholder;
 
     static const std::vector<float> table = directionTable();
-    cl::Buffer dirTable = device.upload(table);
+    cl::Buffer dirTable = device.upload(table, CL_MEM_READ_ONLY, "estimate: direction table");
     const size_t batch = std::min(queryCount, estimateBatchQueries(device, maxK));
     timing.batchQueries = batch;
-    cl::Buffer knnQueries = device.allocate<PclKnnQuery>(batch);
+    cl::Buffer knnQueries = device.allocate<PclKnnQuery>(batch, CL_MEM_READ_WRITE, "estimate: kNN queries");
     for (size_t first = 0; first < queryCount; first += batch) {
         const size_t n = std::min(batch, queryCount - first);
         const PclEstimateParams params = estimateParams(settings, uint32_t(first), uint32_t(n), maxK);
         cl::Event c = device.launchLocal("estimate", convert, estimateGlobalRange(n), cl::NDRange(kEstimateGroup),
-                                         params, queries, knnQueries);
+                                         params, cl_float(searchRadius2), queries, knnQueries);
         DeviceKnnOutput knn;
         timing.knnSeconds += map.search(device, knnQueries, n, maxK, knn);
         cl::Event e = device.launchLocal("estimate", estimate, estimateGlobalRange(n), cl::NDRange(kEstimateGroup),
@@ -245,8 +250,8 @@ EstimateResult estimateOnDevice(Device& device, const PhotonMapOnDevice& map,
                                  std::to_string(std::sqrt(queries[i].maxRadius2)) +
                                  ", above the hash grid's maxRadius " + std::to_string(map.maxRadius()));
     EstimateResult r;
-    cl::Buffer q = device.upload(queries);
-    cl::Buffer out = device.allocate<PclEstimate>(queries.size());
+    cl::Buffer q = device.upload(queries, CL_MEM_READ_ONLY, "estimate: queries");
+    cl::Buffer out = device.allocate<PclEstimate>(queries.size(), CL_MEM_READ_WRITE, "estimate: results");
     r.timing = estimateBuffers(device, map, q, queries.size(), maxK, settings, sceneForVisibility, out);
     r.values = device.download<PclEstimate>(out, queries.size());
     r.buildSeconds = map.buildSeconds();

@@ -102,7 +102,8 @@ size_t estimateBatchQueries(const Device& device, uint32_t maxK);
 
 // The estimates of `queryCount` PclEstimateQuery in `queries` into `results` (PclEstimate[
 // queryCount], allocated by the caller), in batches of estimateBatchQueries. maxK ≥ every
-// query's k (a larger k is clamped to maxK); each k in 1..PCL_KNN_MAX_K. `scene` is required when
+// query's k (a larger k is clamped to maxK); each k in 1..PCL_KNN_MAX_K. With the hash grid a
+// query radius above the map's maxRadius is clamped to it. `scene` is required when
 // settings.visibility is on (InputError otherwise) and ignored when off; its programOptions()
 // size the traversal stack. settings.structure is ignored (the map's is used). Enqueues and
 // waits for the launches.

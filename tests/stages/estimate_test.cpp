@@ -179,6 +179,61 @@ TEST(Estimate, EstimateBuffersOnDeviceQueriesEqualsEstimateOnDevice) {
     EXPECT_GE(estimateBatchQueries(device, 500), 1u);
 }
 
+// A per-buffer cap (Device::setBufferCap, --max-buffer-mib) only splits the queries into more
+// batches: the estimates are the same.
+TEST(Estimate, CappedBuffersSplitIntoBatchesWithTheSameEstimates) {
+    Device device = test::testDevice();  // a copy: the cap stays with it
+    std::mt19937 rng(6);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<PclPhoton> map(5000);
+    for (auto& p : map) p = makePhoton(Vec3(u(rng), u(rng), 0.0f), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(u(rng)));
+    std::vector<PclEstimateQuery> qs(5000);
+    for (auto& q : qs) q = makeQuery(Vec3(u(rng), u(rng), 0.0f), Vec3(0, 0, 1), 0.1f, 20);
+    for (KnnStructure s : kStructures) {
+        EstimateSettings settings;
+        settings.structure = s;
+        const EstimateResult whole = estimateOnDevice(test::testDevice(), map, qs, settings, nullptr);
+        device.setBufferCap(size_t(1) << 20);
+        const EstimateResult capped = estimateOnDevice(device, map, qs, settings, nullptr);
+        EXPECT_EQ(whole.timing.batches, 1u);
+        EXPECT_GE(capped.timing.batches, 3u) << "1 MiB cap, 20 × 8 B per query: batches of ≤ 1638";
+        std::printf("[figure] estimate under a 1 MiB buffer cap (%s): %zu batches of %zu queries\n",
+                    knnStructureName(s), capped.timing.batches, capped.timing.batchQueries);
+        ASSERT_EQ(capped.values.size(), whole.values.size());
+        for (size_t i = 0; i < qs.size(); ++i) {
+            ASSERT_EQ(capped.values[i].r, whole.values[i].r) << i;
+            ASSERT_EQ(capped.values[i].used, whole.values[i].used) << i;
+        }
+    }
+}
+
+// Through the hash grid, estimateBuffers clamps a radius above the grid's r_max to it (the
+// grid finds every photon only within r_max): the same as asking r_max.
+TEST(Estimate, HashGridClampsRadiiAboveItsMaxRadius) {
+    Device& device = test::testDevice();
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<PclPhoton> map(2000);
+    for (auto& p : map) p = makePhoton(Vec3(u(rng), u(rng), 0.0f), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1.0f));
+    std::vector<PclEstimateQuery> wide(300), capped;
+    for (auto& q : wide) q = makeQuery(Vec3(u(rng), u(rng), 0.0f), Vec3(0, 0, 1), 0.3f, 100);
+    capped = wide;
+    for (auto& q : capped) q.maxRadius2 = 0.05f * 0.05f;
+    const PhotonMapOnDevice grid(device, map, KnnStructure::HashGrid, 0.05f);
+    cl::Buffer qb = device.upload(wide);
+    cl::Buffer out = device.allocate<PclEstimate>(wide.size());
+    estimateBuffers(device, grid, qb, wide.size(), 100, {}, nullptr, out);
+    const std::vector<PclEstimate> got = device.download<PclEstimate>(out, wide.size());
+    const std::vector<PclEstimate> want = referenceEstimate(map, capped, {}, nullptr);
+    size_t clampedQueries = 0;
+    for (size_t i = 0; i < wide.size(); ++i) {
+        ASSERT_EQ(got[i].found, want[i].found) << i;
+        ASSERT_EQ(got[i].radius2, want[i].radius2) << i;
+        clampedQueries += want[i].found < 100;
+    }
+    EXPECT_GT(clampedQueries, wide.size() / 2);  // r_max, not k, limited most of them
+}
+
 TEST(Estimate, PhotonsAtTheQueryPointGiveZeroNotNaN) {
     Device& device = test::testDevice();
     std::vector<PclPhoton> map(10, makePhoton(Vec3(0.5f), Vec3(0, 0, 1), Vec3(0, 0, 1), Vec3(1.0f)));
