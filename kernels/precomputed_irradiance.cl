@@ -11,24 +11,31 @@
  *                                out: others[i − ⌊i/m⌋ − 1] = photon i for every i not a multiple
  *                                     of m (deposit order kept): the map the estimates search
  * precomputed_irradiance_store   in:  estimates[j] (PclEstimate of queries[j] in the others),
- *                                     scale = (float)m / (float)(m − 1)
- *                                out: points[j].r, g, b = estimate · scale
+ *                                     scale = (float)m / (float)(m − 1), coverScale2 = f² (f: the
+ *                                     cover radius over the estimate's radius)
+ *                                out: points[j].r, g, b = estimate · scale; cover[j] =
+ *                                     coverScale2 · the estimate's r² (∞ when coverScale2 is ∞)
  * precomputed_irradiance_as_photons  in: points[n]  out: photons[n] with the points' x, y, z and
  *                                     normal (rgbe, packed 0): what the kd-tree builder sorts
  * precomputed_irradiance_pack    in:  the kd-tree of those photons (heap order, split axis in bits
- *                                     27..28 of packed), index[h] (heap position → point), points
- *                                out: nodes[h] = points[index[h]], split axis in bits 30..31 of photon
- * precomputed_irradiance_lookup  in:  nodes[n] (the packed tree), queries[q], minNormalCos
+ *                                     27..28 of packed), index[h] (heap position → point), points, cover
+ *                                out: nodes[h] = points[index[h]], split axis in bits 30..31 of
+ *                                     photon; nodeCover[h] = cover[index[h]]
+ * precomputed_irradiance_lookup  in:  nodes[n], nodeCover[n] (the packed tree), queries[q],
+ *                                     minNormalCos
  *                                out: irradiance[q] = (r, g, b, d²) of the nearest node within
- *                                     maxRadius2 whose normal agrees, (0, 0, 0, 0) when none;
- *                                     chosen[q] = its photon index, PCL_NO_HIT when none
+ *                                     maxRadius2 that covers the query and whose normal agrees,
+ *                                     (0, 0, 0, 0) when none; chosen[q] = its photon index,
+ *                                     PCL_NO_HIT when none
  *
  * The lookup is Jensen's nearest-photon descent with k = 1: a candidate is taken when
  * d² ≤ maxRadius2, (d², photon index) is below the best so far (ties go to the lower photon
- * index), and its normal agrees: n_p·n_q ≥ minNormalCos with n_p = photon_normal_decode(word) and
- * the dot ((n_p.x q.nx + n_p.y q.ny) + n_p.z q.nz) in float. The normal test sits inside the
- * search: a rejected point does not shrink the bound, so the search goes on until the nearest
- * agreeing point is found. A far subtree is skipped only when its splitting plane's d² is
+ * index), the query lies in the point's cover (d² ≤ nodeCover, f = 2 times the radius its
+ * estimate was made over: a stored value does not answer for places far beyond its photons, such
+ * as a dark floor next to a lit one) and its normal agrees: n_p·n_q ≥ minNormalCos with n_p =
+ * photon_normal_decode(word) and the dot ((n_p.x q.nx + n_p.y q.ny) + n_p.z q.nz) in float. The
+ * tests sit inside the search: a rejected point does not shrink the bound, so the search goes on
+ * until the nearest acceptable point is found. A far subtree is skipped only when its splitting plane's d² is
  * strictly above the bound (maxRadius2 until a point is taken, then the best d²). d² is
  * ((px−qx)² + (py−qy)²) + (pz−qz)² without contraction, as in knn.cl. */
 #pragma OPENCL FP_CONTRACT OFF
@@ -71,14 +78,15 @@ __kernel void precomputed_irradiance_unselected(__global const PclPhoton* photon
     others[i - i / every - 1u] = photons[i];
 }
 
-__kernel void precomputed_irradiance_store(__global const PclEstimate* estimates, float scale, uint count,
-                                           __global PclIrradiancePoint* points) {
+__kernel void precomputed_irradiance_store(__global const PclEstimate* estimates, float scale, float coverScale2,
+                                           uint count, __global PclIrradiancePoint* points, __global float* cover) {
     const uint j = (uint)get_global_id(0);
     if (j >= count) return;
     const PclEstimate e = estimates[j];
     points[j].r = e.r * scale;
     points[j].g = e.g * scale;
     points[j].b = e.b * scale;
+    cover[j] = isinf(coverScale2) ? INFINITY : coverScale2 * e.radius2;
 }
 
 __kernel void precomputed_irradiance_as_photons(__global const PclIrradiancePoint* points, uint n,
@@ -95,14 +103,16 @@ __kernel void precomputed_irradiance_as_photons(__global const PclIrradiancePoin
 }
 
 __kernel void precomputed_irradiance_pack(__global const PclPhoton* treePhotons, __global const uint* treeIndex,
-                                          __global const PclIrradiancePoint* points, uint n,
-                                          __global PclIrradiancePoint* nodes) {
+                                          __global const PclIrradiancePoint* points, __global const float* cover,
+                                          uint n, __global PclIrradiancePoint* nodes, __global float* nodeCover) {
     const uint h = (uint)get_global_id(0);
     if (h >= n) return;
     const uint axis = (treePhotons[h].packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT;
-    PclIrradiancePoint s = points[treeIndex[h]];
+    const uint i = treeIndex[h];
+    PclIrradiancePoint s = points[i];
     s.photon = (s.photon & PCL_IRRADIANCE_INDEX_MASK) | (axis << PCL_IRRADIANCE_AXIS_SHIFT);
     nodes[h] = s;
+    nodeCover[h] = cover[i];
 }
 
 inline float irradiance_dist2(float px, float py, float pz, float qx, float qy, float qz) {
@@ -110,8 +120,8 @@ inline float irradiance_dist2(float px, float py, float pz, float qx, float qy, 
     return dx * dx + dy * dy + dz * dz;
 }
 
-__kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* nodes, uint n,
-                                            __global const PclEstimateQuery* queries, uint queryCount,
+__kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* nodes, __global const float* nodeCover,
+                                            uint n, __global const PclEstimateQuery* queries, uint queryCount,
                                             float minNormalCos, __global float4* irradiance,
                                             __global uint* chosen) {
     const uint qi = (uint)get_global_id(0);
@@ -142,7 +152,7 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
             }
             const float d = irradiance_dist2(px, py, pz, q.x, q.y, q.z);
             const uint photon = w & PCL_IRRADIANCE_INDEX_MASK;
-            if (d < bestD2 || (d == bestD2 && photon < bestPhoton)) {
+            if ((d < bestD2 || (d == bestD2 && photon < bestPhoton)) && d <= nodeCover[node]) {
                 const PclV3 np = photon_normal_decode(p->normal);
                 const float c = (np.x * q.nx + np.y * q.ny) + np.z * q.nz;
                 if (c >= minNormalCos) {

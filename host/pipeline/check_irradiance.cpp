@@ -56,11 +56,11 @@ std::vector<PclEstimateQuery> randomQueries(const std::vector<PclPhoton>& map, u
 }
 
 // Device lookups against the brute force on the device's own points, over the first `limit`.
-void compareLookups(const std::vector<PclIrradiancePoint>& points, const std::vector<PclEstimateQuery>& queries,
-                    const IrradianceLookupResult& device, float minNormalCos, size_t limit,
-                    IrradianceCheckReport& report) {
+void compareLookups(const std::vector<PclIrradiancePoint>& points, const std::vector<float>& cover,
+                    const std::vector<PclEstimateQuery>& queries, const IrradianceLookupResult& device,
+                    float minNormalCos, size_t limit, IrradianceCheckReport& report) {
     const std::vector<PclEstimateQuery> some(queries.begin(), queries.begin() + std::min(limit, queries.size()));
-    const ReferenceIrradianceLookup twin = referenceLookupIrradiance(points, some, minNormalCos);
+    const ReferenceIrradianceLookup twin = referenceLookupIrradiance(points, cover, some, minNormalCos);
     for (size_t q = 0; q < some.size(); ++q) {
         ++report.lookupCompared;
         report.lookupEmpty += twin.chosen[q] == PCL_NO_HIT;
@@ -87,7 +87,7 @@ double IrradianceCheckReport::speedUp() const { return lookupSeconds > 0.0 ? est
 
 bool IrradianceCheckReport::passed() const {
     return points > 0 && selectionMismatches == 0 && storedCompared > 0 &&
-           storedMaxError <= kIrradianceStoredTolerance && lookupCompared > 0 && choiceMismatches == 0 &&
+           storedMaxError <= kIrradianceStoredTolerance && coverMismatches == 0 && lookupCompared > 0 && choiceMismatches == 0 &&
            valueMismatches == 0 && exactCompared > 0 && exactFailures == 0 && accuracyQueries > 0 &&
            meanRelativeError() <= kIrradianceMeanTolerance;
 }
@@ -100,8 +100,9 @@ std::string IrradianceCheckReport::table() const {
     out += line;
     std::snprintf(line, sizeof line, "  selection  %zu points differ from the twin's\n", selectionMismatches);
     out += line;
-    std::snprintf(line, sizeof line, "  stored     %zu points re-estimated by the twin, max relative difference %.2e\n",
-                  storedCompared, storedMaxError);
+    std::snprintf(line, sizeof line,
+                  "  stored     %zu points re-estimated by the twin, max relative difference %.2e, %zu covers differ\n",
+                  storedCompared, storedMaxError, coverMismatches);
     out += line;
     std::snprintf(line, sizeof line,
                   "  lookup     %zu queries (%zu with no agreeing point): %zu choices and %zu values differ from the "
@@ -169,6 +170,7 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
     PrecomputedIrradianceOptions po;
     po.every = options.every;
     po.k = options.k;
+    po.coverFactor = options.coverFactor;
     po.maxRadius = maxRadius;
     po.estimate = options.estimate;
     const float minCos = options.estimate.minNormalCos;
@@ -184,6 +186,7 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
     report.precomputeSeconds = irr.timing.selectSeconds + irr.timing.mapSeconds + irr.timing.estimate.knnSeconds +
                                irr.timing.estimate.estimateSeconds + irr.timing.treeSeconds;
     const std::vector<PclIrradiancePoint> points = downloadIrradiancePoints(device, irr);
+    const std::vector<float> cover = downloadIrradianceCover(device, irr);
     report.points = points.size();
 
     // Selection: every field but the irradiance, bit for bit.
@@ -208,7 +211,8 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
         sampleAt.push_back(t * twin.size() / nTwin);
         sample.push_back(twin[sampleAt.back()]);
     }
-    referenceEstimateIrradiancePoints(map, sample, po, geometry);
+    std::vector<float> sampleCover;
+    referenceEstimateIrradiancePoints(map, sample, po, geometry, 0, &sampleCover);
     const double floor = std::max(1e-3 * meanStored, 1e-30);
     for (size_t t = 0; t < sample.size(); ++t) {
         const PclIrradiancePoint& d = points[sampleAt[t]];
@@ -217,6 +221,7 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
             const double err = std::fabs(double(dv[c]) - double(tv[c])) / std::max(std::fabs(double(tv[c])), floor);
             report.storedMaxError = std::max(report.storedMaxError, std::isfinite(err) ? err : INFINITY);
         }
+        report.coverMismatches += !sameBits(cover[sampleAt[t]], sampleCover[t]);
         ++report.storedCompared;
     }
 
@@ -225,8 +230,8 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
         randomQueries(map, options.randomQueries, maxRadius, options.k, options.seed * 13 + 5);
     const IrradianceLookupResult onRandom = lookupIrradianceOnDevice(device, irr, random);
     const IrradianceLookupResult onSurface = lookupIrradianceOnDevice(device, irr, surface);
-    compareLookups(points, random, onRandom, minCos, options.twinQueries, report);
-    compareLookups(points, surface, onSurface, minCos, options.twinQueries, report);
+    compareLookups(points, cover, random, onRandom, minCos, options.twinQueries, report);
+    compareLookups(points, cover, surface, onSurface, minCos, options.twinQueries, report);
 
     // Exact points: each stored point's own position and decoded normal.
     std::vector<PclEstimateQuery> atPoints;

@@ -4,9 +4,10 @@
 //                but for the irradiance;
 //   stored       the irradiance stored at `twinPoints` of them (spread over the map) equals the
 //                twin's (reference/estimate in the map of the other photons, × m/(m − 1))
-//                within kIrradianceStoredTolerance relative;
-//   lookup       on the device's own points, device lookups choose the twin's nearest point
-//                (brute force with the normal test) for every random and surface query and
+//                within kIrradianceStoredTolerance relative, and its cover (f² × the estimate's
+//                r²) bit for bit (both searches return the brute force's neighbours);
+//   lookup       on the device's own points and covers, device lookups choose the twin's nearest
+//                point (brute force with the cover and normal tests) for every random and surface query and
 //                return its stored value and d² exactly;
 //   exact        a lookup at each stored point's position with its own decoded normal returns
 //                that point (or a coincident one of lower photon index) at d² = 0 and its value;
@@ -32,6 +33,7 @@ struct IrradianceCheckOptions {
     uint32_t photons = 50000;          // global paths of the photon pass (scene check)
     uint32_t every = 4;                // m
     uint32_t k = 50;                   // photons per estimate, full and stored
+    float coverFactor = 2.0f;          // PrecomputedIrradianceOptions::coverFactor
     float radiusFraction = 0.05f;      // r_max / scene bounding-box diagonal (scene check)
     uint32_t surfaceQueries = 10000;   // camera-ray hits (scene check)
     uint32_t randomQueries = 10000;    // points in the map's box, normals of random photons
@@ -50,6 +52,7 @@ struct IrradianceCheckReport {
     // stored irradiance vs the estimate twin
     size_t storedCompared = 0;
     double storedMaxError = 0.0;       // max |device − twin| / max(|twin|, 1e-3 × mean stored), per channel
+    size_t coverMismatches = 0;        // covers not bit-equal to the twin's
     // lookup vs brute force (random, surface)
     size_t lookupCompared = 0, choiceMismatches = 0, valueMismatches = 0, lookupEmpty = 0;
     // exact points

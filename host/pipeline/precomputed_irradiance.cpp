@@ -27,6 +27,9 @@ void validatePrecomputedIrradianceOptions(const PrecomputedIrradianceOptions& o)
     if (o.every < 2)  // the estimates search the photons not selected: there must be some
         throw InputError("precomputed irradiance: every = " + std::to_string(o.every) +
                          ", expected a photon step ≥ 2");
+    if (!(o.coverFactor > 0.0f))
+        throw InputError("precomputed irradiance: coverFactor = " + std::to_string(o.coverFactor) +
+                         ", expected a positive factor (or infinity)");
     if (o.k == 0 || o.k > PCL_KNN_MAX_K)
         throw InputError("precomputed irradiance: k = " + std::to_string(o.k) + ", expected 1.." +
                          std::to_string(PCL_KNN_MAX_K));
@@ -49,6 +52,7 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
     const size_t others = n - count;
     cl::Buffer points = device.allocate<PclIrradiancePoint>(count, CL_MEM_READ_WRITE, "precomputed irradiance: points");
     cl::Buffer queries = device.allocate<PclEstimateQuery>(count, CL_MEM_READ_WRITE, "precomputed irradiance: estimate queries");
+    cl::Buffer cover = device.allocate<float>(count, CL_MEM_READ_WRITE, "precomputed irradiance: covers");
     cl::Buffer otherPhotons = device.allocate<PclPhoton>(others, CL_MEM_READ_WRITE, "precomputed irradiance: other photons");
     auto select = device.kernel<cl::Buffer, cl_uint, cl_uint, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
         kStage, "precomputed_irradiance_select");
@@ -73,11 +77,13 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
         timing.estimate =
             estimateBuffers(device, otherMap, queries, count, options.k, options.estimate, scene, estimates);
         const float scale = float(options.every) / float(options.every - 1);
-        auto store = device.kernel<cl::Buffer, cl_float, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_store");
+        const float coverScale2 = options.coverFactor * options.coverFactor;
+        auto store = device.kernel<cl::Buffer, cl_float, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
+            kStage, "precomputed_irradiance_store");
         device.launchLocal(kStage, store, range(count), cl::NDRange(kGroup), estimates, cl_float(scale),
-                           cl_uint(count), points);
+                           cl_float(coverScale2), cl_uint(count), points, cover);
     }
-    DeviceIrradianceMap map = buildIrradianceTree(device, points, count, options.estimate.minNormalCos);
+    DeviceIrradianceMap map = buildIrradianceTree(device, points, cover, count, options.estimate.minNormalCos);
     timing.treeSeconds = map.timing.treeSeconds;
     map.timing = timing;
     return map;
@@ -93,7 +99,8 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const std::vector<PclPh
     return precomputeIrradiance(device, device.upload(map), map.size(), options, scene, lo);
 }
 
-DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, size_t count, float minNormalCos) {
+DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, const cl::Buffer& cover,
+                                        size_t count, float minNormalCos) {
     if (count >= (size_t(1) << 30))
         throw InputError("precomputed irradiance: " + std::to_string(count) +
                          " points exceed the 2^30 of the stored photon index");
@@ -101,9 +108,11 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
     const auto t0 = std::chrono::steady_clock::now();
     DeviceIrradianceMap map;
     map.points = points;
+    map.cover = cover;
     map.count = count;
     map.minNormalCos = minNormalCos;
     map.nodes = device.allocate<PclIrradiancePoint>(count, CL_MEM_READ_WRITE, "precomputed irradiance: tree nodes");
+    map.nodeCover = device.allocate<float>(count, CL_MEM_READ_WRITE, "precomputed irradiance: tree covers");
     if (count) {
         // The photon kd-tree builder orders the points (it reads only position; the normal word
         // rides along), then the pack copies each point into its heap slot with the split axis.
@@ -112,10 +121,10 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
             device.kernel<cl::Buffer, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_as_photons");
         device.launchLocal(kStage, toPhotons, range(count), cl::NDRange(kGroup), points, cl_uint(count), asPhotons);
         const DeviceKdTree tree = buildKdTree(device, asPhotons, count);
-        auto pack = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(
+        auto pack = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>(
             kStage, "precomputed_irradiance_pack");
-        device.launchLocal(kStage, pack, range(count), cl::NDRange(kGroup), tree.photons, tree.index, points,
-                           cl_uint(count), map.nodes);
+        device.launchLocal(kStage, pack, range(count), cl::NDRange(kGroup), tree.photons, tree.index, points, cover,
+                           cl_uint(count), map.nodes, map.nodeCover);
         device.finish();
     }
     map.timing.treeSeconds = since(t0);
@@ -123,8 +132,14 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
 }
 
 DeviceIrradianceMap uploadIrradiancePoints(Device& device, const std::vector<PclIrradiancePoint>& points,
-                                           float minNormalCos) {
-    return buildIrradianceTree(device, device.upload(points, CL_MEM_READ_WRITE), points.size(), minNormalCos);
+                                           float minNormalCos, const std::vector<float>& cover) {
+    if (!cover.empty() && cover.size() != points.size())
+        throw InputError("precomputed irradiance: " + std::to_string(cover.size()) + " covers for " +
+                         std::to_string(points.size()) + " points");
+    const std::vector<float> unlimited(cover.empty() ? points.size() : 0, INFINITY);
+    return buildIrradianceTree(device, device.upload(points, CL_MEM_READ_WRITE),
+                               device.upload(cover.empty() ? unlimited : cover, CL_MEM_READ_WRITE), points.size(),
+                               minNormalCos);
 }
 
 std::vector<PclIrradiancePoint> downloadIrradiancePoints(Device& device, const DeviceIrradianceMap& map) {
@@ -135,6 +150,10 @@ std::vector<PclIrradiancePoint> downloadIrradianceNodes(Device& device, const De
     return device.download<PclIrradiancePoint>(map.nodes, map.count);
 }
 
+std::vector<float> downloadIrradianceCover(Device& device, const DeviceIrradianceMap& map) {
+    return device.download<float>(map.cover, map.count);
+}
+
 double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl::Buffer& queries, size_t queryCount,
                         DeviceIrradianceLookup& out) {
     if (out.queries != queryCount || queryCount == 0) {
@@ -143,9 +162,9 @@ double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl
         out.queries = queryCount;
     }
     if (queryCount == 0) return 0.0;
-    auto k = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_float, cl::Buffer, cl::Buffer>(
+    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_float, cl::Buffer, cl::Buffer>(
         kStage, "precomputed_irradiance_lookup");
-    cl::Event e = device.launchLocal(kStage, k, range(queryCount), cl::NDRange(kGroup), map.nodes,
+    cl::Event e = device.launchLocal(kStage, k, range(queryCount), cl::NDRange(kGroup), map.nodes, map.nodeCover,
                                      cl_uint(map.count), queries, cl_uint(queryCount), cl_float(map.minNormalCos),
                                      out.irradiance, out.chosen);
     e.wait();

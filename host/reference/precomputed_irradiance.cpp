@@ -46,7 +46,7 @@ PclEstimateQuery referenceIrradianceEstimateQuery(const PclIrradiancePoint& poin
 
 void referenceEstimateIrradiancePoints(const std::vector<PclPhoton>& map, std::vector<PclIrradiancePoint>& points,
                                        const PrecomputedIrradianceOptions& options, const SceneGeometry* geometry,
-                                       unsigned threads) {
+                                       unsigned threads, std::vector<float>* cover) {
     // The others: every photon whose index is not a multiple of m, in map order.
     std::vector<PclPhoton> others;
     for (size_t i = 0; i < map.size(); ++i)
@@ -59,17 +59,24 @@ void referenceEstimateIrradiancePoints(const std::vector<PclPhoton>& map, std::v
     const float scale = float(options.every) / float(options.every - 1);
     for (size_t j = 0; j < points.size(); ++j)
         points[j].r = e[j].r * scale, points[j].g = e[j].g * scale, points[j].b = e[j].b * scale;
+    if (cover) {
+        cover->resize(points.size());
+        const float f2 = options.coverFactor * options.coverFactor;
+        for (size_t j = 0; j < points.size(); ++j) (*cover)[j] = std::isinf(f2) ? INFINITY : f2 * e[j].radius2;
+    }
 }
 
 std::vector<PclIrradiancePoint> referencePrecomputeIrradiance(const std::vector<PclPhoton>& map,
                                                               const PrecomputedIrradianceOptions& options,
-                                                              const SceneGeometry* geometry, unsigned threads) {
+                                                              const SceneGeometry* geometry, unsigned threads,
+                                                              std::vector<float>* cover) {
     std::vector<PclIrradiancePoint> points = referenceSelectIrradiancePoints(map, options.every);
-    referenceEstimateIrradiancePoints(map, points, options, geometry, threads);
+    referenceEstimateIrradiancePoints(map, points, options, geometry, threads, cover);
     return points;
 }
 
 ReferenceIrradianceLookup referenceLookupIrradiance(const std::vector<PclIrradiancePoint>& points,
+                                                    const std::vector<float>& cover,
                                                     const std::vector<PclEstimateQuery>& queries, float minNormalCos,
                                                     unsigned threads) {
     ReferenceIrradianceLookup r;
@@ -89,6 +96,7 @@ ReferenceIrradianceLookup referenceLookupIrradiance(const std::vector<PclIrradia
             const float xy = dx * dx + dy * dy;
             const float d2 = xy + dz * dz;
             if (!(d2 <= q.maxRadius2)) continue;
+            if (!cover.empty() && !(d2 <= cover[i])) continue;
             const uint32_t photon = p.photon & PCL_IRRADIANCE_INDEX_MASK;
             if (bestPhoton != PCL_NO_HIT && (d2 > bestD2 || (d2 == bestD2 && photon > bestPhoton))) continue;
             const float* n = &normals[3 * i];

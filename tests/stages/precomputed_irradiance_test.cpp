@@ -125,6 +125,7 @@ TEST(PrecomputedIrradiance, ThinWallNeverReadsTheOtherFace) {
     po.maxRadius = rMax;
     const DeviceIrradianceMap irr = precomputeIrradiance(device, map, po, nullptr);
     const std::vector<PclIrradiancePoint> points = downloadIrradiancePoints(device, irr);
+    const std::vector<float> cover = downloadIrradianceCover(device, irr);
     ASSERT_EQ(points.size(), 2 * n / 4);
 
     for (float side : {1.0f, -1.0f}) {
@@ -150,7 +151,7 @@ TEST(PrecomputedIrradiance, ThinWallNeverReadsTheOtherFace) {
             EXPECT_EQ(wrongFace, 0u);
             EXPECT_EQ(empty, 0u);
             EXPECT_NEAR(mean / expected, 1.0, 0.05);  // a leak of the other face (16× brighter) would show
-            const ReferenceIrradianceLookup twin = referenceLookupIrradiance(points, qs, irr.minNormalCos);
+            const ReferenceIrradianceLookup twin = referenceLookupIrradiance(points, cover, qs, irr.minNormalCos);
             EXPECT_EQ(twin.chosen, r.chosen);
         }
     }
@@ -191,7 +192,9 @@ TEST(PrecomputedIrradiance, EmptyAndSinglePointMaps) {
         const std::vector<PclPhoton> map(three.begin(), three.begin() + n);
         const DeviceIrradianceMap m = precomputeIrradiance(device, map, o, nullptr);
         const std::vector<PclIrradiancePoint> got = downloadIrradiancePoints(device, m);
-        const std::vector<PclIrradiancePoint> twin = referencePrecomputeIrradiance(map, o, nullptr);
+        std::vector<float> twinCover;
+        const std::vector<PclIrradiancePoint> twin = referencePrecomputeIrradiance(map, o, nullptr, 0, &twinCover);
+        EXPECT_EQ(downloadIrradianceCover(device, m), twinCover);
         ASSERT_EQ(got.size(), 1u);
         ASSERT_EQ(twin.size(), 1u);
         EXPECT_EQ(got[0].photon, 0u);
@@ -225,6 +228,30 @@ TEST(PrecomputedIrradiance, HashGridAndKdTreeStoreTheSameValues) {
     EXPECT_EQ(zero, 0u);
 }
 
+// A point answers only queries inside the disc its estimate covered: the nearer point whose cover
+// misses the query loses to a farther one that covers it, and with none covering the answer is 0.
+TEST(PrecomputedIrradiance, LookupsStayInsideTheCover) {
+    Device& device = test::testDevice();
+    const uint32_t up = referenceEncodeNormal(Vec3(0.0f, 0.0f, 1.0f));
+    PclIrradiancePoint near{}, far{};
+    near.x = 0.1f, near.normal = up, near.r = near.g = near.b = 5.0f, near.photon = 0;
+    far.x = -0.3f, far.normal = up, far.r = far.g = far.b = 1.0f, far.photon = 4;
+    const std::vector<PclIrradiancePoint> points = {near, far};
+    PclEstimateQuery q{};
+    q.maxRadius2 = 1.0f, q.nz = 1.0f;
+    std::vector<float> cover = {0.02f, 0.2f};  // the query is 0.1 from `near` (d² 0.01 ≤ 0.02)
+    EXPECT_EQ(lookupIrradianceOnDevice(device, uploadIrradiancePoints(device, points, 0.9f, cover), {q}).chosen[0], 0u);
+    cover[0] = 0.005f;  // now `near` does not reach it: `far` (d² 0.09 ≤ 0.2) answers
+    IrradianceLookupResult r = lookupIrradianceOnDevice(device, uploadIrradiancePoints(device, points, 0.9f, cover), {q});
+    EXPECT_EQ(r.chosen[0], 4u);
+    EXPECT_EQ(r.irradiance[0], 1.0f);
+    EXPECT_EQ(referenceLookupIrradiance(points, cover, {q}, 0.9f).chosen[0], 4u);
+    cover[1] = 0.05f;  // neither does
+    EXPECT_EQ(lookupIrradianceOnDevice(device, uploadIrradiancePoints(device, points, 0.9f, cover), {q}).chosen[0],
+              PCL_NO_HIT);
+    EXPECT_EQ(referenceLookupIrradiance(points, cover, {q}, 0.9f).chosen[0], PCL_NO_HIT);
+}
+
 // The precomputation's inputs are checked.
 TEST(PrecomputedIrradiance, RejectsBadOptions) {
     PrecomputedIrradianceOptions o;
@@ -236,6 +263,10 @@ TEST(PrecomputedIrradiance, RejectsBadOptions) {
     EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InputError);
     o.k = 50, o.maxRadius = 0.0f;
     EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InputError);
+    o.maxRadius = 0.1f, o.coverFactor = 0.0f;
+    EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InputError);
+    o.coverFactor = INFINITY;  // no cover limit
+    EXPECT_NO_THROW(validatePrecomputedIrradianceOptions(o));
 }
 
 // The report fails on any broken criterion: the check can fail.
@@ -250,6 +281,8 @@ TEST(PrecomputedIrradiance, ReportFailsOnEachCriterion) {
     r = good, r.selectionMismatches = 1;
     EXPECT_FALSE(r.passed());
     r = good, r.storedMaxError = 2 * kIrradianceStoredTolerance;
+    EXPECT_FALSE(r.passed());
+    r = good, r.coverMismatches = 1;
     EXPECT_FALSE(r.passed());
     r = good, r.choiceMismatches = 1;
     EXPECT_FALSE(r.passed());
