@@ -24,6 +24,14 @@
     X(PclEstimateQuery)       \
     X(PclEstimateParams)      \
     X(PclEstimate)            \
-    X(PclIrradiancePoint)
+    X(PclIrradiancePoint)     \
+    X(PclCameraParams)        \
+    X(PclEyeParams)           \
+    X(PclEyeHit)              \
+    X(PclRadiance)            \
+    X(PclDirectParams)        \
+    X(PclGatherParams)        \
+    X(PclGatherHit)           \
+    X(PclEyeEstimateParams)
 
 #endif /* PCL_STRUCT_LIST_H */

@@ -271,4 +271,115 @@ typedef struct PclIrradiancePoint {
 } PclIrradiancePoint;
 PCL_STATIC_ASSERT(sizeof(PclIrradiancePoint) == 32, PclIrradiancePoint_size);
 
+/* ---- Eye pass (camera.cl, eye_paths.cl, direct_light.cl, final_gather.cl, eye_estimate.cl;
+ * kernels/README.md, "Eye pass") ------------------------------------------------------------
+ * Sample s of a pass (s = pixel * n² + k, pixel = y * width + x, k in [0, n²)) is the k-th of
+ * the pixel's n × n strata. Work-item i of a launch handles s = firstSample + i; every output
+ * array is indexed by i. Random numbers: key = the pass seed, path = pixel, bounce = k (or a
+ * per-stage function of k, see the README), stream per stage. */
+
+typedef struct PclCameraParams {
+    pcl_f32 position[4];      /* camera position (xyz) */
+    pcl_f32 forward[4];       /* unit view direction */
+    pcl_f32 right[4];         /* unit, forward × up */
+    pcl_f32 up[4];            /* unit, right × forward */
+    pcl_f32 tanHalfWidth, tanHalfHeight;
+    pcl_f32 apertureRadius;   /* thin lens radius (used when lensSampling) */
+    pcl_f32 focusDistance;    /* distance of the plane of focus along forward */
+    pcl_u32 seedLo, seedHi;   /* the pass seed */
+    pcl_u32 width, height;
+    pcl_u32 strata;           /* n: n × n stratified samples per pixel per pass */
+    pcl_u32 firstSample;      /* s of work-item 0 */
+    pcl_u32 sampleCount;      /* samples in this launch */
+    pcl_u32 lensSampling;     /* 0: pinhole (the plan: RenderPlan::lensSampling) */
+    pcl_u32 timeSampling;     /* 0: time 0 (RenderPlan::timeSampling) */
+    pcl_u32 pad0, pad1, pad2;
+} PclCameraParams;
+PCL_STATIC_ASSERT(sizeof(PclCameraParams) == 128, PclCameraParams_size);
+
+typedef struct PclEyeParams {
+    pcl_u32 seedLo, seedHi;   /* the pass seed (as the camera's) */
+    pcl_u32 samplesPerPixel;  /* n² */
+    pcl_u32 firstSample;      /* s of work-item 0 */
+    pcl_u32 sampleCount;
+    pcl_u32 triangleCount;    /* global ids at or above it are spheres */
+    pcl_u32 maxDepth;         /* hits examined along the chain (specular bounces + 1), 1..64 */
+    pcl_f32 rayEpsilon;       /* spawn offset along the normal */
+} PclEyeParams;
+PCL_STATIC_ASSERT(sizeof(PclEyeParams) == 32, PclEyeParams_size);
+
+#define PCL_EYE_DIFFUSE 1u   /* the record holds a diffuse hit (prim != PCL_NO_HIT) */
+
+/* One eye sample after its specular chain (eye_paths.cl). */
+typedef struct PclEyeHit {
+    pcl_f32 x, y, z, time;    /* the first hit whose diffuse part was chosen; shutter time */
+    pcl_f32 nx, ny, nz;       /* unit geometric normal on the viewer's side of that surface */
+    pcl_u32 prim;             /* its primitive, PCL_NO_HIT when the chain found no diffuse hit */
+    pcl_f32 wox, woy, woz;    /* unit direction back along the arriving ray */
+    pcl_u32 pixel;            /* y * width + x */
+    pcl_f32 throughput[4];    /* rgb weight of the chain up to the hit, the lobe choice included */
+    pcl_f32 albedo[4];        /* ρd rgb at the hit */
+    pcl_f32 emitted[4];       /* Σ throughput × Le over the chain's hits (LE, LS+E); rgb */
+    pcl_u32 sample;           /* k: the sample within the pixel's pass */
+    pcl_u32 material;         /* material index at the hit (0 when none) */
+    pcl_u32 depth;            /* specular bounces before the hit */
+    pcl_u32 flags;            /* PCL_EYE_DIFFUSE */
+} PclEyeHit;
+PCL_STATIC_ASSERT(sizeof(PclEyeHit) == 112, PclEyeHit_size);
+
+/* Radiance one stage gives one eye sample, rgb (W/(m² sr)); a is 0. */
+typedef struct PclRadiance {
+    pcl_f32 r, g, b, a;
+} PclRadiance;
+PCL_STATIC_ASSERT(sizeof(PclRadiance) == 16, PclRadiance_size);
+
+typedef struct PclDirectParams {
+    pcl_u32 seedLo, seedHi;   /* the pass seed */
+    pcl_u32 samplesPerPixel;  /* n² */
+    pcl_u32 sampleCount;      /* eye records in this launch */
+    pcl_u32 lightCount;
+    pcl_u32 triangleCount;
+    pcl_u32 lightSamples;     /* M: area-light samples per diffuse hit (0: delta lights only) */
+    pcl_u32 gatherRays;       /* N: cosine samples stage 4 takes; 0 → light sampling alone, weight 1 */
+    pcl_f32 areaPowerTotal;   /* Σ scalar power of the triangle lights (the choice's normaliser) */
+    pcl_f32 rayEpsilon;
+    pcl_u32 pad0, pad1;
+} PclDirectParams;
+PCL_STATIC_ASSERT(sizeof(PclDirectParams) == 48, PclDirectParams_size);
+
+typedef struct PclGatherParams {
+    pcl_u32 seedLo, seedHi;   /* the pass seed */
+    pcl_u32 samplesPerPixel;  /* n² */
+    pcl_u32 sampleCount;      /* eye records; the launch covers sampleCount × gatherRays rays */
+    pcl_u32 gatherRays;       /* N ≥ 1 */
+    pcl_u32 triangleCount;
+    pcl_u32 lightCount;
+    pcl_u32 maxSpecular;      /* specular bounces a gather ray follows before giving up */
+    pcl_u32 lightSamples;     /* M of direct_light (the MIS weight's other count) */
+    pcl_u32 k;                /* written into each gather query */
+    pcl_f32 maxRadius2;       /* written into each gather query */
+    pcl_f32 areaPowerTotal;   /* as PclDirectParams */
+    pcl_f32 rayEpsilon;
+    pcl_u32 irradianceStride; /* resolve: floats per irradiance record (8: PclEstimate, 4: float4) */
+    pcl_u32 pad0, pad1;
+} PclGatherParams;
+PCL_STATIC_ASSERT(sizeof(PclGatherParams) == 64, PclGatherParams_size);
+
+/* What one gather ray found (final_gather_trace): its radiance toward the eye hit is
+ * weight × E(query) + emitted. */
+typedef struct PclGatherHit {
+    pcl_f32 weight[4];        /* chain throughput × ρd/π at the gather hit's diffuse part; 0: none */
+    pcl_f32 emitted[4];       /* chain throughput × Le × MIS weight of emitters met */
+} PclGatherHit;
+PCL_STATIC_ASSERT(sizeof(PclGatherHit) == 32, PclGatherHit_size);
+
+/* Estimates at the eye hits (eye_estimate.cl): caustics, or the global map for preview. */
+typedef struct PclEyeEstimateParams {
+    pcl_u32 sampleCount;
+    pcl_u32 k;
+    pcl_f32 maxRadius2;
+    pcl_u32 irradianceStride; /* floats per irradiance record (8: PclEstimate, 4: float4) */
+} PclEyeEstimateParams;
+PCL_STATIC_ASSERT(sizeof(PclEyeEstimateParams) == 16, PclEyeEstimateParams_size);
+
 #endif /* PCL_TYPES_H */

@@ -1,0 +1,59 @@
+// Eye pass stage 3: direct light at the diffuse eye hits (kernels/direct_light.cl;
+// kernels/README.md, "Eye pass: direct light"). Point, spot and directional lights: one exact
+// shadow ray each. Triangle lights: M samples, each a triangle chosen by scalar power (the area
+// light table below) and a point uniform in its area, weighted by the power heuristic against
+// the N cosine-sampled gather rays of final_gather, which add an emitter's Le with the
+// complementary weight (misWeightBsdf): the two halves together count each area light once.
+// With N = 0 (direct visualisation, or no gather) light sampling alone counts, weight 1.
+// Radiance = throughput × ρd/π × Σ. The twin is host/reference/direct_light.h.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "device/device.h"
+#include "pipeline/device_scene.h"
+#include "shared/types.h"
+
+namespace pcl {
+
+// The triangle lights as one discrete distribution: cdf[l] = Σ_{j ≤ l} s_j / S over the light
+// list (s_j = (Φr + Φg + Φb)/3 of triangle lights, 0 for the others; float, the last triangle
+// light's entry exactly 1), S = total (float); lightOfPrim[prim] = the light index of an
+// emitting triangle, PCL_NO_HIT otherwise.
+struct AreaLightTable {
+    std::vector<float> cdf;
+    std::vector<uint32_t> lightOfPrim;
+    float total = 0.0f;
+    uint32_t areaLights = 0;
+};
+AreaLightTable buildAreaLightTable(const SceneBuffers& buffers, size_t primitiveCount);
+
+// The table on the device, uploaded once.
+struct DeviceAreaLights {
+    DeviceAreaLights(Device& device, const AreaLightTable& table);
+    cl::Buffer cdf, lightOfPrim;
+    float total = 0.0f;
+    uint32_t areaLights = 0;
+};
+
+// The power heuristic with counts (Veach 1997): nL samples of density pL against nB of pB.
+//   w_light = (nL pL)² / ((nL pL)² + (nB pB)²),  w_bsdf = 1 − w_light (0/0 → the other is 0).
+// (Also in kernels/shared/eye.h, eye_mis_weight, the same float expression.)
+float misWeight(uint32_t nThis, float pThis, uint32_t nOther, float pOther);
+
+// Parameters for records [0, sampleCount) of a pass (seed and samples per pixel from the eye
+// parameters). lightSamples: M; gatherRays: the N of final_gather (0: light sampling alone).
+PclDirectParams directParams(const PclEyeParams& eye, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                             const AreaLightTable& table, uint32_t lightSamples, uint32_t gatherRays);
+
+// Enqueues direct_light over params.sampleCount eye records: hits in, radiance
+// (PclRadiance[sampleCount], caller-allocated) out; records without a diffuse hit get 0.
+cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
+                      const PclDirectParams& params, const cl::Buffer& hits, cl::Buffer& radiance);
+
+// For tests: upload, run, download.
+std::vector<PclRadiance> directLightOnDevice(Device& device, const SceneGeometry& geometry,
+                                             const SceneBuffers& buffers, const std::vector<PclEyeHit>& hits,
+                                             const PclDirectParams& params);
+
+}  // namespace pcl

@@ -1,0 +1,115 @@
+#include "pipeline/final_gather.h"
+
+#include "core/error.h"
+
+namespace pcl {
+
+PclGatherParams gatherParams(const PclDirectParams& direct, uint32_t gatherRays, uint32_t k, float maxRadius2,
+                             uint32_t maxSpecular) {
+    if (gatherRays < 1)
+        throw InputError("final gather: 0 gather rays: expected at least 1 (direct visualisation reads the global "
+                         "map at the eye hits instead)");
+    if (direct.gatherRays != gatherRays)
+        throw InputError("final gather: " + std::to_string(gatherRays) + " gather rays, but direct light weighs its "
+                         "samples against " + std::to_string(direct.gatherRays) + ": expected the same N");
+    if (k < 1 || k > PCL_KNN_MAX_K)
+        throw InputError("final gather: k " + std::to_string(k) + ": expected 1.." + std::to_string(PCL_KNN_MAX_K));
+    if (!(maxRadius2 >= 0.0f))
+        throw InputError("final gather: maxRadius² " + std::to_string(maxRadius2) + ": expected ≥ 0");
+    PclGatherParams p{};
+    p.seedLo = direct.seedLo;
+    p.seedHi = direct.seedHi;
+    p.samplesPerPixel = direct.samplesPerPixel;
+    p.sampleCount = direct.sampleCount;
+    p.gatherRays = gatherRays;
+    p.triangleCount = direct.triangleCount;
+    p.lightCount = direct.lightCount;
+    p.maxSpecular = maxSpecular;
+    p.lightSamples = direct.lightSamples;
+    p.k = k;
+    p.maxRadius2 = maxRadius2;
+    p.areaPowerTotal = direct.areaPowerTotal;
+    p.rayEpsilon = direct.rayEpsilon;
+    p.irradianceStride = 8;
+    return p;
+}
+
+static size_t gatherRayCount(const PclGatherParams& p) {
+    return size_t(p.sampleCount) * p.gatherRays;
+}
+
+cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
+                          const PclGatherParams& params, const cl::Buffer& hits, cl::Buffer& queries,
+                          cl::Buffer& gathered) {
+    if (gatherRayCount(params) > 0xFFFFFFFFull)
+        throw InputError("final gather: " + std::to_string(gatherRayCount(params)) +
+                         " gather rays in one launch: expected below 2^32 (launch fewer records)");
+    auto kernel = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+        "final_gather", "final_gather_trace", scene.geometry.programOptions());
+    return device.launchLocal("final_gather", kernel, photonGlobalRange(gatherRayCount(params)),
+                              cl::NDRange(kPhotonGroup), params, hits, scene.geometry.nodes, scene.geometry.packets,
+                              scene.geometry.spheres, scene.primInfo, scene.materials, scene.lights,
+                              lights.lightOfPrim, queries, gathered);
+}
+
+cl::Event resolveGather(Device& device, const PclGatherParams& params, const cl::Buffer& hits,
+                        const cl::Buffer& gathered, const cl::Buffer& irradiance, cl::Buffer& radiance) {
+    auto kernel = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+        "final_gather", "final_gather_resolve", "");
+    return device.launchLocal("final_gather", kernel, photonGlobalRange(params.sampleCount),
+                              cl::NDRange(kPhotonGroup), params, hits, gathered, irradiance, radiance);
+}
+
+GatherTiming finalGather(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
+                         PclGatherParams params, const cl::Buffer& hits, IrradianceSource& source,
+                         cl::Buffer& radiance) {
+    GatherTiming t;
+    params.irradianceStride = source.strideFloats;
+    const size_t n = gatherRayCount(params);
+    cl::Buffer queries = device.allocate<PclEstimateQuery>(n, CL_MEM_READ_WRITE, "final gather: queries");
+    cl::Buffer gathered = device.allocate<PclGatherHit>(n, CL_MEM_READ_WRITE, "final gather: gathered rays");
+    cl::Event e = traceGatherRays(device, scene, lights, params, hits, queries, gathered);
+    device.finish();
+    if (e()) t.traceSeconds = Device::elapsedSeconds(e);
+    const double before = source.seconds;
+    cl::Buffer irradiance = source.evaluate(device, queries, n);
+    t.irradianceSeconds = source.seconds - before;
+    e = resolveGather(device, params, hits, gathered, irradiance, radiance);
+    device.finish();
+    if (e()) t.resolveSeconds = Device::elapsedSeconds(e);
+    return t;
+}
+
+GatherResult finalGatherOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                                 const std::vector<PclEyeHit>& hits, const PclGatherParams& params,
+                                 IrradianceSource& source) {
+    if (hits.size() != params.sampleCount)
+        throw InputError("finalGatherOnDevice: " + std::to_string(hits.size()) + " records for " +
+                         std::to_string(params.sampleCount));
+    DeviceScene scene(device, geometry, buffers);
+    DeviceAreaLights lights(device, buildAreaLightTable(buffers, geometry.primitiveCount()));
+    PclGatherParams p = params;
+    p.irradianceStride = source.strideFloats;
+    const size_t n = gatherRayCount(p);
+    cl::Buffer hitBuf = device.upload(hits, CL_MEM_READ_ONLY, "final gather: eye hits");
+    cl::Buffer queries = device.allocate<PclEstimateQuery>(n, CL_MEM_READ_WRITE, "final gather: queries");
+    cl::Buffer gathered = device.allocate<PclGatherHit>(n, CL_MEM_READ_WRITE, "final gather: gathered rays");
+    cl::Buffer radiance = device.allocate<PclRadiance>(hits.size(), CL_MEM_READ_WRITE, "final gather: radiance");
+    GatherResult r;
+    cl::Event e = traceGatherRays(device, scene, lights, p, hitBuf, queries, gathered);
+    device.finish();
+    if (e()) r.timing.traceSeconds = Device::elapsedSeconds(e);
+    const double before = source.seconds;
+    cl::Buffer irradiance = source.evaluate(device, queries, n);
+    r.timing.irradianceSeconds = source.seconds - before;
+    e = resolveGather(device, p, hitBuf, gathered, irradiance, radiance);
+    device.finish();
+    if (e()) r.timing.resolveSeconds = Device::elapsedSeconds(e);
+    r.queries = device.download<PclEstimateQuery>(queries, n);
+    r.gathered = device.download<PclGatherHit>(gathered, n);
+    r.radiance = device.download<PclRadiance>(radiance, hits.size());
+    return r;
+}
+
+}  // namespace pcl

@@ -1,0 +1,17 @@
+// CPU twin of the direct-light stage (kernels/README.md, "Eye pass: direct light").
+#pragma once
+#include <vector>
+
+#include "geometry/scene_geometry.h"
+#include "pipeline/direct_light.h"
+#include "pipeline/scene_buffers.h"
+#include "shared/types.h"
+
+namespace pcl {
+
+PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuffers& buffers,
+                                   const AreaLightTable& table, const PclDirectParams& params, const PclEyeHit& h);
+std::vector<PclRadiance> referenceDirectLight(const SceneGeometry& geometry, const SceneBuffers& buffers,
+                                              const std::vector<PclEyeHit>& hits, const PclDirectParams& params);
+
+}  // namespace pcl

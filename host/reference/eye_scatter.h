@@ -1,0 +1,95 @@
+// What the eye-pass twins share (kernels/README.md, "Eye pass"): the surface normal at a hit,
+// the diffuse/specular lobe choice of a mixed surface, specular scattering and the MIS weight,
+// written from the README with the reference BSDF's helpers.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "pipeline/scene_buffers.h"
+#include "reference/bsdf.h"
+#include "reference/sampling.h"
+#include "shared/types.h"
+
+namespace pcl {
+
+inline Vec3 eyeVec(const float v[4]) { return {v[0], v[1], v[2]}; }
+
+// The unit outside normal of `prim` at p, spheres at shutter time tau.
+inline Vec3 eyeNormalAt(const SceneBuffers& b, uint32_t prim, uint32_t triangleCount, Vec3 p, float tau) {
+    const PclPrimInfo& info = b.primInfo[prim];
+    if (prim >= triangleCount) {
+        const Vec3 c(info.a + info.mx * tau, info.b + info.my * tau, info.c + info.mz * tau);
+        return Vec3((p.x - c.x) / info.radius, (p.y - c.y) / info.radius, (p.z - c.z) / info.radius);
+    }
+    return {info.a, info.b, info.c};
+}
+
+// P_d = lum(ρd) / (lum(ρd) + lum(ρs)); negative for a black surface.
+inline float eyeDiffuseProbability(const PclMaterial& m) {
+    const float ld = luminance(eyeVec(m.rhoD));
+    const float ls = m.specular != PCL_SPECULAR_NONE ? luminance(eyeVec(m.rhoS)) : 0.0f;
+    const float sum = ld + ls;
+    return sum > 0.0f ? ld / sum : -1.0f;
+}
+
+// The specular part scatters unit d (arriving at outside normal n); weight before 1/P_s.
+inline bool eyeSpecularScatter(const PclMaterial& m, Vec3 d, Vec3 n, float uF, float uA, float uB, Vec3& dNew,
+                               Vec3& weight) {
+    const float dn = dot(d, n);
+    const Vec3 nf = dn < 0.0f ? n : -n;
+    weight = eyeVec(m.rhoS);
+    const Vec3 mirror = d - nf * (2.0f * dot(d, nf));
+    switch (m.specular) {
+        case PCL_SPECULAR_MIRROR:
+            dNew = mirror;
+            return true;
+        case PCL_SPECULAR_GLOSSY: {
+            dNew = samplePhongLobe(mirror, m.exponent, uA, uB);
+            const float cosOut = dot(dNew, nf);
+            if (!(cosOut > 0.0f)) return false;
+            weight = weight * ((m.exponent + 2.0f) / (m.exponent + 1.0f) * cosOut);
+            return true;
+        }
+        case PCL_SPECULAR_DIELECTRIC: {
+            const bool entering = dn < 0.0f;
+            const float eta = entering ? 1.0f / m.ior : m.ior;
+            const float cosI = std::fabs(dn);
+            const float F = entering ? fresnelDielectric(cosI, 1.0f, m.ior) : fresnelDielectric(cosI, m.ior, 1.0f);
+            if (uF < F) {
+                dNew = mirror;
+            } else {
+                const float cosT = std::sqrt(std::max(0.0f, 1.0f - eta * eta * (1.0f - cosI * cosI)));
+                dNew = d * eta + nf * (eta * cosI - cosT);
+            }
+            return true;
+        }
+        default:
+            return false;
+    }
+}
+
+// Power heuristic with counts: (nA pA)² / ((nA pA)² + (nB pB)²), 0 when both are 0.
+inline float eyeMisWeight(uint32_t nA, float pA, uint32_t nB, float pB) {
+    const float a = float(nA) * pA, b = float(nB) * pB;
+    const float a2 = a * a, s = a2 + b * b;
+    return s > 0.0f ? a2 / s : 0.0f;
+}
+
+// Solid-angle density of direct_light's area sampling for point at squared distance d2 along
+// unit wi on triangle light L: (s_L / S) d² / (A cosθ_L); 0 from behind.
+inline float eyeAreaLightPdf(const PclLight& L, float areaPowerTotal, Vec3 wi, float d2) {
+    const float cosL = -dot(eyeVec(L.axis), wi);
+    if (!(cosL > 0.0f) || !(areaPowerTotal > 0.0f)) return 0.0f;
+    const float s = (L.power[0] + L.power[1] + L.power[2]) / 3.0f;
+    return (s / areaPowerTotal) * d2 / (L.area * cosL);
+}
+
+inline PclRay eyeRay(Vec3 o, Vec3 d, float tmax, float time) {
+    PclRay r{};
+    r.ox = o.x; r.oy = o.y; r.oz = o.z; r.tmin = 0.0f;
+    r.dx = d.x; r.dy = d.y; r.dz = d.z; r.tmax = tmax;
+    r.time = time;
+    return r;
+}
+
+}  // namespace pcl

@@ -1,0 +1,127 @@
+#include "reference/final_gather.h"
+
+#include <cmath>
+#include <limits>
+
+#include "reference/estimate.h"
+#include "reference/eye_scatter.h"
+#include "reference/parallel_for.h"
+#include "shared/rng.h"
+
+namespace pcl {
+
+ReferenceIrradiance referenceEstimateIrradiance(const std::vector<PclPhoton>& map, const EstimateSettings& settings,
+                                                const SceneGeometry* geometry) {
+    return [&map, settings, geometry](const std::vector<PclEstimateQuery>& queries) {
+        std::vector<PclEstimate> e = referenceEstimate(map, queries, settings, geometry);
+        std::vector<Vec3> out(e.size());
+        for (size_t i = 0; i < e.size(); ++i) out[i] = Vec3(e[i].r, e[i].g, e[i].b);
+        return out;
+    };
+}
+
+void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffers, const PclGatherParams& params,
+                        const PclEyeHit& h, uint32_t g, PclEstimateQuery& q, PclGatherHit& out) {
+    q = PclEstimateQuery{};
+    q.nz = 1.0f;
+    q.k = params.k;
+    out = PclGatherHit{};
+    if (!(h.flags & PCL_EYE_DIFFUSE)) return;
+    const uint32_t N = params.gatherRays;
+    const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
+    const uint32_t bounceWord = h.sample * N + g;
+    const Vec3 p0(h.x, h.y, h.z), n0(h.nx, h.ny, h.nz);
+    const float tau = h.time;
+    uint32_t w[4];
+    rng_block(seed, h.pixel, bounceWord, 0, PCL_RNG_STREAM_GATHER, w);
+    Vec3 d = sampleCosineHemisphere(n0, rng_u01(w[0]), rng_u01(w[1]));
+    const float pdfB = dot(n0, d) / kPi;
+    Vec3 o = p0 + n0 * params.rayEpsilon;
+    Vec3 T(1.0f), Le(0.0f);
+    bool afterSpecular = false;
+    for (uint32_t b = 0; b <= params.maxSpecular; ++b) {
+        PclHit hit;
+        if (!geometry.intersect(eyeRay(o, d, std::numeric_limits<float>::infinity(), tau), hit)) break;
+        const Vec3 p = o + d * hit.t;
+        const Vec3 n = eyeNormalAt(buffers, hit.prim, params.triangleCount, p, tau);
+        const float dn = dot(d, n);
+        const Vec3 nf = dn < 0.0f ? n : -n;
+        const PclMaterial& m = buffers.materials[buffers.primInfo[hit.prim].material];
+        if (dn < 0.0f && maxComponent(eyeVec(m.emission)) > 0.0f) {
+            float wMis = 1.0f;
+            const PclLight* light = nullptr;
+            for (const PclLight& L : buffers.lights)  // the light entry of this triangle, if any
+                if (L.type == PCL_LIGHT_TRIANGLE && L.prim == hit.prim) light = &L;
+            if (!afterSpecular && light && params.lightSamples > 0) {
+                const Vec3 toQ = p - p0;
+                const float pdfL = eyeAreaLightPdf(*light, params.areaPowerTotal, d, dot(toQ, toQ));
+                wMis = eyeMisWeight(N, pdfB, params.lightSamples, pdfL);
+            }
+            Le = Le + T * eyeVec(m.emission) * Vec3(wMis);
+        }
+        const float pd = eyeDiffuseProbability(m);
+        if (pd < 0.0f) break;
+        rng_block(seed, h.pixel, bounceWord, b + 1, PCL_RNG_STREAM_GATHER, w);
+        if (rng_u01(w[0]) < pd) {
+            q.x = p.x; q.y = p.y; q.z = p.z;
+            q.nx = nf.x; q.ny = nf.y; q.nz = nf.z;
+            q.maxRadius2 = params.maxRadius2;
+            const Vec3 wt = T * (eyeVec(m.rhoD) / Vec3(kPi)) / Vec3(pd);
+            out.weight[0] = wt.x; out.weight[1] = wt.y; out.weight[2] = wt.z;
+            break;
+        }
+        if (b == params.maxSpecular) break;
+        Vec3 dNew, ws;
+        if (!eyeSpecularScatter(m, d, n, rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3]), dNew, ws)) break;
+        T = T * ws / Vec3(1.0f - pd);
+        o = p + nf * (dot(dNew, nf) > 0.0f ? params.rayEpsilon : -params.rayEpsilon);
+        d = dNew;
+        afterSpecular = true;
+    }
+    out.emitted[0] = std::isfinite(Le.x) ? Le.x : 0.0f;
+    out.emitted[1] = std::isfinite(Le.y) ? Le.y : 0.0f;
+    out.emitted[2] = std::isfinite(Le.z) ? Le.z : 0.0f;
+    for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(out.weight[c])) out.weight[c] = 0.0f;
+}
+
+std::vector<PclRadiance> referenceResolveGather(const PclGatherParams& params, const std::vector<PclEyeHit>& hits,
+                                                const std::vector<PclGatherHit>& gathered,
+                                                const std::vector<Vec3>& irradiance) {
+    std::vector<PclRadiance> out(hits.size());
+    const uint32_t N = params.gatherRays;
+    for (size_t i = 0; i < hits.size(); ++i) {
+        const PclEyeHit& h = hits[i];
+        if (!(h.flags & PCL_EYE_DIFFUSE)) continue;
+        float sum[3] = {0.0f, 0.0f, 0.0f};
+        for (uint32_t g = 0; g < N; ++g) {
+            const size_t j = i * N + g;
+            const float E[3] = {irradiance[j].x, irradiance[j].y, irradiance[j].z};
+            for (int c = 0; c < 3; ++c) sum[c] = sum[c] + (gathered[j].weight[c] * E[c] + gathered[j].emitted[c]);
+        }
+        float L3[3];
+        for (int c = 0; c < 3; ++c) {
+            L3[c] = h.throughput[c] * h.albedo[c] * (sum[c] / float(N));
+            if (!std::isfinite(L3[c])) L3[c] = 0.0f;
+        }
+        out[i] = PclRadiance{L3[0], L3[1], L3[2], 0.0f};
+    }
+    return out;
+}
+
+ReferenceGather referenceFinalGather(const SceneGeometry& geometry, const SceneBuffers& buffers,
+                                     const std::vector<PclEyeHit>& hits, const PclGatherParams& params,
+                                     const ReferenceIrradiance& irradiance) {
+    ReferenceGather r;
+    const size_t N = params.gatherRays, n = hits.size() * N;
+    r.queries.resize(n);
+    r.gathered.resize(n);
+    parallelForEveryThread(n, [&](size_t j) {
+        referenceGatherRay(geometry, buffers, params, hits[j / N], uint32_t(j % N), r.queries[j], r.gathered[j]);
+    });
+    r.irradiance = irradiance(r.queries);
+    r.radiance = referenceResolveGather(params, hits, r.gathered, r.irradiance);
+    return r;
+}
+
+}  // namespace pcl

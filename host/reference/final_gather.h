@@ -1,0 +1,42 @@
+// CPU twin of final gathering (kernels/README.md, "Eye pass: final gather") and of the
+// estimates at the eye hits. The irradiance at the gather hits comes from a host function of
+// the queries (the twin estimate reference/estimate.h, a precomputed-irradiance twin, or an
+// analytic one in a test).
+#pragma once
+#include <functional>
+#include <vector>
+
+#include "geometry/scene_geometry.h"
+#include "pipeline/direct_light.h"
+#include "pipeline/estimate.h"
+#include "pipeline/scene_buffers.h"
+#include "shared/types.h"
+
+namespace pcl {
+
+// E rgb at each query (a query with maxRadius2 = 0 gives 0).
+using ReferenceIrradiance = std::function<std::vector<Vec3>(const std::vector<PclEstimateQuery>&)>;
+
+// The twin estimate (brute-force kNN) on `map` as a ReferenceIrradiance.
+ReferenceIrradiance referenceEstimateIrradiance(const std::vector<PclPhoton>& map, const EstimateSettings& settings,
+                                                const SceneGeometry* geometry);
+
+// Gather ray j = i·N + g: the query and what it gathered.
+void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffers, const PclGatherParams& params,
+                        const PclEyeHit& h, uint32_t g, PclEstimateQuery& query, PclGatherHit& gathered);
+
+struct ReferenceGather {
+    std::vector<PclEstimateQuery> queries;
+    std::vector<PclGatherHit> gathered;
+    std::vector<Vec3> irradiance;
+    std::vector<PclRadiance> radiance;
+};
+ReferenceGather referenceFinalGather(const SceneGeometry& geometry, const SceneBuffers& buffers,
+                                     const std::vector<PclEyeHit>& hits, const PclGatherParams& params,
+                                     const ReferenceIrradiance& irradiance);
+// The resolve alone (radiance from records, gathered rays and irradiance).
+std::vector<PclRadiance> referenceResolveGather(const PclGatherParams& params, const std::vector<PclEyeHit>& hits,
+                                                const std::vector<PclGatherHit>& gathered,
+                                                const std::vector<Vec3>& irradiance);
+
+}  // namespace pcl

@@ -1,0 +1,150 @@
+/* final_gather.cl: final gathering at the diffuse eye hits (kernels/README.md, "Eye pass:
+ * final gather").
+ *
+ * final_gather_trace — one gather ray per work-item j = i·N + g (record i, ray g):
+ * in:  params                  PclGatherParams: pass seed, n², sampleCount, N, scene counts,
+ *                              maxSpecular, M (for MIS), k and maxRadius2 for the queries,
+ *                              areaPowerTotal, rayEpsilon
+ *      hits[i]                 PclEyeHit (eye_paths)
+ *      nodes, packets, spheres the BVH; primInfo, materials, lights[]
+ *      lightOfPrim[prim]       light index of an emitting triangle, PCL_NO_HIT otherwise
+ * out: queries[j]              PclEstimateQuery at the gather hit (viewer-side normal, k,
+ *                              maxRadius2), or maxRadius2 = 0 at the origin when there is none
+ *      gathered[j]             PclGatherHit: weight (chain throughput × ρd/π / P_d) and emitted
+ *                              (chain throughput × Le × MIS weight)
+ * Random numbers: stream GATHER, path = pixel, bounce = k·N + g; block 0: (u0, u1) the cosine
+ * direction; block b + 1 at gather hit b: u0 lobe, u1 reflect/refract, (u2, u3) glossy direction.
+ *
+ * final_gather_resolve — one eye record per work-item:
+ * in:  hits, gathered, irradiance (params.irradianceStride floats per query, rgb first)
+ * out: radiance[i] = throughput × ρd × (1/N) Σ_g (weight_g E_g + emitted_g) */
+#include "shared/types.h"
+#include "shared/rng.h"
+#include "shared/sampling.h"
+#include "shared/bvh.h"
+#include "shared/eye.h"
+
+#pragma OPENCL FP_CONTRACT OFF
+
+__kernel void final_gather_trace(const PclGatherParams params, __global const PclEyeHit* hits,
+                                 __global const PclBvhNode* nodes, __global const PclTriPacket* packets,
+                                 __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,
+                                 __global const PclMaterial* materials, __global const PclLight* lights,
+                                 __global const uint* lightOfPrim, __global PclEstimateQuery* queries,
+                                 __global PclGatherHit* gathered) {
+    const uint j = (uint)get_global_id(0);
+    const uint N = params.gatherRays;
+    if (j >= params.sampleCount * N) return;
+    const uint i = j / N, g = j - i * N;
+    const PclEyeHit h = hits[i];
+
+    PclEstimateQuery q;
+    q.x = q.y = q.z = 0.0f;
+    q.maxRadius2 = 0.0f;
+    q.nx = 0.0f; q.ny = 0.0f; q.nz = 1.0f;
+    q.k = params.k;
+    PclGatherHit out;
+    for (int c = 0; c < 4; ++c) out.weight[c] = out.emitted[c] = 0.0f;
+    if (!(h.flags & PCL_EYE_DIFFUSE)) {
+        queries[j] = q;
+        gathered[j] = out;
+        return;
+    }
+    const ulong seed = (ulong)params.seedLo | ((ulong)params.seedHi << 32);
+    const uint bounceWord = h.sample * N + g;
+    const PclV3 p0 = sampling_v3(h.x, h.y, h.z);
+    const PclV3 n0 = sampling_v3(h.nx, h.ny, h.nz);
+    const float tau = h.time;
+    uint w[4];
+    rng_block(seed, h.pixel, bounceWord, 0u, PCL_RNG_STREAM_GATHER, w);
+    PclV3 d = sampling_cosine_hemisphere(n0, rng_u01(w[0]), rng_u01(w[1]));
+    const float pdfB = sampling_dot(n0, d) / PCL_PI_F;  /* the cosine density at the eye hit */
+    PclV3 o = eye_add_scaled(p0, n0, params.rayEpsilon);
+    float T[3] = {1.0f, 1.0f, 1.0f}, Le[3] = {0.0f, 0.0f, 0.0f};
+    bool afterSpecular = false;
+
+    for (uint b = 0u; b <= params.maxSpecular; ++b) {
+        PclRay ray;
+        ray.ox = o.x; ray.oy = o.y; ray.oz = o.z; ray.tmin = 0.0f;
+        ray.dx = d.x; ray.dy = d.y; ray.dz = d.z; ray.tmax = INFINITY;
+        ray.time = tau;
+        ray.pad0 = ray.pad1 = ray.pad2 = 0u;
+        PclHit hit;
+        if (!bvh_trace(nodes, packets, spheres, ray, false, &hit)) break;
+        const PclV3 p = eye_add_scaled(o, d, hit.t);
+        const PclV3 n = eye_normal(primInfo, hit.prim, params.triangleCount, p, tau);
+        const float dn = sampling_dot(d, n);
+        const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
+        const PclMaterial M = materials[primInfo[hit.prim].material];
+
+        if (dn < 0.0f && sampling_max3(M.emission[0], M.emission[1], M.emission[2]) > 0.0f) {
+            /* The BSDF-sampled half of the MIS pair with direct_light: a triangle light reached
+             * straight from the eye hit; anything else (spheres, after a specular bounce, no
+             * light sampling) counts fully. */
+            float wMis = 1.0f;
+            const uint l = lightOfPrim[hit.prim];
+            if (!afterSpecular && l != PCL_NO_HIT && params.lightSamples > 0u) {
+                const PclV3 toQ = sampling_v3(p.x - p0.x, p.y - p0.y, p.z - p0.z);
+                const float d2 = sampling_dot(toQ, toQ);
+                const float pdfL = eye_area_light_pdf(lights[l], params.areaPowerTotal, d, d2);
+                wMis = eye_mis_weight(N, pdfB, params.lightSamples, pdfL);
+            }
+            for (int c = 0; c < 3; ++c) Le[c] = Le[c] + T[c] * M.emission[c] * wMis;
+        }
+        const float pd = eye_diffuse_probability(M);
+        if (pd < 0.0f) break;
+        rng_block(seed, h.pixel, bounceWord, b + 1u, PCL_RNG_STREAM_GATHER, w);
+        if (rng_u01(w[0]) < pd) {
+            q.x = p.x; q.y = p.y; q.z = p.z;
+            q.nx = nf.x; q.ny = nf.y; q.nz = nf.z;
+            q.maxRadius2 = params.maxRadius2;
+            for (int c = 0; c < 3; ++c) out.weight[c] = T[c] * (M.rhoD[c] / PCL_PI_F) / pd;
+            break;
+        }
+        if (b == params.maxSpecular) break;
+        PclV3 dNew;
+        float ws[3];
+        if (!eye_specular_scatter(M, d, n, rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3]), &dNew, ws)) break;
+        const float ps = 1.0f - pd;
+        for (int c = 0; c < 3; ++c) T[c] = T[c] * ws[c] / ps;
+        const float eps = sampling_dot(dNew, nf) > 0.0f ? params.rayEpsilon : -params.rayEpsilon;
+        o = eye_add_scaled(p, nf, eps);
+        d = dNew;
+        afterSpecular = true;
+    }
+    for (int c = 0; c < 3; ++c) {
+        out.emitted[c] = isfinite(Le[c]) ? Le[c] : 0.0f;
+        if (!isfinite(out.weight[c])) out.weight[c] = 0.0f;
+    }
+    queries[j] = q;
+    gathered[j] = out;
+}
+
+__kernel void final_gather_resolve(const PclGatherParams params, __global const PclEyeHit* hits,
+                                   __global const PclGatherHit* gathered, __global const float* irradiance,
+                                   __global PclRadiance* radiance) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= params.sampleCount) return;
+    const PclEyeHit h = hits[i];
+    PclRadiance out;
+    out.r = out.g = out.b = out.a = 0.0f;
+    if (h.flags & PCL_EYE_DIFFUSE) {
+        const uint N = params.gatherRays;
+        float sum[3] = {0.0f, 0.0f, 0.0f};
+        for (uint g = 0u; g < N; ++g) {
+            const size_t j = (size_t)i * N + g;
+            const PclGatherHit G = gathered[j];
+            __global const float* E = irradiance + j * params.irradianceStride;
+            for (int c = 0; c < 3; ++c) sum[c] = sum[c] + (G.weight[c] * E[c] + G.emitted[c]);
+        }
+        float L3[3];
+        for (int c = 0; c < 3; ++c) {
+            L3[c] = h.throughput[c] * h.albedo[c] * (sum[c] / (float)N);
+            if (!isfinite(L3[c])) L3[c] = 0.0f;
+        }
+        out.r = L3[0];
+        out.g = L3[1];
+        out.b = L3[2];
+    }
+    radiance[i] = out;
+}

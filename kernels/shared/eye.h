@@ -1,0 +1,87 @@
+/* eye.h: device helpers the eye-pass kernels share (eye_paths, direct_light, final_gather):
+ * surface normals, the diffuse/specular lobe choice, specular scattering and the MIS weight.
+ * The rules are kernels/README.md, "Eye pass"; the twins implement them from there. */
+#ifndef PCL_EYE_H
+#define PCL_EYE_H
+#ifdef __OPENCL_VERSION__
+
+#include "types.h"
+#include "sampling.h"
+
+inline float eye_luminance(float r, float g, float b) {
+    return 0.2126f * r + 0.7152f * g + 0.0722f * b;
+}
+
+inline PclV3 eye_add_scaled(PclV3 p, PclV3 d, float t) {
+    return sampling_v3(p.x + t * d.x, p.y + t * d.y, p.z + t * d.z);
+}
+
+/* The unit outside normal of `prim` at p (spheres placed at shutter time tau). */
+inline PclV3 eye_normal(__global const PclPrimInfo* primInfo, uint prim, uint triangleCount, PclV3 p, float tau) {
+    const PclPrimInfo info = primInfo[prim];
+    if (prim >= triangleCount) {
+        const float cx = info.a + info.mx * tau, cy = info.b + info.my * tau, cz = info.c + info.mz * tau;
+        return sampling_v3((p.x - cx) / info.radius, (p.y - cy) / info.radius, (p.z - cz) / info.radius);
+    }
+    return sampling_v3(info.a, info.b, info.c);
+}
+
+/* P_d = lum(ρd) / (lum(ρd) + lum(ρs)) (ρs counted when the material has a specular part);
+ * negative when both are 0 (a black surface: the path ends). */
+inline float eye_diffuse_probability(const PclMaterial M) {
+    const float ld = eye_luminance(M.rhoD[0], M.rhoD[1], M.rhoD[2]);
+    const float ls = M.specular != PCL_SPECULAR_NONE ? eye_luminance(M.rhoS[0], M.rhoS[1], M.rhoS[2]) : 0.0f;
+    const float sum = ld + ls;
+    return sum > 0.0f ? ld / sum : -1.0f;
+}
+
+/* The specular part of M scatters the unit direction d arriving at a surface with outside
+ * normal n: mirror, glossy (Phong lobe about the mirror direction, weight ρs (e+2)/(e+1) cosθ';
+ * false below the surface) or dielectric (reflect when uF < F, else refract; weight ρs).
+ * w gets the weight (before dividing by the lobe choice). */
+inline bool eye_specular_scatter(const PclMaterial M, PclV3 d, PclV3 n, float uF, float uA, float uB,
+                                 PclV3* dNew, float w[3]) {
+    const float dn = sampling_dot(d, n);
+    const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
+    w[0] = M.rhoS[0];
+    w[1] = M.rhoS[1];
+    w[2] = M.rhoS[2];
+    if (M.specular == PCL_SPECULAR_MIRROR) {
+        *dNew = sampling_reflect(d, nf);
+    } else if (M.specular == PCL_SPECULAR_GLOSSY) {
+        const float e = M.exponent;
+        *dNew = sampling_phong_lobe(sampling_reflect(d, nf), e, uA, uB);
+        const float cosOut = sampling_dot(*dNew, nf);
+        if (!(cosOut > 0.0f)) return false;
+        const float f = (e + 2.0f) / (e + 1.0f) * cosOut;
+        for (int c = 0; c < 3; ++c) w[c] = w[c] * f;
+    } else if (M.specular == PCL_SPECULAR_DIELECTRIC) {
+        const float eta = dn < 0.0f ? 1.0f / M.ior : M.ior;
+        const float cosI = fabs(dn);
+        const float F = sampling_fresnel_dielectric(cosI, eta);
+        *dNew = uF < F ? sampling_reflect(d, nf) : sampling_refract(d, nf, cosI, eta);
+    } else {
+        return false;
+    }
+    return true;
+}
+
+/* The power heuristic with sample counts: (nA pA)² / ((nA pA)² + (nB pB)²); 0 when both are 0. */
+inline float eye_mis_weight(uint nA, float pA, uint nB, float pB) {
+    const float a = (float)nA * pA, b = (float)nB * pB;
+    const float a2 = a * a, s = a2 + b * b;
+    return s > 0.0f ? a2 / s : 0.0f;
+}
+
+/* The solid-angle density with which direct_light samples point q (unit direction wi from the
+ * shading point, squared distance d2) on triangle light L: P(L) d² / (A cosθ_L),
+ * P(L) = s_L / S, s_L = (Φr + Φg + Φb)/3. 0 when the point sees the back. */
+inline float eye_area_light_pdf(const PclLight L, float areaPowerTotal, PclV3 wi, float d2) {
+    const float cosL = -(L.axis[0] * wi.x + L.axis[1] * wi.y + L.axis[2] * wi.z);
+    if (!(cosL > 0.0f) || !(areaPowerTotal > 0.0f)) return 0.0f;
+    const float s = (L.power[0] + L.power[1] + L.power[2]) / 3.0f;
+    return (s / areaPowerTotal) * d2 / (L.area * cosL);
+}
+
+#endif /* __OPENCL_VERSION__ */
+#endif /* PCL_EYE_H */
