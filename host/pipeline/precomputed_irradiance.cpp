@@ -39,6 +39,25 @@ void validatePrecomputedIrradianceOptions(const PrecomputedIrradianceOptions& o)
     validateEstimateSettings(o.estimate);
 }
 
+std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, uint32_t every, size_t lookupQueries) {
+    const size_t count = records == 0 || every == 0 ? 0 : (records - 1) / every + 1;
+    std::vector<IrradianceBufferSize> b = {
+        {"precomputed irradiance: points", count, sizeof(PclIrradiancePoint)},
+        {"precomputed irradiance: estimate queries", count, sizeof(PclEstimateQuery)},
+        {"precomputed irradiance: covers", count, sizeof(float)},
+        {"precomputed irradiance: other photons", records - count, sizeof(PclPhoton)},
+        {"precomputed irradiance: estimates", count, sizeof(PclEstimate)},
+        {"precomputed irradiance: tree nodes", count, sizeof(PclIrradiancePoint)},
+        {"precomputed irradiance: tree covers", count, sizeof(float)},
+        {"precomputed irradiance: tree input", count, sizeof(PclPhoton)},
+    };
+    if (lookupQueries) {
+        b.push_back({"precomputed irradiance: lookups", lookupQueries, sizeof(cl_float4)});
+        b.push_back({"precomputed irradiance: chosen points", lookupQueries, sizeof(uint32_t)});
+    }
+    return b;
+}
+
 DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photons, size_t n,
                                          const PrecomputedIrradianceOptions& options, const DeviceScene* scene,
                                          const float* lo) {

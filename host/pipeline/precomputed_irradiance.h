@@ -27,6 +27,7 @@
 //   // out.irradiance: float4 (r, g, b, d²) per query; out.chosen: the photon index or PCL_NO_HIT
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "device/device.h"
@@ -78,6 +79,22 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
 // Upload and precompute.
 DeviceIrradianceMap precomputeIrradiance(Device& device, const std::vector<PclPhoton>& map,
                                          const PrecomputedIrradianceOptions& options, const DeviceScene* scene);
+
+// One device buffer of the stage as the memory plan (pipeline/memory_plan.h) lists buffers: the
+// label it is allocated under, its elements and their size (it asks max(count, 1) × elementBytes).
+struct IrradianceBufferSize {
+    std::string what;
+    size_t count = 0;
+    size_t elementBytes = 0;
+};
+// The buffers precomputeIrradiance allocates itself for a global map of `records` photons with
+// step `every` (points, estimate queries, covers, the others' copy, estimates, the tree's input,
+// nodes and covers) and, for lookupQueries > 0, one lookup batch's outputs. Not listed (the
+// plan's own formulas give them): the others' search structure (PhotonMapOnDevice over
+// records − ⌈records/every⌉ photons), estimateBuffers' kNN batch buffers (k) and the kd-tree
+// build's workspace over ⌈records/every⌉ points.
+std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, uint32_t every,
+                                                               size_t lookupQueries = 0);
 
 // (c) alone: the lookup tree over `count` points and their covers (squared radii) already on
 // the device (irradiance filled in, `photon` below 2^30 and distinct: it breaks ties). The map

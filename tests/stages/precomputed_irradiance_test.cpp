@@ -1,16 +1,21 @@
 // Precomputed irradiance (kernels/precomputed_irradiance.cl, pipeline/precomputed_irradiance)
 // against its twin and against the full estimate, through pipeline/check_irradiance (which
 // states the tolerances): on a uniformly lit plane and on cornell-box.json's real global map the
-// selection matches the twin exactly, the stored irradiance within 1e-5 relative, every lookup
-// chooses the brute force's point and returns its value bit for bit, a lookup at a stored point
-// returns that point, and the mean lookup over ≥ 10 000 surface points is within 1 % of the full
-// estimate's mean at the same points. A thin wall (two faces back to back) never reads the
-// other face. Speed-ups are printed as "[figure]" lines, never asserted.
+// selection matches the twin exactly, the stored irradiance within 1e-5 relative and the covers
+// bit for bit, every lookup chooses the brute force's point and returns its value bit for bit, a
+// lookup at a stored point returns that point, and the mean lookup over ≥ 10 000 surface points
+// is within 1 % of the full estimate's mean at the same points. A thin wall (two faces back to
+// back) never reads the other face; a point answers only inside its cover; the stage's buffer
+// list for the memory plan matches its allocations. Speed-ups are printed as "[figure]" lines,
+// never asserted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <random>
+#include <string>
 
 #include "device_fixture.h"
 #include "pipeline/check_irradiance.h"
@@ -250,6 +255,24 @@ TEST(PrecomputedIrradiance, LookupsStayInsideTheCover) {
     EXPECT_EQ(lookupIrradianceOnDevice(device, uploadIrradiancePoints(device, points, 0.9f, cover), {q}).chosen[0],
               PCL_NO_HIT);
     EXPECT_EQ(referenceLookupIrradiance(points, cover, {q}, 0.9f).chosen[0], PCL_NO_HIT);
+}
+
+// The memory plan's list of the stage's buffers is what it allocates, to the byte.
+TEST(PrecomputedIrradiance, BufferListMatchesTheAllocations) {
+    Device device = test::testDevice();  // a copy: the observer stays with it
+    std::map<std::string, size_t> seen;
+    device.setAllocationObserver([&](const std::string& what, size_t bytes) {
+        if (what.rfind("precomputed irradiance:", 0) == 0) seen[what] += bytes;
+    });
+    const std::vector<PclPhoton> map = planePhotons(10001, 0.0f, 1.0f, 1.0f / 64.0f, 51);
+    PrecomputedIrradianceOptions o;
+    o.maxRadius = 0.05f;
+    const DeviceIrradianceMap irr = precomputeIrradiance(device, map, o, nullptr);
+    lookupIrradianceOnDevice(device, irr, planeQueries(777, 0.0f, 1.0f, 0.1f, 0.05f, 50, 52));
+    std::map<std::string, size_t> predicted;
+    for (const IrradianceBufferSize& b : precomputedIrradianceBuffers(map.size(), o.every, 777))
+        predicted[b.what] += std::max<size_t>(b.count, 1) * b.elementBytes;
+    EXPECT_EQ(seen, predicted);
 }
 
 // The precomputation's inputs are checked.
