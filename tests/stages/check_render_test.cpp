@@ -1,0 +1,37 @@
+// checkRender (pipeline/check_render.h): every eye-pass stage, device against twin, on shipped
+// scenes at 64×48, one pass.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "device_fixture.h"
+#include "pipeline/check_render.h"
+#include "scene/load_scene.h"
+
+namespace pcl {
+namespace {
+
+std::string shippedScene(const char* name) { return std::string(PHOTONCL_SOURCE_DIR) + "/scenes/" + name; }
+
+void runCheck(const char* name, RenderCheckOptions o = {}) {
+    const RenderCheckReport r = checkRender(test::testDevice(), loadScene(shippedScene(name)), o);
+    std::printf("%s", r.table().c_str());
+    for (const StageComparison& s : r.stages)
+        std::printf("[figure] check render %s %s: %.4f %% of %zu match, max rel %.3e, %zu NaN/Inf\n", name,
+                    s.stage.c_str(), 100.0 * s.fraction(), s.compared, s.maxRelError, s.nonFinite);
+    EXPECT_TRUE(r.passed()) << name;
+    EXPECT_GE(r.stages.size(), 5u);
+}
+
+TEST(CheckRender, CornellBox) { runCheck("cornell-box.json"); }
+TEST(CheckRender, CornellSpheres) { runCheck("cornell-spheres.json"); }
+TEST(CheckRender, CornellGlossy) { runCheck("cornell-glossy.json"); }
+TEST(CheckRender, MotionDof) {
+    RenderCheckOptions o;
+    o.strata = 2;
+    runCheck("motion-dof.json", o);
+}
+
+}  // namespace
+}  // namespace pcl
