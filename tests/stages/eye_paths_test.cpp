@@ -16,7 +16,7 @@
 namespace pcl {
 namespace {
 
-std::vector<PclEyeHit> deviceEyeHits(const test::BuiltScene& b, uint32_t strata, uint64_t seed, PclEyeParams* out = nullptr) {
+std::vector<PclEyeHit> deviceEyeHitsLocal(const test::BuiltScene& b, uint32_t strata, uint64_t seed, PclEyeParams* out = nullptr) {
     const PclCameraParams cp = cameraParams(b.scene.camera, true, true, seed, strata);
     const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
     const PclEyeParams ep = eyeParams(cp, b.geometry, b.buffers);
@@ -69,7 +69,7 @@ TEST(EyePaths, MirrorAt45DegreesHandsEverySampleToTheWall) {
     s.meshes.push_back(w);
     s.lights.push_back(test::pointLight(Vec3(0, 0, -1), Vec3(1.0f)));
     const test::BuiltScene b = test::build(s);
-    const std::vector<PclEyeHit> hits = deviceEyeHits(b, 2, 9);
+    const std::vector<PclEyeHit> hits = deviceEyeHitsLocal(b, 2, 9);
     size_t ok = 0;
     for (const PclEyeHit& h : hits)
         ok += (h.flags & PCL_EYE_DIFFUSE) && h.depth == 1 && h.throughput[0] == 0.8f && h.throughput[2] == 0.8f &&
@@ -95,7 +95,7 @@ TEST(EyePaths, EmitterSeenDirectlyGivesItsRadianceFromTheFrontOnly) {
         l.type = LightType::Area;
         l.mesh = 0;
         s.lights.push_back(l);
-        const std::vector<PclEyeHit> hits = deviceEyeHits(test::build(s), 1, 4);
+        const std::vector<PclEyeHit> hits = deviceEyeHitsLocal(test::build(s), 1, 4);
         for (const PclEyeHit& h : hits) {
             EXPECT_EQ(h.flags, 0u);
             EXPECT_EQ(h.emitted[0], front ? 2.0f : 0.0f);
@@ -119,7 +119,7 @@ TEST(EyePaths, GlassAtNormalIncidenceReflectsTheFresnelFraction) {
     test::addQuad(w, Vec3(-9, -9, 1), Vec3(-9, 9, 1), Vec3(9, 9, 1), Vec3(9, -9, 1));
     s.meshes.push_back(w);
     s.lights.push_back(test::pointLight(Vec3(0, 0, -3), Vec3(1.0f)));
-    const std::vector<PclEyeHit> hits = deviceEyeHits(test::build(s), 2, 21);
+    const std::vector<PclEyeHit> hits = deviceEyeHitsLocal(test::build(s), 2, 21);
     size_t reflected = 0, diffuse = 0;
     for (const PclEyeHit& h : hits) {
         if (!(h.flags & PCL_EYE_DIFFUSE)) continue;

@@ -5,6 +5,8 @@
 #include <vector>
 
 #include "photon_test_scenes.h"
+#include "pipeline/camera_rays.h"
+#include "pipeline/eye_paths.h"
 #include "pipeline/irradiance_source.h"
 
 namespace pcl::test {
@@ -61,6 +63,17 @@ inline double meanLuminance(const std::vector<PclRadiance>& r) {
     double s = 0.0;
     for (const PclRadiance& x : r) s += (double(x.r) + x.g + x.b) / 3.0;
     return r.empty() ? 0.0 : s / double(r.size());
+}
+
+// Device camera rays and eye paths of a built scene (n × n strata, lens and time as the camera
+// allows); the eye parameters in *params.
+inline std::vector<PclEyeHit> deviceEyeHits(const BuiltScene& b, uint32_t strata, uint64_t passSeed,
+                                            PclEyeParams* params = nullptr) {
+    const PclCameraParams cp = cameraParams(b.scene.camera, true, true, passSeed, strata);
+    const std::vector<PclRay> rays = cameraRaysOnDevice(testDevice(), cp);
+    const PclEyeParams ep = eyeParams(cp, b.geometry, b.buffers);
+    if (params) *params = ep;
+    return eyePathsOnDevice(testDevice(), b.geometry, b.buffers, rays, ep);
 }
 
 }  // namespace pcl::test
