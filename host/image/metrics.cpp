@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <string>
 
 #include "core/error.h"
 
@@ -32,6 +33,71 @@ ImageErrors compare(const Image& a, const Image& b, double relMseEpsilon) {
     e.meanRatio = sumB != 0.0 ? sumA / sumB : (sumA == 0.0 ? 1.0 : std::numeric_limits<double>::infinity());
     e.maxAbsDiff = maxDiff;
     return e;
+}
+
+ZTestResult perPixelZTest(const std::vector<Image>& runs, const Image& reference, double threshold,
+                          const Image* referenceVariance) {
+    if (runs.size() < 2) throw InputError("Z-test: needs at least 2 independent renders, got " + std::to_string(runs.size()));
+    for (const Image& run : runs)
+        if (run.width != reference.width || run.height != reference.height)
+            throw InputError("Z-test: render " + std::to_string(run.width) + "x" + std::to_string(run.height) +
+                             " against a " + std::to_string(reference.width) + "x" + std::to_string(reference.height) +
+                             " reference");
+    if (referenceVariance &&
+        (referenceVariance->width != reference.width || referenceVariance->height != reference.height))
+        throw InputError("Z-test: reference variance image size differs from the reference");
+    ZTestResult z;
+    z.threshold = threshold;
+    z.pixels = reference.pixelCount();
+    const double k = static_cast<double>(runs.size());
+    double sumAbsZ = 0.0;
+    size_t finite = 0;
+    auto value = [](const Image& img, size_t i) {
+        return static_cast<double>(img.rgb[3 * i]) + img.rgb[3 * i + 1] + img.rgb[3 * i + 2];
+    };
+    for (size_t i = 0; i < z.pixels; ++i) {
+        double r = value(reference, i);
+        bool bad = !std::isfinite(r);
+        double sum = 0.0;
+        for (const Image& run : runs) {
+            double x = value(run, i);
+            bad = bad || !std::isfinite(x);
+            sum += x;
+        }
+        if (bad) {
+            ++z.nonFinite;
+            continue;
+        }
+        double mean = sum / k, ss = 0.0;
+        for (const Image& run : runs) ss += (value(run, i) - mean) * (value(run, i) - mean);
+        double var = ss / (k - 1.0) / k + (referenceVariance ? std::max(0.0f, referenceVariance->rgb[3 * i]) : 0.0);
+        double diff = std::abs(mean - r), absZ;
+        if (var > 0.0) absZ = diff / std::sqrt(var);
+        else absZ = diff <= 1e-6 * std::max(std::abs(r), 1e-30) ? 0.0 : std::numeric_limits<double>::infinity();
+        if (absZ < threshold) ++z.passed;
+        if (std::isfinite(absZ)) sumAbsZ += absZ;
+        z.maxAbsZ = std::max(z.maxAbsZ, absZ);
+        ++finite;
+    }
+    z.meanAbsZ = finite ? sumAbsZ / static_cast<double>(finite) : 0.0;
+    return z;
+}
+
+std::string formatZTest(const ZTestResult& z) {
+    char line[256];
+    std::snprintf(line, sizeof line, "Z-test |z| < %.3g: %zu of %zu pixels (%.3f%%), mean |z| %.3f, max |z| %.3g%s",
+                  z.threshold, z.passed, z.pixels, 100.0 * z.passFraction(), z.meanAbsZ, z.maxAbsZ,
+                  z.nonFinite ? (", " + std::to_string(z.nonFinite) + " non-finite").c_str() : "");
+    return line;
+}
+
+bool allFinite(const Image& image, size_t* firstBad) {
+    for (size_t i = 0; i < image.rgb.size(); ++i)
+        if (!std::isfinite(image.rgb[i])) {
+            if (firstBad) *firstBad = i / 3;
+            return false;
+        }
+    return true;
 }
 
 std::string formatErrors(const ImageErrors& e) {

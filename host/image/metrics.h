@@ -2,6 +2,7 @@
 // `sweep` charts against time.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 
@@ -22,6 +23,36 @@ constexpr double kRelMseEpsilon = 1e-2;
 // Compares `a` (test) against `b` (reference). Different sizes: InputError naming both.
 // mean(b) == 0 gives meanRatio 1 if mean(a) is 0 too, otherwise +inf.
 ImageErrors compare(const Image& a, const Image& b, double relMseEpsilon = kRelMseEpsilon);
+
+// Per-pixel Z-test of K independent renders against a reference (issue 6 part 6): is what
+// differs from the reference only the renders' own noise? Per pixel, the value is the channel
+// sum R+G+B; with m and s² the mean and (unbiased) variance of the K renders' values and r the
+// reference's, z = (m − r) / sqrt(s²/K + v_ref), v_ref the reference's own variance if known
+// (else 0). For unbiased renders with Gaussian-like pixel errors z follows Student's t with K−1
+// degrees of freedom, so the expected pass rate at a threshold is known (t_{15}: P(|t| < 4) =
+// 0.9988, P(|t| < 3.29) = 0.995); a bias larger than about threshold × the standard error of
+// the mean fails the pixel. A pixel whose K values are all equal passes only if they equal the
+// reference to 1e-6 relative (a black corner, a constant furnace), never by dividing by zero.
+struct ZTestResult {
+    size_t pixels = 0;        // pixels tested
+    size_t passed = 0;        // |z| < threshold
+    size_t nonFinite = 0;     // pixels where a render or the reference is NaN/Inf (counted as failed)
+    double threshold = 0.0;
+    double meanAbsZ = 0.0;    // over the finite pixels (≈ 0.8 for pure noise)
+    double maxAbsZ = 0.0;
+    double passFraction() const { return pixels ? static_cast<double>(passed) / pixels : 0.0; }
+};
+
+// `runs` (K ≥ 2, all the reference's size); `referenceVariance`, if given, holds the reference's
+// per-pixel variance of the channel sum in its R channel. Size mismatch or K < 2: InputError.
+ZTestResult perPixelZTest(const std::vector<Image>& runs, const Image& reference, double threshold = 4.0,
+                          const Image* referenceVariance = nullptr);
+
+std::string formatZTest(const ZTestResult& z);
+
+// True when every value of the image is finite; `firstBad` (if given) receives the pixel index
+// of the first NaN/Inf.
+bool allFinite(const Image& image, size_t* firstBad = nullptr);
 
 // One line for the command line: "RMSE 0.0123  relMSE 0.00456  mean ratio 1.0012  max diff 0.789".
 std::string formatErrors(const ImageErrors& e);

@@ -1,0 +1,125 @@
+#!/usr/bin/env python3
+"""Converged references of the shipped scenes (issue 6 part 6), made with the reference path
+tracer (`photoncl render --method path`) and kept in tests/data/ as small half-float EXRs.
+
+Each reference is the average of two independent half renders (seeds 1 and 2, N/2 samples per
+pixel each). The two halves also measure the reference's own error: with per-pixel variance s2
+for one half, E[(A - B)^2] = 2 s2 and the average has variance s2 / 2, so the reference's
+expected relMSE is relMSE(A, B) / 4 (the denominator uses B, close enough at these noise
+levels). That figure goes into tests/data/references.md beside the samples and the time.
+
+Usage: scripts/make_references.py [--photoncl build/photoncl] [--spp 16384] [--threads 1]
+                                  [--only NAME ...] [--out tests/data]
+Needs oiiotool (openimageio-tools) to average the halves. Run under `nice` on a shared machine.
+"""
+import argparse
+import datetime
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# Every shipped scene, at the width the accuracy tests render (height keeps the aspect ratio).
+# The samples differ by how hard a scene is for a path tracer: caustics seen through glass
+# from a small lamp need the most.
+SCENES = [
+    # (scene file, width, samples per pixel for the whole reference)
+    ("cornell-box.json", 64, 16384),
+    ("cornell-spheres.json", 64, 32768),
+    ("cornell-spheres-point.json", 64, 16384),
+    ("cornell-glossy.json", 64, 16384),
+    ("motion-dof.json", 64, 16384),
+    ("gltf-room.gltf", 64, 16384),
+    # Closed-form answers (L = rho / (1 - rho) everywhere): the references double as a check.
+    ("furnace-0.5.json", 32, 4096),
+    ("furnace-0.8.json", 32, 4096),
+]
+
+
+def run(cmd):
+    result = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if result.returncode != 0:
+        sys.exit("failed (%d): %s\n%s" % (result.returncode, " ".join(cmd), result.stdout))
+    return result.stdout
+
+
+def reference_name(scene):
+    return "ref-" + os.path.splitext(scene)[0] + ".exr"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--photoncl", default=os.path.join(ROOT, "build", "photoncl"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "tests", "data"))
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--spp-scale", type=float, default=1.0, help="multiply every scene's samples (quick trial: 0.01)")
+    ap.add_argument("--only", nargs="*", help="scene file names to (re)make; default all")
+    args = ap.parse_args()
+    if not shutil.which("oiiotool"):
+        sys.exit("oiiotool not found (apt-get install openimageio-tools)")
+    os.makedirs(args.out, exist_ok=True)
+    rows = []
+    table = os.path.join(args.out, "references.md")
+    previous = {}
+    if os.path.exists(table):  # keep rows of scenes not remade this time
+        for line in open(table):
+            m = re.match(r"\| `(ref-[^`]+)` \|", line)
+            if m:
+                previous[m.group(1)] = line.rstrip("\n")
+    with tempfile.TemporaryDirectory() as tmp:
+        for scene, width, spp in SCENES:
+            name = reference_name(scene)
+            if args.only and scene not in args.only:
+                if name in previous:
+                    rows.append(previous[name])
+                continue
+            spp = max(2, int(spp * args.spp_scale) // 2 * 2)
+            halves = []
+            start = time.time()
+            for seed in (1, 2):
+                out = os.path.join(tmp, "half%d.exr" % seed)
+                run([args.photoncl, "render", os.path.join(ROOT, "scenes", scene), "--method", "path",
+                     "--device", "ref", "--width", str(width), "--passes", str(spp // 2), "--seed", str(seed),
+                     "--threads", str(args.threads), "--no-png", "-q", "-o", out])
+                halves.append(out)
+            seconds = time.time() - start
+            compare = run([args.photoncl, "compare", halves[0], halves[1]])
+            m = re.search(r"relMSE (\S+)\s+mean ratio (\S+)", compare)
+            halves_relmse = float(m.group(1))
+            ref_relmse = halves_relmse / 4.0
+            target = os.path.join(args.out, name)
+            run(["oiiotool", halves[0], halves[1], "--add", "--mulc", "0.5",
+                 "--attrib", "photoncl:scene", "scenes/" + scene,
+                 "--attrib", "photoncl:method", "path",
+                 "--attrib", "photoncl:device", "ref",
+                 "--attrib", "photoncl:samples", str(spp),
+                 "--attrib", "photoncl:seed", "1+2",
+                 "--attrib", "photoncl:reference_relmse", "%.3g" % ref_relmse,
+                 "--attrib", "photoncl:seconds", "%.1f" % seconds,
+                 "-d", "half", "--compression", "zip", "-o", target])
+            stats = run(["oiiotool", target, "--printstats"])
+            avg = re.search(r"Stats Avg: (\S+) (\S+) (\S+)", stats)
+            mean = sum(float(v) for v in avg.groups()) / 3.0
+            row = "| `%s` | %s | %d | %.4g | %.2g | %.1f |" % (name, scene, spp, mean, ref_relmse, seconds)
+            print(row, flush=True)
+            rows.append(row)
+    with open(table + ".tmp", "w") as f:
+        f.write("# Path-traced references (made by scripts/make_references.py)\n\n")
+        f.write("Each EXR (half float) averages two independent half renders (seeds 1 and 2) of the reference\n"
+                "path tracer. *relMSE of the reference* is relMSE(half 1, half 2) / 4: the expected error of the\n"
+                "average itself. Accuracy tests hold renders to bounds far above it.\n\n")
+        f.write("Made %s with %s thread(s).\n\n" % (datetime.date.today().isoformat(), args.threads))
+        f.write("| file | scene | samples/pixel | mean (RGB average) | relMSE of the reference | seconds |\n")
+        f.write("|---|---|---|---|---|---|\n")
+        for row in rows:
+            f.write(row + "\n")
+    os.replace(table + ".tmp", table)
+
+
+if __name__ == "__main__":
+    main()
