@@ -1,0 +1,94 @@
+// Estimates at the eye hits (kernels/eye_estimate.cl): caustics from the caustic map and the
+// direct-visualisation preview from the global map, against the twin (reference/eye_estimate);
+// a constant irradiance gives L = T ρ E/π exactly; the furnace's preview reads ρ/(1 − ρ).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "eye_test_scenes.h"
+#include "pipeline/check_render.h"
+#include "pipeline/eye_estimate.h"
+#include "pipeline/photon_pass.h"
+#include "reference/eye_estimate.h"
+
+namespace pcl {
+namespace {
+
+PclEyeEstimateParams estimateParams(size_t n, uint32_t k, float rMax) {
+    PclEyeEstimateParams p{};
+    p.sampleCount = uint32_t(n);
+    p.k = k;
+    p.maxRadius2 = rMax * rMax;
+    return p;
+}
+
+TEST(EyeEstimate, CausticsAndPreviewMatchTheTwinCornellSpheres) {
+    const test::BuiltScene b = test::shippedScene("cornell-spheres.json", 40, 30);
+    PhotonPassOptions po;
+    po.globalPhotons = 20000;
+    po.causticPhotons = 20000;
+    const PhotonMaps maps = runPhotonPass(test::testDevice(), b.geometry, b.buffers, po);
+    ASSERT_GT(maps.caustic.size(), 1000u);
+    const std::vector<PclEyeHit> hits = test::deviceEyeHits(b, 2, 8);
+    const float rMax = 0.1f * length(b.geometry.bounds().extent());
+    const PclEyeEstimateParams p = estimateParams(hits.size(), 50, rMax);
+    EstimateSettings es;
+    es.rayEpsilon = b.buffers.rayEpsilon;
+    for (int which = 0; which < 2; ++which) {
+        const std::vector<PclPhoton>& photons = which == 0 ? maps.caustic : maps.global;
+        PhotonMapOnDevice map(test::testDevice(), photons, KnnStructure::KdTree, rMax);
+        auto source = estimateIrradianceSource(map, 50, es, nullptr);
+        const EyeEstimateResult d = estimateAtEyeHitsOnDevice(test::testDevice(), hits, p, *source);
+        const std::vector<PclRadiance> t =
+            referenceEstimateAtEyeHits(hits, p, referenceEstimateIrradiance(photons, es, nullptr));
+        const StageComparison c = compareRadiance(which == 0 ? "caustics" : "preview", d.radiance, t, 1e-3, 3);
+        std::printf("[figure] %s at the eye hits, cornell-spheres 40x30 2x2, %zu photons: %.4f %% of %zu within 1e-3 "
+                    "(%zu nonzero), max rel %.3e, %zu NaN/Inf\n",
+                    which == 0 ? "caustics" : "direct visualisation", photons.size(), 100.0 * c.fraction(), c.compared,
+                    c.nonzero, c.maxRelError, c.nonFinite);
+        EXPECT_GE(c.fraction(), 0.999);
+        EXPECT_EQ(c.nonFinite, 0u);
+        EXPECT_GT(c.nonzero, which == 0 ? c.compared / 20 : c.compared / 2);
+    }
+}
+
+TEST(EyeEstimate, ConstantIrradianceGivesThroughputAlbedoEOverPi) {
+    const test::BuiltScene b = test::shippedScene("cornell-glossy.json", 24, 18);
+    const std::vector<PclEyeHit> hits = test::deviceEyeHits(b, 1, 5);
+    IrradianceSource e = test::constantIrradiance(2.5f);
+    const EyeEstimateResult d = estimateAtEyeHitsOnDevice(test::testDevice(), hits, estimateParams(hits.size(), 10, 0.1f), e);
+    double worst = 0.0;
+    for (size_t i = 0; i < hits.size(); ++i) {
+        const PclEyeHit& h = hits[i];
+        const double expect = (h.flags & PCL_EYE_DIFFUSE) ? h.throughput[1] * h.albedo[1] * 2.5 / M_PI : 0.0;
+        worst = std::max(worst, std::fabs(d.radiance[i].g - expect) / std::max(expect, 1e-30));
+        if (!(h.flags & PCL_EYE_DIFFUSE)) EXPECT_EQ(d.queries[i].maxRadius2, 0.0f);
+    }
+    std::printf("[figure] constant E at the eye hits: L = T ρ E/π within %.2e relative\n", worst);
+    EXPECT_LT(worst, 1e-6);
+}
+
+TEST(EyeEstimate, FurnacePreviewReadsRhoOverOneMinusRho) {
+    for (const char* name : {"furnace-0.5.json", "furnace-0.8.json"}) {
+        const test::BuiltScene b = test::shippedScene(name, 16, 16);
+        const float rho = b.scene.materials[0].rhoD.x;
+        PhotonPassOptions po;
+        po.globalPhotons = 40000;
+        po.buildCaustic = false;
+        const PhotonMaps maps = runPhotonPass(test::testDevice(), b.geometry, b.buffers, po);
+        const std::vector<PclEyeHit> hits = test::deviceEyeHits(b, 2, 3);
+        EstimateSettings es;
+        PhotonMapOnDevice map(test::testDevice(), maps.global, KnnStructure::KdTree, 0.3f);
+        auto source = estimateIrradianceSource(map, 50, es, nullptr);
+        const EyeEstimateResult d =
+            estimateAtEyeHitsOnDevice(test::testDevice(), hits, estimateParams(hits.size(), 50, 0.3f), *source);
+        const double mean = test::meanLuminance(d.radiance), expect = rho / (1.0 - rho);
+        std::printf("[figure] furnace %s preview (global map at the eye hits, k 50): mean %.4f vs %.4f (%+.2f %%)\n",
+                    name, mean, expect, 100.0 * (mean / expect - 1.0));
+        EXPECT_NEAR(mean / expect, 1.0, 0.02);
+    }
+}
+
+}  // namespace
+}  // namespace pcl
