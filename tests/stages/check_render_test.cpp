@@ -27,9 +27,12 @@ void runCheck(const char* name, RenderCheckOptions o = {}) {
 TEST(CheckRender, CornellBox) { runCheck("cornell-box.json"); }
 TEST(CheckRender, CornellSpheres) { runCheck("cornell-spheres.json"); }
 TEST(CheckRender, CornellGlossy) { runCheck("cornell-glossy.json"); }
-TEST(CheckRender, MotionDof) {
+TEST(CheckRender, MotionDofTwoPasses) {
     RenderCheckOptions o;
+    o.width = 32;
+    o.height = 24;
     o.strata = 2;
+    o.pass = 1;
     runCheck("motion-dof.json", o);
 }
 
