@@ -6,7 +6,9 @@
 #include "cli/memory_option.h"
 #include "core/error.h"
 #include "device/device.h"
+#include "pipeline/check_estimate.h"
 #include "pipeline/check_intersect.h"
+#include "pipeline/check_irradiance.h"
 #include "pipeline/check_knn.h"
 #include "pipeline/check_maps.h"
 #include "pipeline/check_photons.h"
@@ -31,8 +33,11 @@ Run addCheckCommand(CLI::App& app) {
     sub->add_option("--stage", o->stage,
                     "trace: BVH traversal; emit, trace_photons, deposit: the photon pass stage by stage on the "
                     "same inputs; pass: the whole photon pass; sort: device radix sort; build: kd-tree; knn: k nearest "
-                    "neighbours on kd-tree and hash grid against brute force; all: every one")
-        ->check(CLI::IsMember({"all", "trace", "emit", "trace_photons", "deposit", "pass", "sort", "build", "knn"}))
+                    "neighbours on kd-tree and hash grid against brute force; estimate: the filtered irradiance "
+                    "estimate (every filter, both structures, with and without the visibility test) and the "
+                    "precomputed irradiance lookup; all: every one")
+        ->check(CLI::IsMember(
+            {"all", "trace", "emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate"}))
         ->capture_default_str();
     sub->add_option("--rays", o->rays, "Rays for the trace check")->capture_default_str();
     sub->add_option("--photons", o->photons, "Photon paths per pass for the photon checks")->capture_default_str();
@@ -86,6 +91,18 @@ Run addCheckCommand(CLI::App& app) {
             knnOptions.seed = o->seed;
             KnnCheckReport r = checkKnn(device, scene, knnOptions);
             print("knn", r.table(), r.passed());
+        }
+        if (o->stage == "all" || o->stage == "estimate") {
+            EstimateCheckOptions estimateOptions;
+            estimateOptions.photons = o->photons;
+            estimateOptions.seed = o->seed;
+            EstimateCheckReport r = checkEstimate(device, scene, estimateOptions);
+            print("estimate", r.table(), r.passed());
+            IrradianceCheckOptions irradianceOptions;
+            irradianceOptions.photons = o->photons;
+            irradianceOptions.seed = o->seed;
+            IrradianceCheckReport ir = checkPrecomputedIrradiance(device, scene, irradianceOptions);
+            print("estimate (precomputed irradiance)", ir.table(), ir.passed());
         }
         return ok ? kExitOk : kExitCheckFailed;
     };
