@@ -15,6 +15,7 @@
 #include "pipeline/irradiance_source.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/plan.h"
+#include "pipeline/precomputed_irradiance.h"
 #include "pipeline/projection_map.h"
 #include "pipeline/scene_buffers.h"
 #include "reference/camera_rays.h"
@@ -22,6 +23,7 @@
 #include "reference/eye_estimate.h"
 #include "reference/eye_paths.h"
 #include "reference/final_gather.h"
+#include "reference/precomputed_irradiance.h"
 
 namespace pcl {
 namespace {
@@ -140,11 +142,11 @@ std::string RenderCheckReport::table() const {
     std::snprintf(line, sizeof line, "render check: %dx%d, %zu global / %zu caustic photons\n", width, height,
                   globalPhotons, causticPhotons);
     o << line;
-    std::snprintf(line, sizeof line, "%-22s %9s %9s %10s %9s %12s %9s %9s  %s\n", "stage", "samples", "nonzero",
+    std::snprintf(line, sizeof line, "%-24s %9s %9s %10s %9s %12s %9s %9s  %s\n", "stage", "samples", "nonzero",
                   "match %", "NaN/Inf", "max rel", "device s", "twin s", "result");
     o << line;
     for (const StageComparison& s : stages) {
-        std::snprintf(line, sizeof line, "%-22s %9zu %9zu %10.4f %9zu %12.3e %9.3f %9.3f  %s\n", s.stage.c_str(),
+        std::snprintf(line, sizeof line, "%-24s %9zu %9zu %10.4f %9zu %12.3e %9.3f %9.3f  %s\n", s.stage.c_str(),
                       s.compared, s.nonzero, 100.0 * s.fraction(), s.nonFinite, s.maxRelError, s.deviceSeconds,
                       s.twinSeconds, s.passed(required) ? "ok" : "FAILED");
         o << line;
@@ -252,6 +254,34 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Render
                       .radiance;
         timed(compareRadiance("final gather", dGather, tGather, o.tolerance, o.worstShown),
               gt.traceSeconds + gt.irradianceSeconds + gt.resolveSeconds, since(t0));
+
+        // The same gather reading precomputed irradiance (the renderer's default): the twin
+        // looks up the device's stored points by brute force (the points themselves are
+        // checkIrradiance's business).
+        PrecomputedIrradianceOptions pio;
+        pio.maxRadius = rMax;
+        pio.k = o.k;
+        pio.estimate = es;
+        const DeviceIrradianceMap irr = precomputeIrradiance(device, maps.global, pio, &deviceScene);
+        auto pre = precomputedIrradianceSource(irr);
+        const GatherTiming pt = finalGather(device, deviceScene, deviceLights, gp, hits, *pre, gathered);
+        const std::vector<PclRadiance> dPre = device.download<PclRadiance>(gathered, n);
+        const std::vector<PclIrradiancePoint> points = downloadIrradiancePoints(device, irr);
+        const std::vector<float> cover = device.download<float>(irr.cover, irr.count);
+        t0 = Clock::now();
+        const std::vector<PclRadiance> tPre =
+            referenceFinalGather(geometry, buffers, dHits, gp,
+                                 [&](const std::vector<PclEstimateQuery>& q) {
+                                     const ReferenceIrradianceLookup l =
+                                         referenceLookupIrradiance(points, cover, q, irr.minNormalCos);
+                                     std::vector<Vec3> e(q.size());
+                                     for (size_t j = 0; j < q.size(); ++j)
+                                         e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1], l.irradiance[4 * j + 2]);
+                                     return e;
+                                 })
+                .radiance;
+        timed(compareRadiance("final gather (precomp.)", dPre, tPre, o.tolerance, o.worstShown),
+              pt.traceSeconds + pt.irradianceSeconds + pt.resolveSeconds, since(t0));
     }
 
     // 5. Caustics and direct visualisation.

@@ -5,7 +5,8 @@
 // before), so a divergence is charged to the stage that made it: camera rays; eye paths (from
 // the device rays); direct light, final gather, caustics, direct visualisation (from the device
 // eye records; the maps from one device photon pass; the twin estimates by brute force). Then
-// per pixel the sum emitted + direct + caustics + gather, device vs twin.
+// per pixel the sum emitted + direct + caustics + gather, device vs twin. The gather is also
+// compared reading precomputed irradiance (the twin looks up the device's stored points).
 //
 // A value matches when |d − t| ≤ tolerance · max(|d|, |t|) + 1e-6 · peak (peak: the stage's
 // largest twin value, so values a millionth of the brightest count as equal); a sample (or
