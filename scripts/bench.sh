@@ -8,13 +8,13 @@ quick=0
 [ "${1:-}" = "--quick" ] && quick=1
 jobs=$(nproc 2>/dev/null || echo 2)
 [ -f build/build.ninja ] || cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j "$jobs" --target bvh_bench photon_pass_bench sort_bench knn_bench >&2
+cmake --build build -j "$jobs" --target bvh_bench photon_pass_bench sort_bench knn_bench estimate_bench irradiance_bench >&2
 out=build/bench
 mkdir -p "$out"
 filter=()
 # --quick: the small scenes and sizes only (a minute or two).
-[ $quick -eq 1 ] && filter=(--benchmark_filter='cornell|/1048576|/box/k50')
-programs=(bvh_bench photon_pass_bench sort_bench knn_bench)
+[ $quick -eq 1 ] && filter=(--benchmark_filter='cornell|/1048576|/box/k50|cone/k50|walls1M/k50')
+programs=(bvh_bench photon_pass_bench sort_bench knn_bench estimate_bench irradiance_bench)
 jsons=()
 for prog in "${programs[@]}"; do
   echo "bench: running $prog" >&2

@@ -5,7 +5,8 @@ Each row pairs a photoncl benchmark with its peer measured in the same run, with
 suffix (scene, size, k): traversal kernel vs Embree rtcIntersect1 and vs the host BVH (rays per
 CPU second), photon pass on the device vs the CPU twin (paths per wall second, both on all
 cores), device radix sort vs __gnu_parallel::sort, kd-tree build device vs twin, kNN on the
-device kd-tree and hash grid vs nanoflann on all cores.
+device kd-tree and hash grid vs nanoflann on all cores, the radiance estimate vs its twin,
+the precomputed irradiance lookup vs the full estimate.
 """
 import json
 import re
@@ -23,6 +24,9 @@ PAIRS = [
      "kNN, device kd-tree vs the faster of nanoflann plain / r_max-bounded, queries/s"),
     ("HashGrid/", ("Nanoflann/", "NanoflannRmax/"), "queries_per_s",
      "kNN, device hash grid vs the faster of nanoflann plain / r_max-bounded, queries/s"),
+    ("EstimateKdTree/", "EstimateTwin/", "queries_per_cpu_s", "radiance estimate, device kd-tree vs CPU twin, queries/CPU-s"),
+    ("EstimateHashGrid/", "EstimateTwin/", "queries_per_cpu_s", "radiance estimate, device hash grid vs CPU twin, queries/CPU-s"),
+    ("IrradianceLookup/", "FullEstimate/", "queries_per_s", "precomputed irradiance lookup vs the full estimate, queries/s"),
 ]
 
 
