@@ -43,7 +43,8 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
                            __global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                            __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,
                            __global const PclMaterial* materials, __global const PclLight* lights,
-                           __global const float* areaCdf, __global PclRadiance* radiance) {
+                           __global const float* areaCdf, __global const float* histograms,
+                           __global PclRadiance* radiance) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
     const PclEyeHit h = hits[i];
@@ -126,9 +127,13 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
             const PclV3 end = sampling_v3(q.x + L.axis[0] * eps, q.y + L.axis[1] * eps, q.z + L.axis[2] * eps);
             const PclV3 seg = sampling_v3(end.x - o.x, end.y - o.y, end.z - o.z);
             if (!direct_visible(nodes, packets, spheres, o, seg, 1.0f, tau)) continue;
-            const float wMis = params.gatherRays == 0u
-                                   ? 1.0f
-                                   : eye_mis_weight(M, pdfL, params.gatherRays, cosS / PCL_PI_F);
+            float pdfB = cosS / PCL_PI_F;
+            if (params.histogramCells > 0u) {  /* the gather rays' importance density */
+                const uint G = params.histogramCells;
+                __global const float* cdf = histograms + (size_t)i * G * G;
+                pdfB = pdfB * ((float)(G * G) * eye_cell_probability(cdf, eye_cell_of_direction(nf, wi, G)));
+            }
+            const float wMis = params.gatherRays == 0u ? 1.0f : eye_mis_weight(M, pdfL, params.gatherRays, pdfB);
             const float f = cosS * wMis / pdfL;
             const PclMaterial E = materials[primInfo[L.prim].material];
             for (int c = 0; c < 3; ++c) area[c] = area[c] + E.emission[c] * f;

@@ -30,8 +30,8 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
                                  __global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                                  __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,
                                  __global const PclMaterial* materials, __global const PclLight* lights,
-                                 __global const uint* lightOfPrim, __global PclEstimateQuery* queries,
-                                 __global PclGatherHit* gathered) {
+                                 __global const uint* lightOfPrim, __global const float* histograms,
+                                 __global PclEstimateQuery* queries, __global PclGatherHit* gathered) {
     const uint j = (uint)get_global_id(0);
     const uint N = params.gatherRays;
     if (j >= params.sampleCount * N) return;
@@ -57,10 +57,23 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
     const float tau = h.time;
     uint w[4];
     rng_block(seed, h.pixel, bounceWord, 0u, PCL_RNG_STREAM_GATHER, w);
-    PclV3 d = sampling_cosine_hemisphere(n0, rng_u01(w[0]), rng_u01(w[1]));
-    const float pdfB = sampling_dot(n0, d) / PCL_PI_F;  /* the cosine density at the eye hit */
+    float s1 = rng_u01(w[0]), s2 = rng_u01(w[1]);
+    float ratio = 1.0f;  /* cosine density / sampling density */
+    const uint G = params.histogramCells;
+    if (G > 0u) {
+        /* A cell by the record's cumulative table (u2), then uniform within it. */
+        __global const float* cdf = histograms + (size_t)i * G * G;
+        const float u2 = rng_u01(w[2]);
+        uint c = 0u;
+        while (c + 1u < G * G && !(u2 < cdf[c])) ++c;
+        s1 = ((float)(c % G) + s1) / (float)G;
+        s2 = ((float)(c / G) + s2) / (float)G;
+        ratio = 1.0f / ((float)(G * G) * eye_cell_probability(cdf, c));
+    }
+    PclV3 d = sampling_cosine_hemisphere(n0, s1, s2);
+    const float pdfB = sampling_dot(n0, d) / PCL_PI_F / ratio;  /* the gather ray's density */
     PclV3 o = eye_add_scaled(p0, n0, params.rayEpsilon);
-    float T[3] = {1.0f, 1.0f, 1.0f}, Le[3] = {0.0f, 0.0f, 0.0f};
+    float T[3] = {ratio, ratio, ratio}, Le[3] = {0.0f, 0.0f, 0.0f};
     bool afterSpecular = false;
 
     for (uint b = 0u; b <= params.maxSpecular; ++b) {
@@ -118,6 +131,61 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
     }
     queries[j] = q;
     gathered[j] = out;
+}
+
+/* Optional importance sampling (Jensen 1995, "Importance driven path tracing using the photon
+ * map"): the kNN queries at the eye hits (k, maxRadius2 of the params), then per record a G × G
+ * histogram of the incident flux of those photons over the cosine map's square, mixed with the
+ * uniform (cosine) density: p_c = (1 − α) f_c / Σf + α / G² (α = PCL_GATHER_UNIFORM_MIX), or
+ * 1/G² when Σf = 0, stored as its cumulative table cdf[i·G² + c], the last entry 1. A gather
+ * ray then takes cell c with u2 < cdf[c] and its point (cx + u0, cy + u1)/G on the square; its
+ * density is G² p_c cosθ/π, its weight (and direct light's MIS density) follow. */
+__kernel void final_gather_histogram_queries(const PclGatherParams params, __global const PclEyeHit* hits,
+                                             __global PclKnnQuery* queries) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= params.sampleCount) return;
+    const PclEyeHit h = hits[i];
+    PclKnnQuery q;
+    q.x = h.x; q.y = h.y; q.z = h.z;
+    q.maxRadius2 = (h.flags & PCL_EYE_DIFFUSE) ? params.maxRadius2 : 0.0f;
+    q.k = params.k;
+    q.pad0 = q.pad1 = q.pad2 = 0u;
+    queries[i] = q;
+}
+
+__kernel void final_gather_histogram(const PclGatherParams params, __global const PclEyeHit* hits,
+                                     __global const PclPhoton* photons, __global const uint* counts,
+                                     __global const uint* indices, const uint stride, __global float* histograms) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= params.sampleCount) return;
+    const uint G = params.histogramCells, C = G * G;
+    const PclEyeHit h = hits[i];
+    float f[PCL_GATHER_MAX_CELLS * PCL_GATHER_MAX_CELLS];
+    for (uint c = 0u; c < C; ++c) f[c] = 0.0f;
+    float total = 0.0f;
+    if (h.flags & PCL_EYE_DIFFUSE) {
+        const PclV3 n = sampling_v3(h.nx, h.ny, h.nz);
+        const uint count = counts[i];
+        for (uint j = 0u; j < count; ++j) {
+            const PclPhoton ph = photons[indices[(size_t)i * stride + j]];
+            const PclV3 wi = photon_dir_decode(ph.packed);
+            if (!(sampling_dot(wi, n) > 0.0f)) continue;
+            float r, g, b;
+            photon_rgbe_decode(ph.rgbe, &r, &g, &b);
+            const float flux = eye_luminance(r, g, b);
+            f[eye_cell_of_direction(n, wi, G)] += flux;
+            total += flux;
+        }
+    }
+    __global float* cdf = histograms + (size_t)i * C;
+    float running = 0.0f;
+    for (uint c = 0u; c < C; ++c) {
+        const float p = total > 0.0f
+                            ? (1.0f - PCL_GATHER_UNIFORM_MIX) * (f[c] / total) + PCL_GATHER_UNIFORM_MIX / (float)C
+                            : 1.0f / (float)C;
+        running += p;
+        cdf[c] = c + 1u == C ? 1.0f : running;
+    }
 }
 
 __kernel void final_gather_resolve(const PclGatherParams params, __global const PclEyeHit* hits,

@@ -282,6 +282,48 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Render
                 .radiance;
         timed(compareRadiance("final gather (precomp.)", dPre, tPre, o.tolerance, o.worstShown),
               pt.traceSeconds + pt.irradianceSeconds + pt.resolveSeconds, since(t0));
+
+        if (o.histogramCells > 0) {
+            PclGatherParams ip = gp;
+            ip.histogramCells = o.histogramCells;
+            PclDirectParams idp = dp;
+            idp.histogramCells = o.histogramCells;
+            auto t1 = Clock::now();
+            const cl::Buffer hist = buildGatherHistograms(device, global, ip, hits);
+            const double histSeconds = since(t1);
+            const size_t C = size_t(o.histogramCells) * o.histogramCells;
+            const std::vector<float> dHist = device.download<float>(hist, n * C);
+            t0 = Clock::now();
+            const std::vector<float> tHist = referenceGatherHistograms(maps.global, dHits, ip);
+            timed(compareValues("importance histograms", dHist, tHist, C, o.tolerance, o.worstShown), histSeconds,
+                  since(t0));
+            const GatherTiming it = finalGather(device, deviceScene, deviceLights, ip, hits, hist, *pre, gathered);
+            const std::vector<PclRadiance> dImp = device.download<PclRadiance>(gathered, n);
+            t0 = Clock::now();
+            const std::vector<PclRadiance> tImp =
+                referenceFinalGather(geometry, buffers, dHits, ip,
+                                     [&](const std::vector<PclEstimateQuery>& q) {
+                                         const ReferenceIrradianceLookup l =
+                                             referenceLookupIrradiance(points, cover, q, irr.minNormalCos);
+                                         std::vector<Vec3> e(q.size());
+                                         for (size_t j = 0; j < q.size(); ++j)
+                                             e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1],
+                                                         l.irradiance[4 * j + 2]);
+                                         return e;
+                                     },
+                                     &dHist)
+                    .radiance;
+            timed(compareRadiance("final gather (import.)", dImp, tImp, o.tolerance, o.worstShown),
+                  it.traceSeconds + it.irradianceSeconds + it.resolveSeconds, since(t0));
+            cl::Buffer impDirect = device.allocate<PclRadiance>(n, CL_MEM_READ_WRITE, "check render: direct (import.)");
+            const double ds = deviceSeconds(directLight(device, deviceScene, deviceLights, idp, hits, hist, impDirect));
+            const std::vector<PclRadiance> dID = device.download<PclRadiance>(impDirect, n);
+            t0 = Clock::now();
+            std::vector<PclRadiance> tID(n);
+            for (size_t i = 0; i < n; ++i)
+                tID[i] = referenceDirectLightAt(geometry, buffers, table, idp, dHits[i], dHist.data() + i * C);
+            timed(compareRadiance("direct light (import.)", dID, tID, o.tolerance, o.worstShown), ds, since(t0));
+        }
     }
 
     // 5. Caustics and direct visualisation.

@@ -6,7 +6,9 @@
 // the device rays); direct light, final gather, caustics, direct visualisation (from the device
 // eye records; the maps from one device photon pass; the twin estimates by brute force). Then
 // per pixel the sum emitted + direct + caustics + gather, device vs twin. The gather is also
-// compared reading precomputed irradiance (the twin looks up the device's stored points).
+// compared reading precomputed irradiance (the twin looks up the device's stored points), and
+// importance-sampled (Jensen's incident-flux histograms: the histograms themselves, then the
+// gather and direct light given the device's histograms).
 //
 // A value matches when |d − t| ≤ tolerance · max(|d|, |t|) + 1e-6 · peak (peak: the stage's
 // largest twin value, so values a millionth of the brightest count as equal); a sample (or
@@ -36,6 +38,7 @@ struct RenderCheckOptions {
     float radiusFraction = 0.1f;       // r_max / scene bounding-box diagonal
     uint32_t globalPhotons = 20000, causticPhotons = 20000;
     EstimateSettings estimate;         // filter etc. (structure: the device map's)
+    uint32_t histogramCells = 8;       // G of the importance-sampled gather's rows (0: those rows left out)
     double tolerance = 1e-3;           // relative, per value
     double required = 0.999;           // fraction of samples that must match
     size_t worstShown = 5;

@@ -51,9 +51,17 @@ PclDirectParams directParams(const PclEyeParams& eye, const SceneGeometry& geome
 cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
                       const PclDirectParams& params, const cl::Buffer& hits, cl::Buffer& radiance);
 
-// For tests: upload, run, download.
+// With the final gather's importance histograms (sampleCount × G² cumulative tables from
+// buildGatherHistograms, G = params.histogramCells > 0): the MIS weights use the gather rays'
+// real density. The overload above requires params.histogramCells == 0.
+cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
+                      const PclDirectParams& params, const cl::Buffer& hits, const cl::Buffer& histograms,
+                      cl::Buffer& radiance);
+
+// For tests: upload, run, download (histograms: the tables when params.histogramCells > 0).
 std::vector<PclRadiance> directLightOnDevice(Device& device, const SceneGeometry& geometry,
                                              const SceneBuffers& buffers, const std::vector<PclEyeHit>& hits,
-                                             const PclDirectParams& params);
+                                             const PclDirectParams& params,
+                                             const std::vector<float>* histograms = nullptr);
 
 }  // namespace pcl

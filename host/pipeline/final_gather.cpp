@@ -41,16 +41,48 @@ static size_t gatherRayCount(const PclGatherParams& p) {
 cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
                           const PclGatherParams& params, const cl::Buffer& hits, cl::Buffer& queries,
                           cl::Buffer& gathered) {
+    if (params.histogramCells != 0)
+        throw InputError("final gather: histogramCells " + std::to_string(params.histogramCells) +
+                         " without histograms: expected the overload that takes them, or 0");
+    const cl::Buffer none = device.allocate<float>(1, CL_MEM_READ_ONLY, "final gather: no histograms");
+    return traceGatherRays(device, scene, lights, params, hits, none, queries, gathered);
+}
+
+cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
+                          const PclGatherParams& params, const cl::Buffer& hits, const cl::Buffer& histograms,
+                          cl::Buffer& queries, cl::Buffer& gathered) {
     if (gatherRayCount(params) > 0xFFFFFFFFull)
         throw InputError("final gather: " + std::to_string(gatherRayCount(params)) +
                          " gather rays in one launch: expected below 2^32 (launch fewer records)");
+    if (params.histogramCells > PCL_GATHER_MAX_CELLS)
+        throw InputError("final gather: histogramCells " + std::to_string(params.histogramCells) + ": expected 0..16");
     auto kernel = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "final_gather", "final_gather_trace", scene.geometry.programOptions());
     return device.launchLocal("final_gather", kernel, photonGlobalRange(gatherRayCount(params)),
                               cl::NDRange(kPhotonGroup), params, hits, scene.geometry.nodes, scene.geometry.packets,
                               scene.geometry.spheres, scene.primInfo, scene.materials, scene.lights,
-                              lights.lightOfPrim, queries, gathered);
+                              lights.lightOfPrim, histograms, queries, gathered);
+}
+
+cl::Buffer buildGatherHistograms(Device& device, const PhotonMapOnDevice& global, const PclGatherParams& params,
+                                 const cl::Buffer& hits) {
+    const uint32_t G = params.histogramCells;
+    if (G < 1 || G > PCL_GATHER_MAX_CELLS)
+        throw InputError("final gather: histogramCells " + std::to_string(G) + ": expected 1..16");
+    const size_t n = params.sampleCount;
+    cl::Buffer queries = device.allocate<PclKnnQuery>(n, CL_MEM_READ_WRITE, "final gather: histogram queries");
+    auto q = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer>("final_gather", "final_gather_histogram_queries");
+    device.launchLocal("final_gather", q, photonGlobalRange(n), cl::NDRange(kPhotonGroup), params, hits, queries);
+    DeviceKnnOutput knn;
+    global.search(device, queries, n, params.k, knn);
+    cl::Buffer histograms = device.allocate<float>(n * G * G, CL_MEM_READ_WRITE, "final gather: histograms");
+    auto h = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(
+        "final_gather", "final_gather_histogram");
+    device.launchLocal("final_gather", h, photonGlobalRange(n), cl::NDRange(kPhotonGroup), params, hits,
+                       global.photons(), knn.counts, knn.indices, cl_uint(knn.stride), histograms);
+    device.finish();
+    return histograms;
 }
 
 cl::Event resolveGather(Device& device, const PclGatherParams& params, const cl::Buffer& hits,
@@ -64,12 +96,22 @@ cl::Event resolveGather(Device& device, const PclGatherParams& params, const cl:
 GatherTiming finalGather(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
                          PclGatherParams params, const cl::Buffer& hits, IrradianceSource& source,
                          cl::Buffer& radiance) {
+    if (params.histogramCells != 0)
+        throw InputError("final gather: histogramCells " + std::to_string(params.histogramCells) +
+                         " without histograms: expected the overload that takes them, or 0");
+    const cl::Buffer none = device.allocate<float>(1, CL_MEM_READ_ONLY, "final gather: no histograms");
+    return finalGather(device, scene, lights, params, hits, none, source, radiance);
+}
+
+GatherTiming finalGather(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
+                         PclGatherParams params, const cl::Buffer& hits, const cl::Buffer& histograms,
+                         IrradianceSource& source, cl::Buffer& radiance) {
     GatherTiming t;
     params.irradianceStride = source.strideFloats;
     const size_t n = gatherRayCount(params);
     cl::Buffer queries = device.allocate<PclEstimateQuery>(n, CL_MEM_READ_WRITE, "final gather: queries");
     cl::Buffer gathered = device.allocate<PclGatherHit>(n, CL_MEM_READ_WRITE, "final gather: gathered rays");
-    cl::Event e = traceGatherRays(device, scene, lights, params, hits, queries, gathered);
+    cl::Event e = traceGatherRays(device, scene, lights, params, hits, histograms, queries, gathered);
     device.finish();
     if (e()) t.traceSeconds = Device::elapsedSeconds(e);
     const double before = source.seconds;
@@ -83,7 +125,8 @@ GatherTiming finalGather(Device& device, const DeviceScene& scene, const DeviceA
 
 GatherResult finalGatherOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
                                  const std::vector<PclEyeHit>& hits, const PclGatherParams& params,
-                                 IrradianceSource& source) {
+                                 IrradianceSource& source, const PhotonMapOnDevice* global,
+                                 std::vector<float>* histogramsOut) {
     if (hits.size() != params.sampleCount)
         throw InputError("finalGatherOnDevice: " + std::to_string(hits.size()) + " records for " +
                          std::to_string(params.sampleCount));
@@ -97,7 +140,14 @@ GatherResult finalGatherOnDevice(Device& device, const SceneGeometry& geometry, 
     cl::Buffer gathered = device.allocate<PclGatherHit>(n, CL_MEM_READ_WRITE, "final gather: gathered rays");
     cl::Buffer radiance = device.allocate<PclRadiance>(hits.size(), CL_MEM_READ_WRITE, "final gather: radiance");
     GatherResult r;
-    cl::Event e = traceGatherRays(device, scene, lights, p, hitBuf, queries, gathered);
+    cl::Buffer histograms = device.allocate<float>(1, CL_MEM_READ_ONLY, "final gather: no histograms");
+    if (p.histogramCells > 0) {
+        if (!global) throw InputError("finalGatherOnDevice: histogramCells > 0 needs the global map");
+        histograms = buildGatherHistograms(device, *global, p, hitBuf);
+        if (histogramsOut)
+            *histogramsOut = device.download<float>(histograms, hits.size() * p.histogramCells * p.histogramCells);
+    }
+    cl::Event e = traceGatherRays(device, scene, lights, p, hitBuf, histograms, queries, gathered);
     device.finish();
     if (e()) r.timing.traceSeconds = Device::elapsedSeconds(e);
     const double before = source.seconds;

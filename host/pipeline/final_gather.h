@@ -42,6 +42,20 @@ cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const Device
                           const PclGatherParams& params, const cl::Buffer& hits, cl::Buffer& queries,
                           cl::Buffer& gathered);
 
+// Optional importance sampling of the gather rays (Jensen 1995; kernels/README.md, "final
+// gather"): per diffuse eye record a G × G histogram (G = params.histogramCells, 1..16) of the
+// incident flux of the params.k global photons nearest the hit (within params.maxRadius2) over
+// the cosine map's square, mixed with the cosine density (PCL_GATHER_UNIFORM_MIX), as cumulative
+// tables: sampleCount × G² floats, returned. Direct light must be given the same tables and
+// the same G (PclDirectParams::histogramCells) for its MIS weights.
+cl::Buffer buildGatherHistograms(Device& device, const PhotonMapOnDevice& global, const PclGatherParams& params,
+                                 const cl::Buffer& hits);
+// traceGatherRays with the tables (params.histogramCells > 0); the overload above requires
+// params.histogramCells == 0.
+cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
+                          const PclGatherParams& params, const cl::Buffer& hits, const cl::Buffer& histograms,
+                          cl::Buffer& queries, cl::Buffer& gathered);
+
 // Enqueues final_gather_resolve: radiance[i] (PclRadiance, caller-allocated) from the records,
 // the gathered rays and the irradiance records (params.irradianceStride floats each).
 cl::Event resolveGather(Device& device, const PclGatherParams& params, const cl::Buffer& hits,
@@ -56,6 +70,10 @@ struct GatherTiming {
 GatherTiming finalGather(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
                          PclGatherParams params, const cl::Buffer& hits, IrradianceSource& source,
                          cl::Buffer& radiance);
+// The same with importance histograms (buildGatherHistograms) when params.histogramCells > 0.
+GatherTiming finalGather(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
+                         PclGatherParams params, const cl::Buffer& hits, const cl::Buffer& histograms,
+                         IrradianceSource& source, cl::Buffer& radiance);
 
 struct GatherResult {
     std::vector<PclEstimateQuery> queries;  // sampleCount × N
@@ -64,8 +82,11 @@ struct GatherResult {
     GatherTiming timing;
 };
 // For tests: upload, run, download everything.
+// With params.histogramCells > 0 the tables are built from `global` (required then), and
+// downloaded into `histograms` when given.
 GatherResult finalGatherOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
                                  const std::vector<PclEyeHit>& hits, const PclGatherParams& params,
-                                 IrradianceSource& source);
+                                 IrradianceSource& source, const PhotonMapOnDevice* global = nullptr,
+                                 std::vector<float>* histograms = nullptr);
 
 }  // namespace pcl

@@ -20,7 +20,8 @@ float smoothstep(float e0, float e1, float x) {
 }  // namespace
 
 PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                   const AreaLightTable& table, const PclDirectParams& params, const PclEyeHit& h) {
+                                   const AreaLightTable& table, const PclDirectParams& params, const PclEyeHit& h,
+                                   const float* cdf) {
     PclRadiance out{};
     if (!(h.flags & PCL_EYE_DIFFUSE)) return out;
     const Vec3 p(h.x, h.y, h.z), nf(h.nx, h.ny, h.nz);
@@ -85,7 +86,12 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
             if (!(pdfL > 0.0f)) continue;
             const Vec3 end = q + eyeVec(L.axis) * eps;
             if (geometry.occluded(eyeRay(o, end - o, 1.0f, tau))) continue;
-            const float wMis = params.gatherRays == 0 ? 1.0f : eyeMisWeight(M, pdfL, params.gatherRays, cosS / kPi);
+            float pdfB = cosS / kPi;
+            if (params.histogramCells > 0 && cdf) {
+                const uint32_t G = params.histogramCells;
+                pdfB = pdfB * (float(G * G) * eyeCellProbability(cdf, eyeCellOfDirection(nf, wi, G)));
+            }
+            const float wMis = params.gatherRays == 0 ? 1.0f : eyeMisWeight(M, pdfL, params.gatherRays, pdfB);
             const Vec3 Le = eyeVec(buffers.materials[buffers.primInfo[L.prim].material].emission);
             area = area + Le * (cosS * wMis / pdfL);
         }
@@ -100,11 +106,14 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
 }
 
 std::vector<PclRadiance> referenceDirectLight(const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                              const std::vector<PclEyeHit>& hits, const PclDirectParams& params) {
+                                              const std::vector<PclEyeHit>& hits, const PclDirectParams& params,
+                                              const std::vector<float>* histograms) {
     const AreaLightTable table = buildAreaLightTable(buffers, geometry.primitiveCount());
     std::vector<PclRadiance> out(hits.size());
     parallelForEveryThread(hits.size(), [&](size_t i) {
-        out[i] = referenceDirectLightAt(geometry, buffers, table, params, hits[i]);
+        const size_t C = size_t(params.histogramCells) * params.histogramCells;
+        const float* cdf = (C > 0 && histograms) ? histograms->data() + i * C : nullptr;
+        out[i] = referenceDirectLightAt(geometry, buffers, table, params, hits[i], cdf);
     });
     return out;
 }

@@ -9,9 +9,12 @@
 
 namespace pcl {
 
+// cdf: the record's importance histogram table (G² floats) when params.histogramCells > 0.
 PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                   const AreaLightTable& table, const PclDirectParams& params, const PclEyeHit& h);
+                                   const AreaLightTable& table, const PclDirectParams& params, const PclEyeHit& h,
+                                   const float* cdf = nullptr);
 std::vector<PclRadiance> referenceDirectLight(const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                              const std::vector<PclEyeHit>& hits, const PclDirectParams& params);
+                                              const std::vector<PclEyeHit>& hits, const PclDirectParams& params,
+                                              const std::vector<float>* histograms = nullptr);
 
 }  // namespace pcl

@@ -84,6 +84,29 @@ inline float eyeAreaLightPdf(const PclLight& L, float areaPowerTotal, Vec3 wi, f
     return (s / areaPowerTotal) * d2 / (L.area * cosL);
 }
 
+// Importance histograms of the gather (kernels/README.md, "final gather"): the cell of unit
+// direction w above n on the cosine map's G × G square, through the inverse concentric map.
+inline uint32_t eyeCellOfDirection(Vec3 n, Vec3 w, uint32_t G) {
+    Vec3 t, b;
+    makeBasis(n, t, b);
+    const float x = dot(w, t), y = dot(w, b);
+    const float r = std::sqrt(x * x + y * y);
+    float a = 0.0f, c = 0.0f;
+    if (r == 0.0f) {
+    } else if (std::fabs(x) > std::fabs(y)) {
+        a = x > 0.0f ? r : -r;
+        c = a * (4.0f / kPi) * std::atan2(y / a, x / a);
+    } else {
+        c = y > 0.0f ? r : -r;
+        a = c * (4.0f / kPi) * (kPi / 2.0f - std::atan2(y / c, x / c));
+    }
+    const float s1 = 0.5f * (a + 1.0f), s2 = 0.5f * (c + 1.0f);
+    const int cx = std::min(std::max(int(std::floor(s1 * float(G))), 0), int(G) - 1);
+    const int cy = std::min(std::max(int(std::floor(s2 * float(G))), 0), int(G) - 1);
+    return uint32_t(cy) * G + uint32_t(cx);
+}
+inline float eyeCellProbability(const float* cdf, uint32_t c) { return c == 0 ? cdf[0] : cdf[c] - cdf[c - 1]; }
+
 inline PclRay eyeRay(Vec3 o, Vec3 d, float tmax, float time) {
     PclRay r{};
     r.ox = o.x; r.oy = o.y; r.oz = o.z; r.tmin = 0.0f;

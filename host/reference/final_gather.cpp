@@ -1,9 +1,12 @@
 #include "reference/final_gather.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "reference/estimate.h"
+#include "reference/knn.h"
+#include "reference/trace_photons.h"
 #include "reference/eye_scatter.h"
 #include "reference/parallel_for.h"
 #include "shared/rng.h"
@@ -20,8 +23,62 @@ ReferenceIrradiance referenceEstimateIrradiance(const std::vector<PclPhoton>& ma
     };
 }
 
+namespace {
+
+// The photon's incoming direction (kernels/README.md, "Photon record"): θ = (θ byte + ½) π/256,
+// φ = (signed φ byte + ½) π/128.
+Vec3 decodePhotonDirection(uint32_t packed) {
+    const float theta = (float(packed & 255u) + 0.5f) * (kPi / 256.0f);
+    const uint32_t pb = (packed >> 8) & 255u;
+    const int32_t ps = pb >= 128u ? int32_t(pb) - 256 : int32_t(pb);
+    const float phi = (float(ps) + 0.5f) * (kPi / 128.0f);
+    const float st = std::sin(theta);
+    return {st * std::cos(phi), st * std::sin(phi), std::cos(theta)};
+}
+
+}  // namespace
+
+std::vector<float> referenceGatherHistograms(const std::vector<PclPhoton>& map, const std::vector<PclEyeHit>& hits,
+                                             const PclGatherParams& params) {
+    const uint32_t G = params.histogramCells, C = G * G;
+    std::vector<PclKnnQuery> queries(hits.size());
+    for (size_t i = 0; i < hits.size(); ++i) {
+        queries[i] = PclKnnQuery{};
+        queries[i].x = hits[i].x; queries[i].y = hits[i].y; queries[i].z = hits[i].z;
+        queries[i].maxRadius2 = (hits[i].flags & PCL_EYE_DIFFUSE) ? params.maxRadius2 : 0.0f;
+        queries[i].k = params.k;
+    }
+    const ReferenceKnn knn = referenceKnnBruteForce(map, queries);
+    std::vector<float> out(hits.size() * C);
+    for (size_t i = 0; i < hits.size(); ++i) {
+        std::vector<float> f(C, 0.0f);
+        float total = 0.0f;
+        const PclEyeHit& h = hits[i];
+        if (h.flags & PCL_EYE_DIFFUSE) {
+            const Vec3 n(h.nx, h.ny, h.nz);
+            for (uint32_t j = 0; j < knn.counts[i]; ++j) {
+                const PclPhoton& ph = map[knn.indices[i * knn.stride + j]];
+                const Vec3 wi = decodePhotonDirection(ph.packed);
+                if (!(dot(wi, n) > 0.0f)) continue;
+                const float flux = luminance(referenceDecodeRgbe(ph.rgbe));
+                f[eyeCellOfDirection(n, wi, G)] += flux;
+                total += flux;
+            }
+        }
+        float running = 0.0f;
+        for (uint32_t c = 0; c < C; ++c) {
+            const float p = total > 0.0f
+                                ? (1.0f - PCL_GATHER_UNIFORM_MIX) * (f[c] / total) + PCL_GATHER_UNIFORM_MIX / float(C)
+                                : 1.0f / float(C);
+            running += p;
+            out[i * C + c] = c + 1 == C ? 1.0f : running;
+        }
+    }
+    return out;
+}
+
 void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffers, const PclGatherParams& params,
-                        const PclEyeHit& h, uint32_t g, PclEstimateQuery& q, PclGatherHit& out) {
+                        const PclEyeHit& h, uint32_t g, PclEstimateQuery& q, PclGatherHit& out, const float* cdf) {
     q = PclEstimateQuery{};
     q.nz = 1.0f;
     q.k = params.k;
@@ -34,10 +91,19 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
     const float tau = h.time;
     uint32_t w[4];
     rng_block(seed, h.pixel, bounceWord, 0, PCL_RNG_STREAM_GATHER, w);
-    Vec3 d = sampleCosineHemisphere(n0, rng_u01(w[0]), rng_u01(w[1]));
-    const float pdfB = dot(n0, d) / kPi;
+    float s1 = rng_u01(w[0]), s2 = rng_u01(w[1]), ratio = 1.0f;
+    const uint32_t G = params.histogramCells;
+    if (G > 0 && cdf) {
+        const float u2 = rng_u01(w[2]);
+        const uint32_t c = uint32_t(std::min<size_t>(std::upper_bound(cdf, cdf + G * G, u2) - cdf, G * G - 1));
+        s1 = (float(c % G) + s1) / float(G);
+        s2 = (float(c / G) + s2) / float(G);
+        ratio = 1.0f / (float(G * G) * eyeCellProbability(cdf, c));
+    }
+    Vec3 d = sampleCosineHemisphere(n0, s1, s2);
+    const float pdfB = dot(n0, d) / kPi / ratio;
     Vec3 o = p0 + n0 * params.rayEpsilon;
-    Vec3 T(1.0f), Le(0.0f);
+    Vec3 T(ratio), Le(0.0f);
     bool afterSpecular = false;
     for (uint32_t b = 0; b <= params.maxSpecular; ++b) {
         PclHit hit;
@@ -111,13 +177,15 @@ std::vector<PclRadiance> referenceResolveGather(const PclGatherParams& params, c
 
 ReferenceGather referenceFinalGather(const SceneGeometry& geometry, const SceneBuffers& buffers,
                                      const std::vector<PclEyeHit>& hits, const PclGatherParams& params,
-                                     const ReferenceIrradiance& irradiance) {
+                                     const ReferenceIrradiance& irradiance, const std::vector<float>* histograms) {
     ReferenceGather r;
     const size_t N = params.gatherRays, n = hits.size() * N;
     r.queries.resize(n);
     r.gathered.resize(n);
     parallelForEveryThread(n, [&](size_t j) {
-        referenceGatherRay(geometry, buffers, params, hits[j / N], uint32_t(j % N), r.queries[j], r.gathered[j]);
+        const size_t C = size_t(params.histogramCells) * params.histogramCells;
+        const float* cdf = (C > 0 && histograms) ? histograms->data() + (j / N) * C : nullptr;
+        referenceGatherRay(geometry, buffers, params, hits[j / N], uint32_t(j % N), r.queries[j], r.gathered[j], cdf);
     });
     r.irradiance = irradiance(r.queries);
     r.radiance = referenceResolveGather(params, hits, r.gathered, r.irradiance);

@@ -21,9 +21,17 @@ using ReferenceIrradiance = std::function<std::vector<Vec3>(const std::vector<Pc
 ReferenceIrradiance referenceEstimateIrradiance(const std::vector<PclPhoton>& map, const EstimateSettings& settings,
                                                 const SceneGeometry* geometry);
 
-// Gather ray j = i·N + g: the query and what it gathered.
+// The importance histograms (params.histogramCells = G > 0): per record the cumulative table
+// of G² cells from the params.k photons of `map` nearest the hit within params.maxRadius2
+// (brute-force kNN), records × G² floats.
+std::vector<float> referenceGatherHistograms(const std::vector<PclPhoton>& map, const std::vector<PclEyeHit>& hits,
+                                             const PclGatherParams& params);
+
+// Gather ray j = i·N + g: the query and what it gathered. cdf: record i's histogram table
+// (G² floats) when params.histogramCells > 0.
 void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffers, const PclGatherParams& params,
-                        const PclEyeHit& h, uint32_t g, PclEstimateQuery& query, PclGatherHit& gathered);
+                        const PclEyeHit& h, uint32_t g, PclEstimateQuery& query, PclGatherHit& gathered,
+                        const float* cdf = nullptr);
 
 struct ReferenceGather {
     std::vector<PclEstimateQuery> queries;
@@ -31,9 +39,11 @@ struct ReferenceGather {
     std::vector<Vec3> irradiance;
     std::vector<PclRadiance> radiance;
 };
+// histograms: records × G² tables when params.histogramCells > 0.
 ReferenceGather referenceFinalGather(const SceneGeometry& geometry, const SceneBuffers& buffers,
                                      const std::vector<PclEyeHit>& hits, const PclGatherParams& params,
-                                     const ReferenceIrradiance& irradiance);
+                                     const ReferenceIrradiance& irradiance,
+                                     const std::vector<float>* histograms = nullptr);
 // The resolve alone (radiance from records, gathered rays and irradiance).
 std::vector<PclRadiance> referenceResolveGather(const PclGatherParams& params, const std::vector<PclEyeHit>& hits,
                                                 const std::vector<PclGatherHit>& gathered,

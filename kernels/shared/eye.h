@@ -83,5 +83,37 @@ inline float eye_area_light_pdf(const PclLight L, float areaPowerTotal, PclV3 wi
     return (s / areaPowerTotal) * d2 / (L.area * cosL);
 }
 
+/* Importance sampling of the gather rays (Jensen 1995; optional): a G × G histogram over the
+ * square whose points the cosine-hemisphere map (sampling_cosine_hemisphere, basis
+ * sampling_basis(n)) turns into directions. The cell of unit direction w above n: the disk
+ * point (w·t, w·b) through the inverse of Shirley & Chiu's concentric map. */
+inline uint eye_cell_of_direction(PclV3 n, PclV3 w, uint G) {
+    PclV3 t, b;
+    sampling_basis(n, &t, &b);
+    const float x = sampling_dot(w, t), y = sampling_dot(w, b);
+    const float r = sqrt(x * x + y * y);
+    float a, c;  /* the square point in [-1, 1]² */
+    if (r == 0.0f) {
+        a = 0.0f;
+        c = 0.0f;
+    } else if (fabs(x) > fabs(y)) {
+        a = x > 0.0f ? r : -r;
+        c = a * (4.0f / PCL_PI_F) * atan2(y / a, x / a);
+    } else {
+        c = y > 0.0f ? r : -r;
+        a = c * (4.0f / PCL_PI_F) * (PCL_PI_F / 2.0f - atan2(y / c, x / c));
+    }
+    const float s1 = 0.5f * (a + 1.0f), s2 = 0.5f * (c + 1.0f);
+    int cx = (int)floor(s1 * (float)G), cy = (int)floor(s2 * (float)G);
+    cx = cx < 0 ? 0 : (cx >= (int)G ? (int)G - 1 : cx);
+    cy = cy < 0 ? 0 : (cy >= (int)G ? (int)G - 1 : cy);
+    return (uint)cy * G + (uint)cx;
+}
+
+/* The probability of cell c from the cumulative table: cdf[c] − cdf[c − 1] (cdf[−1] = 0). */
+inline float eye_cell_probability(__global const float* cdf, uint c) {
+    return c == 0u ? cdf[0] : cdf[c] - cdf[c - 1u];
+}
+
 #endif /* __OPENCL_VERSION__ */
 #endif /* PCL_EYE_H */

@@ -343,7 +343,8 @@ typedef struct PclDirectParams {
     pcl_u32 gatherRays;       /* N: cosine samples stage 4 takes; 0 → light sampling alone, weight 1 */
     pcl_f32 areaPowerTotal;   /* Σ scalar power of the triangle lights (the choice's normaliser) */
     pcl_f32 rayEpsilon;
-    pcl_u32 pad0, pad1;
+    pcl_u32 histogramCells;   /* G of the gather's importance histograms (MIS density); 0: cosine */
+    pcl_u32 pad0;
 } PclDirectParams;
 PCL_STATIC_ASSERT(sizeof(PclDirectParams) == 48, PclDirectParams_size);
 
@@ -361,8 +362,12 @@ typedef struct PclGatherParams {
     pcl_f32 areaPowerTotal;   /* as PclDirectParams */
     pcl_f32 rayEpsilon;
     pcl_u32 irradianceStride; /* resolve: floats per irradiance record (8: PclEstimate, 4: float4) */
-    pcl_u32 pad0, pad1;
+    pcl_u32 histogramCells;   /* G: gather rays importance-sampled from a G × G incident-flux
+                                 histogram per eye hit (final_gather_histogram); 0: cosine only */
+    pcl_u32 pad0;
 } PclGatherParams;
+#define PCL_GATHER_UNIFORM_MIX 0.25f  /* the cosine share of the importance histogram's density */
+#define PCL_GATHER_MAX_CELLS 16u      /* G ≤ 16 */
 PCL_STATIC_ASSERT(sizeof(PclGatherParams) == 64, PclGatherParams_size);
 
 /* What one gather ray found (final_gather_trace): its radiance toward the eye hit is
