@@ -115,10 +115,30 @@ void writeWithOiio(const std::string& path, const std::string& tmp, const OIIO::
 
 std::string writeLinearImage(const std::string& path, const Image& image, const ImageMetadata& metadata,
                              ExrPixelType type) {
+    return writeLinearImage(path, image, metadata, {}, type);
+}
+
+std::string writeLinearImage(const std::string& path, const Image& image, const ImageMetadata& metadata,
+                             const std::vector<ImageLayer>& layers, ExrPixelType type) {
     checkImage(path, image);
+    for (const ImageLayer& l : layers) {
+        if (l.name.empty() || l.name.find('.') != std::string::npos)
+            throw InputError(path + ": layer name '" + l.name + "' must be non-empty and hold no '.'");
+        if (l.image.width != image.width || l.image.height != image.height || l.image.rgb.size() != image.rgb.size())
+            throw InputError(path + ": layer " + l.name + " is " + std::to_string(l.image.width) + "x" +
+                             std::to_string(l.image.height) + ", the image " + std::to_string(image.width) + "x" +
+                             std::to_string(image.height));
+    }
 #ifdef PHOTONCL_HAVE_OIIO
-    OIIO::ImageSpec spec(image.width, image.height, 3,
+    const int channels = 3 + 3 * static_cast<int>(layers.size());
+    OIIO::ImageSpec spec(image.width, image.height, channels,
                          type == ExrPixelType::Half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    if (!layers.empty()) {
+        std::vector<std::string> names = {"R", "G", "B"};
+        for (const ImageLayer& l : layers)
+            for (const char* c : {"R", "G", "B"}) names.push_back(l.name + "." + c);
+        spec.channelnames = names;
+    }
     spec.attribute("compression", "zip");
     std::string version = metadata.version.empty() ? PHOTONCL_VERSION : metadata.version;
     spec.attribute("Software", "photoncl " + version);
@@ -130,8 +150,21 @@ std::string writeLinearImage(const std::string& path, const Image& image, const 
     spec.attribute("photoncl:samples", std::to_string(metadata.samples));
     spec.attribute("photoncl:seed", std::to_string(metadata.seed));
     spec.attribute("photoncl:seconds", static_cast<float>(metadata.seconds));
+    for (const auto& [key, value] : metadata.extra) spec.attribute("photoncl:" + key, value);
+    std::vector<float> interleaved;
+    const float* pixels = image.rgb.data();
+    if (!layers.empty()) {
+        interleaved.resize(image.pixelCount() * channels);
+        for (size_t i = 0; i < image.pixelCount(); ++i) {
+            float* out = &interleaved[i * channels];
+            for (int c = 0; c < 3; ++c) out[c] = image.rgb[3 * i + c];
+            for (size_t l = 0; l < layers.size(); ++l)
+                for (int c = 0; c < 3; ++c) out[3 + 3 * l + c] = layers[l].image.rgb[3 * i + c];
+        }
+        pixels = interleaved.data();
+    }
     writeThroughTemporary(path, [&](const std::string& tmp) {
-        writeWithOiio(path, tmp, spec, OIIO::TypeDesc::FLOAT, image.rgb.data());
+        writeWithOiio(path, tmp, spec, OIIO::TypeDesc::FLOAT, pixels);
     });
     return path;
 #else
@@ -139,6 +172,7 @@ std::string writeLinearImage(const std::string& path, const Image& image, const 
     (void)type;
     std::string pfm = withExtension(path, ".pfm");
     writePfm(pfm, image);
+    for (const ImageLayer& l : layers) writePfm(withExtension(path, ("." + l.name + ".pfm").c_str()), l.image);
     return pfm;
 #endif
 }

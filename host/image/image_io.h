@@ -5,6 +5,8 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "image/image.h"
 
@@ -19,6 +21,16 @@ struct ImageMetadata {
     int64_t samples = 0;  // samples (or passes) per pixel
     uint64_t seed = 0;
     double seconds = 0.0; // render wall time
+    // More attributes, written as "photoncl:<key>" strings (settings, photons, passes, seconds
+    // per stage). EXR only; readImage does not read them back.
+    std::vector<std::pair<std::string, std::string>> extra;
+};
+
+// An extra layer of a multi-channel EXR (AOVs: direct, caustic, albedo, ...): channels
+// "<name>.R", "<name>.G", "<name>.B" after the main R, G, B. Same size as the main image.
+struct ImageLayer {
+    std::string name;
+    Image image;
 };
 
 enum class ExrPixelType { Half, Float };
@@ -31,6 +43,11 @@ bool haveOpenImageIO();
 // metadata). Returns the path actually written. Throws InputError if it cannot be written.
 std::string writeLinearImage(const std::string& path, const Image& image, const ImageMetadata& metadata,
                              ExrPixelType type = ExrPixelType::Float);
+// The same with extra layers in the one EXR. Without OpenImageIO the layers are written beside
+// the PFM as "<stem>.<layer>.pfm". A layer of another size, or named "" / with a '.', is an
+// InputError.
+std::string writeLinearImage(const std::string& path, const Image& image, const ImageMetadata& metadata,
+                             const std::vector<ImageLayer>& layers, ExrPixelType type = ExrPixelType::Float);
 
 // sRGB 8-bit PNG: exposure 1, the sRGB transfer function (IEC 61966-2-1), clamped to [0,1].
 // Returns false (writes nothing) in a build without OpenImageIO.

@@ -36,7 +36,7 @@ ImageErrors compare(const Image& a, const Image& b, double relMseEpsilon) {
 }
 
 ZTestResult perPixelZTest(const std::vector<Image>& runs, const Image& reference, double threshold,
-                          const Image* referenceVariance) {
+                          const Image* referenceVariance, double constantTolerance) {
     if (runs.size() < 2) throw InputError("Z-test: needs at least 2 independent renders, got " + std::to_string(runs.size()));
     for (const Image& run : runs)
         if (run.width != reference.width || run.height != reference.height)
@@ -66,6 +66,7 @@ ZTestResult perPixelZTest(const std::vector<Image>& runs, const Image& reference
         }
         if (bad) {
             ++z.nonFinite;
+            z.failed.push_back(i);
             continue;
         }
         double mean = sum / k, ss = 0.0;
@@ -73,8 +74,9 @@ ZTestResult perPixelZTest(const std::vector<Image>& runs, const Image& reference
         double var = ss / (k - 1.0) / k + (referenceVariance ? std::max(0.0f, referenceVariance->rgb[3 * i]) : 0.0);
         double diff = std::abs(mean - r), absZ;
         if (var > 0.0) absZ = diff / std::sqrt(var);
-        else absZ = diff <= 1e-6 * std::max(std::abs(r), 1e-30) ? 0.0 : std::numeric_limits<double>::infinity();
+        else absZ = diff <= constantTolerance * std::abs(r) ? 0.0 : std::numeric_limits<double>::infinity();
         if (absZ < threshold) ++z.passed;
+        else z.failed.push_back(i);
         if (std::isfinite(absZ)) sumAbsZ += absZ;
         z.maxAbsZ = std::max(z.maxAbsZ, absZ);
         ++finite;

@@ -31,8 +31,9 @@ ImageErrors compare(const Image& a, const Image& b, double relMseEpsilon = kRelM
 // (else 0). For unbiased renders with Gaussian-like pixel errors z follows Student's t with K−1
 // degrees of freedom, so the expected pass rate at a threshold is known (t_{15}: P(|t| < 4) =
 // 0.9988, P(|t| < 3.29) = 0.995); a bias larger than about threshold × the standard error of
-// the mean fails the pixel. A pixel whose K values are all equal passes only if they equal the
-// reference to 1e-6 relative (a black corner, a constant furnace), never by dividing by zero.
+// the mean fails the pixel. A pixel whose K values are all equal (a black corner, a lamp seen
+// straight on) passes when they equal the reference within `constantTolerance` relative
+// (default 1e-3: references stored as half floats round at 2^-11), never by dividing by zero.
 struct ZTestResult {
     size_t pixels = 0;        // pixels tested
     size_t passed = 0;        // |z| < threshold
@@ -40,13 +41,14 @@ struct ZTestResult {
     double threshold = 0.0;
     double meanAbsZ = 0.0;    // over the finite pixels (≈ 0.8 for pure noise)
     double maxAbsZ = 0.0;
+    std::vector<size_t> failed;  // indices (y · width + x) of the pixels that did not pass
     double passFraction() const { return pixels ? static_cast<double>(passed) / pixels : 0.0; }
 };
 
 // `runs` (K ≥ 2, all the reference's size); `referenceVariance`, if given, holds the reference's
 // per-pixel variance of the channel sum in its R channel. Size mismatch or K < 2: InputError.
 ZTestResult perPixelZTest(const std::vector<Image>& runs, const Image& reference, double threshold = 4.0,
-                          const Image* referenceVariance = nullptr);
+                          const Image* referenceVariance = nullptr, double constantTolerance = 1e-3);
 
 std::string formatZTest(const ZTestResult& z);
 

@@ -1,0 +1,123 @@
+// `photoncl render` with the photon-mapping methods: options, output with metadata and AOV
+// layers, the device rules, and Ctrl-C writing the passes done.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
+
+#include "image/image_io.h"
+#include "unit/run_photoncl.h"
+
+namespace fs = std::filesystem;
+using photoncl_cli::Result;
+using photoncl_cli::run;
+
+namespace {
+
+std::string scene(const std::string& name) { return (fs::path(PHOTONCL_SOURCE_DIR) / "scenes" / name).string(); }
+
+class RenderCliTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir = fs::temp_directory_path() / ("photoncl-render-cli-" + std::to_string(::getpid()));
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+    }
+    void TearDown() override { fs::remove_all(dir); }
+    fs::path dir;
+    // Tiny photon renders: seconds each under PoCL.
+    const std::string small = " --width 16 --height 16 --strata 1 --global-photons 4000 --caustic-photons 4000 --gather-rays 4 -q";
+};
+
+}  // namespace
+
+TEST_F(RenderCliTest, EveryPhotonMethodWritesAFiniteImageWithItsMetadata) {
+    for (const char* method : {"fg", "direct", "progressive"}) {
+        fs::path out = dir / (std::string(method) + ".exr");
+        Result r = run("render " + scene("cornell-spheres.json") + " --method " + method + " --passes 2 --seed 9 -o " +
+                       out.string() + small);
+        ASSERT_EQ(r.status, 0) << method << ": " << r.output;
+        pcl::ImageMetadata meta;
+        pcl::Image img = pcl::readImage(out.string(), &meta);
+        EXPECT_EQ(meta.method, method);
+        EXPECT_EQ(meta.seed, 9u);
+        EXPECT_EQ(meta.samples, 2);  // 2 passes × 1 sample
+        double sum = 0;
+        for (float v : img.rgb) {
+            ASSERT_TRUE(std::isfinite(v)) << method;
+            sum += v;
+        }
+        EXPECT_GT(sum, 0.0) << method;
+        EXPECT_TRUE(fs::exists(dir / (std::string(method) + ".png")));
+    }
+}
+
+TEST_F(RenderCliTest, AovLayersAndStageTimes) {
+    fs::path out = dir / "aov.exr";
+    Result r = run("render " + scene("cornell-box.json") + " --passes 1 --aov direct,indirect,albedo,normal -o " +
+                   out.string() + " --width 16 --height 16 --global-photons 4000 --gather-rays 4");
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (const char* line : {"time by stage", "photon pass", "eye paths", "direct light", "indirect", "gather rays 4"})
+        EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+    Result info = run("compare " + out.string() + " " + out.string());  // the EXR reads back
+    EXPECT_EQ(info.status, 0) << info.output;
+    EXPECT_EQ(run("render " + scene("cornell-box.json") + " --aov sparkle -o " + out.string() + small).status, 2);
+}
+
+TEST_F(RenderCliTest, DeviceRefRendersOnlyThePathTracer) {
+    Result r = run("render " + scene("cornell-box.json") + " --method fg --device ref -o " + (dir / "x.exr").string() + small);
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("--device ref"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "x.exr"));
+    Result path = run("render " + scene("cornell-box.json") + " --method path --device ref --passes 1 -o " +
+                      (dir / "p.exr").string() + " --width 8 --height 8 -q");
+    EXPECT_EQ(path.status, 0) << path.output;
+}
+
+TEST_F(RenderCliTest, HelpExplainsEveryOption) {
+    Result r = run("render --help");
+    ASSERT_EQ(r.status, 0);
+    for (const char* opt : {"--method", "--device", "--passes", "--time", "--strata", "--global-photons",
+                            "--caustic-photons", "--k", "--caustic-k", "--gather-rays", "--light-samples",
+                            "--gather-source", "--filter", "--radius", "--alpha", "--aov", "--max-buffer-mib",
+                            "progressive", "Ctrl-C"})
+        EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
+}
+
+TEST_F(RenderCliTest, DefaultsAreLoggedWithTheirReasons) {
+    Result r = run("render " + scene("cornell-box.json") + " --passes 1 -o " + (dir / "d.exr").string() +
+                   " --width 8 --height 8 --global-photons 2000 --gather-rays 2");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("(default: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("(given)"), std::string::npos) << r.output;
+}
+
+// Ctrl-C (SIGINT after 4 s, from coreutils timeout) ends the render after its current pass
+// and writes the image of the passes done, exit status 0.
+TEST_F(RenderCliTest, InterruptWritesThePassesDone) {
+    fs::path out = dir / "int.exr";
+    std::string cmd = "timeout --preserve-status -s INT 4 " + std::string(PHOTONCL_BINARY) + " render " +
+                      scene("cornell-box.json") + " --method progressive --passes 1000000 -o " + out.string() + small +
+                      " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string output;
+    char buf[4096];
+    while (size_t n = fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
+    int raw = pclose(pipe);
+    ASSERT_TRUE(WIFEXITED(raw)) << output;
+    EXPECT_EQ(WEXITSTATUS(raw), 0) << output;
+    EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
+    ASSERT_TRUE(fs::exists(out)) << output;
+    pcl::ImageMetadata meta;
+    pcl::Image img = pcl::readImage(out.string(), &meta);
+    EXPECT_GT(meta.samples, 0);
+    EXPECT_LT(meta.samples, 1000000);
+    for (float v : img.rgb) ASSERT_TRUE(std::isfinite(v));
+    size_t files = 0;
+    for (auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+    EXPECT_EQ(files, 2u);  // the EXR and the PNG, no temporary left
+}
