@@ -44,6 +44,7 @@ struct RenderOptions {
     bool quiet = false, noPng = false;
     uint64_t maxBufferMib = 0;  // --max-buffer-mib: applyBufferCap on the OpenCL device
     // Photon methods; 0 / empty: chosen (chooseDefaults).
+    uint32_t histogramCells = 0;
     uint32_t strata = 0, globalPhotons = 0, causticPhotons = 0, k = 0, causticK = 0, gatherRays = 0,
              lightSamples = 0;
     float radius = 0.0f, alpha = 2.0f / 3.0f, maxRadius = 0.0f;
@@ -212,6 +213,7 @@ int runPhotonRender(const RenderOptions& o, Scene& scene, const SceneGeometry& g
     s.filter = parseEstimateFilter(o.filter);
     s.gatherSource = o.gatherSource == "estimate" ? GatherSource::Estimate : GatherSource::Precomputed;
     s.alpha = o.alpha;
+    s.histogramCells = o.histogramCells;
     s.initialRadius = o.radius;
     s.maxRadius = o.maxRadius;
     s.aovs = !aovs.empty();
@@ -392,6 +394,11 @@ Run addRenderCommand(CLI::App& app) {
                     "fg: where gather rays read the global map: precomputed (Christensen's precomputed irradiance, "
                     "one lookup per ray) or estimate (the full k-nearest estimate)")
         ->check(CLI::IsMember({"precomputed", "estimate"}))
+        ->capture_default_str();
+    sub->add_option("--gather-importance", o->histogramCells,
+                    "fg: G > 0 importance-samples the gather rays by the incident flux of the k nearest global "
+                    "photons on a GxG histogram (Jensen 1995), mixed with the cosine density; 0: cosine only")
+        ->check(CLI::Range(0u, 16u))
         ->capture_default_str();
     sub->add_option("--filter", o->filter, "fg/direct estimate filter: box, cone, epanechnikov, gaussian")
         ->check(CLI::IsMember({"box", "cone", "epanechnikov", "gaussian"}))

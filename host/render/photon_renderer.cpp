@@ -176,14 +176,18 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
     {
         char line[512];
         std::snprintf(line, sizeof line,
-                      "method %s, %u pass(es)%s, %u spp/pass, global %s, caustic %s, k %u/%u, %s%u gather rays, "
+                      "method %s, %u pass(es)%s, %u spp/pass, global %s, caustic %s, k %u/%u, %s%u gather rays%s, "
                       "%u light samples, r_max %.4g, seed %llu",
                       renderMethodName(s.method), s.passes, s.seconds > 0 ? " or time budget" : "", spp,
                       maps.global ? std::to_string(s.globalPhotons).c_str() : "none",
                       maps.caustic ? std::to_string(s.causticPhotons).c_str() : "none", s.globalK, s.causticK,
                       fg ? (s.gatherSource == GatherSource::Precomputed ? "precomputed irradiance, " : "full estimate, ")
                          : "",
-                      fg ? s.gatherRays : 0u, s.lightSamples, maxRadius, static_cast<unsigned long long>(s.seed));
+                      fg ? s.gatherRays : 0u,
+                      fg && s.histogramCells ? (" (importance " + std::to_string(s.histogramCells) + "x" +
+                                                std::to_string(s.histogramCells) + ")").c_str()
+                                             : "",
+                      s.lightSamples, maxRadius, static_cast<unsigned long long>(s.seed));
         result.summary = line;
     }
 
@@ -214,7 +218,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
             result.causticStored += photons.caustic.size();
         }
         // 2. Maps and the irradiance sources that read them.
-        std::unique_ptr<PhotonMapOnDevice> globalMap, causticMap;
+        std::unique_ptr<PhotonMapOnDevice> globalMap, causticMap, histogramMap;
         std::unique_ptr<DeviceIrradianceMap> irradiance;
         std::shared_ptr<IrradianceSource> globalSource, causticSource;
         float radius2 = maxRadius * maxRadius;
@@ -254,6 +258,11 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
                     globalSource = estimateIrradianceSource(*globalMap, s.globalK, est, &dscene);
                 }
             }
+            if (fg && s.histogramCells > 0 && globalSource) {
+                // The importance histograms read the global map's k nearest photons directly.
+                histogramMap = std::make_unique<PhotonMapOnDevice>(device, photons.global, KnnStructure::KdTree,
+                                                                   searchRadius);
+            }
             if (maps.caustic && !photons.caustic.empty()) {
                 causticMap = std::make_unique<PhotonMapOnDevice>(device, photons.caustic, KnnStructure::KdTree,
                                                                  searchRadius);
@@ -273,10 +282,23 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
             timed(device, result.times.eyePaths, [&] { traceEyePaths(device, dscene, ep, rays, hits); });
             const PclRadiance zero{0, 0, 0, 0};
             bool haveDirect = false, haveCaustic = false, haveIndirect = false;
-            PclDirectParams dp = directParams(ep, geometry, buffers, table, s.lightSamples,
-                                              fg && globalSource ? s.gatherRays : 0u);
+            const bool gather = fg && globalSource;
+            PclDirectParams dp = directParams(ep, geometry, buffers, table, s.lightSamples, gather ? s.gatherRays : 0u);
+            PclGatherParams gp{};
+            cl::Buffer histograms;
+            if (gather) {
+                gp = gatherParams(dp, s.gatherRays, s.globalK, maxRadius * maxRadius, maxSpecularGather);
+                if (histogramMap) {
+                    gp.histogramCells = dp.histogramCells = s.histogramCells;
+                    timed(device, result.times.indirect,
+                          [&] { histograms = buildGatherHistograms(device, *histogramMap, gp, hits); });
+                }
+            }
             if (!directVis) {
-                timed(device, result.times.direct, [&] { directLight(device, dscene, lights, dp, hits, directRad); });
+                timed(device, result.times.direct, [&] {
+                    if (histogramMap) directLight(device, dscene, lights, dp, hits, histograms, directRad);
+                    else directLight(device, dscene, lights, dp, hits, directRad);
+                });
                 haveDirect = true;
             }
             if (causticSource) {
@@ -288,9 +310,8 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
             if (globalSource) {
                 timed(device, result.times.indirect, [&] {
                     if (fg) {
-                        PclGatherParams gp = gatherParams(dp, s.gatherRays, s.globalK, maxRadius * maxRadius,
-                                                          maxSpecularGather);
-                        finalGather(device, dscene, lights, gp, hits, *globalSource, indirectRad);
+                        if (histogramMap) finalGather(device, dscene, lights, gp, hits, histograms, *globalSource, indirectRad);
+                        else finalGather(device, dscene, lights, gp, hits, *globalSource, indirectRad);
                     } else {
                         PclEyeEstimateParams gq{count, progressive ? PCL_KNN_MAX_K : s.globalK, radius2, 0};
                         estimateAtEyeHits(device, gq, hits, *globalSource, indirectRad);

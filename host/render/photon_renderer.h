@@ -52,6 +52,10 @@ struct PhotonRenderSettings {
     float maxRadius = 0.0f;           // kNN search radius cap; 0: 5 % of the scene's bounds diagonal
     EstimateFilter filter = EstimateFilter::Cone;     // fg/direct estimates (progressive: box)
     GatherSource gatherSource = GatherSource::Precomputed;
+    // fg: G > 0 importance-samples the gather rays from a G × G histogram of the incident flux of
+    // the globalK photons nearest each eye hit (Jensen 1995; pipeline/final_gather.h), mixed with
+    // the cosine density; direct light's MIS weights use the same density. 0: cosine only.
+    uint32_t histogramCells = 0;
     // Progressive: the first pass's radius gives about `progressiveK0` photons per disc (from the
     // stored photons per unit scene area); r² then shrinks by (i + α)/(i + 1) each pass.
     float alpha = 2.0f / 3.0f;

@@ -114,6 +114,29 @@ TEST(PhotonRenderAccuracy, FinalGatherMatchesEachShippedSceneReference) {
     }
 }
 
+// The gather rays importance-sampled from 8×8 incident-flux histograms (--gather-importance 8):
+// the same image in the mean (within 2 %), relMSE under the same bound (measured 0.0056 against
+// 0.0046 with cosine sampling alone at these settings: no gain on the Cornell box).
+TEST(PhotonRenderAccuracy, FinalGatherWithImportanceHistograms) {
+    ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
+    Image ref = readImage(referencePath("cornell-box.json"));
+    auto p = prepare("cornell-box.json", ref.width, ref.height);
+    PhotonRenderSettings s;
+    s.passes = 2;
+    s.strata = 2;
+    s.gatherRays = 32;
+    s.globalPhotons = 50000;
+    s.histogramCells = 8;
+    s.seed = 3;
+    PhotonRenderResult r = render(*p, s);
+    Image img = r.film.resolve();
+    ImageErrors e = compare(img, ref);
+    std::printf("[figure] cornell-box fg with 8x8 importance histograms: %s\n", formatErrors(e).c_str());
+    EXPECT_NEAR(e.meanRatio, 1.0, 0.02);
+    EXPECT_LT(e.relMse, 0.03);
+    expectFinite(r, img, "importance");
+}
+
 // The furnace (L = 1 and 4 everywhere) in every method, 32×32: mean within 1 %.
 TEST(PhotonRenderAccuracy, FurnaceInEveryMethod) {
     for (double rho : {0.5, 0.8}) {

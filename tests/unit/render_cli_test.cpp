@@ -82,7 +82,7 @@ TEST_F(RenderCliTest, HelpExplainsEveryOption) {
     ASSERT_EQ(r.status, 0);
     for (const char* opt : {"--method", "--device", "--passes", "--time", "--strata", "--global-photons",
                             "--caustic-photons", "--k", "--caustic-k", "--gather-rays", "--light-samples",
-                            "--gather-source", "--filter", "--radius", "--alpha", "--aov", "--max-buffer-mib",
+                            "--gather-source", "--gather-importance", "--filter", "--radius", "--alpha", "--aov", "--max-buffer-mib",
                             "progressive", "Ctrl-C"})
         EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
 }
