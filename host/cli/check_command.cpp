@@ -10,6 +10,7 @@
 #include "pipeline/check_intersect.h"
 #include "pipeline/check_irradiance.h"
 #include "pipeline/check_knn.h"
+#include "pipeline/check_render.h"
 #include "pipeline/check_maps.h"
 #include "pipeline/check_photons.h"
 #include "scene/load_scene.h"
@@ -35,9 +36,10 @@ Run addCheckCommand(CLI::App& app) {
                     "same inputs; pass: the whole photon pass; sort: device radix sort; build: kd-tree; knn: k nearest "
                     "neighbours on kd-tree and hash grid against brute force; estimate: the filtered irradiance "
                     "estimate (every filter, both structures, with and without the visibility test) and the "
-                    "precomputed irradiance lookup; all: every one")
+                    "precomputed irradiance lookup; render: the eye pass (camera, eye paths, direct light, caustics, final "
+                    "gather, direct visualisation) per stage and per pixel on a small image; all: every one")
         ->check(CLI::IsMember(
-            {"all", "trace", "emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate"}))
+            {"all", "trace", "emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate", "render"}))
         ->capture_default_str();
     sub->add_option("--rays", o->rays, "Rays for the trace check")->capture_default_str();
     sub->add_option("--photons", o->photons, "Photon paths per pass for the photon checks")->capture_default_str();
@@ -103,6 +105,12 @@ Run addCheckCommand(CLI::App& app) {
             irradianceOptions.seed = o->seed;
             IrradianceCheckReport ir = checkPrecomputedIrradiance(device, scene, irradianceOptions);
             print("estimate (precomputed irradiance)", ir.table(), ir.passed());
+        }
+        if (o->stage == "all" || o->stage == "render") {
+            RenderCheckOptions renderOptions;
+            renderOptions.seed = o->seed;
+            RenderCheckReport r = checkRender(device, scene, renderOptions);
+            print("render", r.table(), r.passed());
         }
         return ok ? kExitOk : kExitCheckFailed;
     };

@@ -160,7 +160,7 @@ TEST_F(CliTest, RenderLogsThePlan) {
 }
 
 TEST_F(CliTest, CheckPhotonStagesPassOnAShippedScene) {
-    for (const char* stage : {"emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate"}) {
+    for (const char* stage : {"emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate", "render"}) {
         Result r = run("check " + scene("cornell-spheres-point.json") + " --device cpu --stage " + stage + " --photons 4000");
         EXPECT_EQ(r.status, 0) << r.output;
         EXPECT_NE(r.output.find(std::string("stage ") + stage + ": PASSED"), std::string::npos) << r.output;
