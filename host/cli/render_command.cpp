@@ -78,12 +78,15 @@ void chooseDefaults(const RenderOptions& o, const Scene& scene, const RenderPlan
     s.globalK = o.k ? o.k : 50;
     s.causticK = o.causticK ? o.causticK : 50;
     s.lightSamples = o.lightSamples ? o.lightSamples : 16;
+    const bool distributed = plan.lensSampling || plan.timeSampling || plan.glossySampling;
     switch (s.method) {
         case RenderMethod::FinalGather:
             // Gather rays carry the noise of the indirect part; strata × passes antialias and
             // add fresh photons. One 256² pass with 64 gather rays takes ~6 s under PoCL on 2 cores.
-            s.gatherRays = o.gatherRays ? o.gatherRays : 64;
-            s.strata = o.strata ? o.strata : 1;
+            // Lens, shutter and glossy lobes are sampled by the eye samples: scenes that need them
+            // get 2×2 per pass and a quarter of the gather rays (the same gather work per pass).
+            s.strata = o.strata ? o.strata : (distributed ? 2 : 1);
+            s.gatherRays = o.gatherRays ? o.gatherRays : (distributed ? 16 : 64);
             // 10 passes of 256² (cornell-spheres: ~40 s on 2 cores), scaled by pixel count, 1..64.
             s.passes = o.passes ? o.passes
                                 : (o.seconds > 0 ? 0
@@ -107,10 +110,14 @@ void chooseDefaults(const RenderOptions& o, const Scene& scene, const RenderPlan
          : s.method == RenderMethod::Progressive ? "the radius shrinks by (i+α)/(i+1) per pass; 32 passes ≈ r0 × 0.56"
                                                  : "a quick preview");
     note("eye samples per pixel per pass " + std::to_string(s.strata * s.strata), !o.strata,
-         "one stratified sample; passes add more");
+         distributed ? "2x2: the plan samples a lens, a shutter or glossy lobes, which need eye samples"
+                     : "one stratified sample; passes add more");
     if (s.method == RenderMethod::FinalGather)
         note("gather rays " + std::to_string(s.gatherRays), !o.gatherRays,
-             "64: the indirect part's noise falls as 1/sqrt(passes × gather rays)");
+             distributed ? "16 per eye sample, 4 eye samples per pass: the 64 per pixel and pass of a "
+                           "scene without them; the indirect noise falls as "
+                           "1/sqrt(passes × samples × gather rays)"
+                         : "64: the indirect part's noise falls as 1/sqrt(passes × gather rays)");
     note("global photons per pass " + std::to_string(s.globalPhotons), !o.globalPhotons,
          "the plan's (photoncl analyze); " + std::string(plan.globalMap ? "the scene needs a global map" : "no global map needed"));
     note("caustic photons per pass " + std::to_string(s.causticPhotons), !o.causticPhotons,
