@@ -6,12 +6,11 @@
 #include <cstdio>
 #include <random>
 
+#include "pipeline/camera_surface_hits.h"
 #include "pipeline/device_scene.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/projection_map.h"
-#include "reference/camera.h"
 #include "reference/estimate.h"
-#include "reference/surface.h"
 
 namespace pcl {
 namespace {
@@ -90,22 +89,10 @@ std::string EstimateCheckReport::table() const {
 
 std::vector<PclEstimateQuery> surfaceEstimateQueries(const Scene& scene, const SceneGeometry& geometry, uint32_t count,
                                                      float maxRadius, uint32_t k, uint64_t seed) {
-    RayCamera camera(scene.camera);
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::mt19937_64 rng(seed + 1);
     std::vector<PclEstimateQuery> qs;
-    const int w = std::max(scene.camera.width, 1), h = std::max(scene.camera.height, 1);
-    for (uint64_t tries = 0; qs.size() < count && tries < 8ull * count; ++tries) {
-        const int x = std::min(int(u(rng) * w), w - 1), y = std::min(int(u(rng) * h), h - 1);
-        CameraSample s;
-        s.filmX = u(rng), s.filmY = u(rng), s.lensU = u(rng), s.lensV = u(rng), s.time = u(rng);
-        const PclRay ray = camera.generateRay(x, y, s);
-        PclHit hit;
-        if (!geometry.intersect(ray, hit)) continue;
-        const SurfacePoint sp = surfaceAt(scene, geometry, ray, hit);
-        const Vec3 n = dot(sp.ng, rayDirection(ray)) > 0.0f ? -sp.ng : sp.ng;
-        qs.push_back(makeQuery(sp.p, n, radius2(rng, maxRadius), k));
-    }
+    for (const CameraSurfaceHit& h : cameraSurfaceHits(scene, geometry, count, seed))
+        qs.push_back(makeQuery(h.p, h.n, radius2(rng, maxRadius), k));
     return qs;
 }
 

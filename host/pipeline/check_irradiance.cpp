@@ -8,9 +8,9 @@
 #include <memory>
 #include <random>
 
+#include "pipeline/camera_surface_hits.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/projection_map.h"
-#include "reference/camera.h"
 #include "reference/precomputed_irradiance.h"
 
 namespace pcl {
@@ -137,31 +137,20 @@ std::string IrradianceCheckReport::table() const {
     return out;
 }
 
-std::vector<PclEstimateQuery> surfaceEstimateQueries(const Scene& scene, const SceneGeometry& geometry,
-                                                     const SceneBuffers& buffers, uint32_t count, float maxRadius,
-                                                     uint32_t k, uint64_t seed) {
-    RayCamera camera(scene.camera);
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+namespace {
+
+// Camera-ray surface hits (pipeline/camera_surface_hits) as queries of radius maxRadius.
+std::vector<PclEstimateQuery> surfaceQueriesAtFullRadius(const Scene& scene, const SceneGeometry& geometry,
+                                                         uint32_t count, float maxRadius, uint32_t k, uint64_t seed) {
     std::vector<PclEstimateQuery> qs;
-    const int w = std::max(scene.camera.width, 1), h = std::max(scene.camera.height, 1);
-    for (uint64_t tries = 0; qs.size() < count && tries < 8ull * count; ++tries) {
-        const int x = std::min(int(u(rng) * w), w - 1), y = std::min(int(u(rng) * h), h - 1);
-        CameraSample s;
-        s.filmX = u(rng), s.filmY = u(rng), s.lensU = u(rng), s.lensV = u(rng), s.time = u(rng);
-        const PclRay ray = camera.generateRay(x, y, s);
-        PclHit hit;
-        if (!geometry.intersect(ray, hit)) continue;
-        const Vec3 p(ray.ox + hit.t * ray.dx, ray.oy + hit.t * ray.dy, ray.oz + hit.t * ray.dz);
-        const PclPrimInfo& info = buffers.primInfo[hit.prim];
-        Vec3 n(info.a, info.b, info.c);
-        if (info.radius > 0.0f) n = normalize(p - (n + Vec3(info.mx, info.my, info.mz) * ray.time));
-        if (dot(n, Vec3(ray.dx, ray.dy, ray.dz)) > 0.0f) n = -n;  // the side the camera sees
-        const float nf[3] = {n.x, n.y, n.z};
-        qs.push_back(makeQuery(p.x, p.y, p.z, nf, maxRadius * maxRadius, k));
+    for (const CameraSurfaceHit& h : cameraSurfaceHits(scene, geometry, count, seed)) {
+        const float nf[3] = {h.n.x, h.n.y, h.n.z};
+        qs.push_back(makeQuery(h.p.x, h.p.y, h.p.z, nf, maxRadius * maxRadius, k));
     }
     return qs;
 }
+
+}  // namespace
 
 IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std::vector<PclPhoton>& map,
                                                       const std::vector<PclEstimateQuery>& surface, float maxRadius,
@@ -308,7 +297,7 @@ IrradianceCheckReport checkPrecomputedIrradiance(Device& device, const Scene& sc
     const float diagonal = std::sqrt(ext.x * ext.x + ext.y * ext.y + ext.z * ext.z);
     const float rMax = std::max(options.radiusFraction * diagonal, 1e-6f);
     const std::vector<PclEstimateQuery> surface =
-        surfaceEstimateQueries(scene, geometry, buffers, options.surfaceQueries, rMax, options.k, options.seed * 7 + 1);
+        surfaceQueriesAtFullRadius(scene, geometry, options.surfaceQueries, rMax, options.k, options.seed * 7 + 1);
     std::unique_ptr<DeviceScene> deviceScene;
     if (options.estimate.visibility) deviceScene = std::make_unique<DeviceScene>(device, geometry, buffers);
     IrradianceCheckReport r = checkPrecomputedIrradianceOnMap(device, maps.global, surface, rMax, options,

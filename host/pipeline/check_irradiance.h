@@ -94,10 +94,5 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
                                                       const DeviceScene* deviceScene = nullptr,
                                                       const SceneGeometry* geometry = nullptr);
 
-// `count` closest hits of camera rays through random pixels (misses skipped, at most 8 × count
-// rays), each with the hit's geometric normal turned towards the camera.
-std::vector<PclEstimateQuery> surfaceEstimateQueries(const Scene& scene, const SceneGeometry& geometry,
-                                                     const SceneBuffers& buffers, uint32_t count, float maxRadius,
-                                                     uint32_t k, uint64_t seed);
 
 }  // namespace pcl

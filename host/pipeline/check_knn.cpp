@@ -6,11 +6,11 @@
 #include <cstdio>
 #include <random>
 
+#include "pipeline/camera_surface_hits.h"
 #include "pipeline/hashgrid.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/projection_map.h"
-#include "reference/camera.h"
 
 namespace pcl {
 namespace {
@@ -73,21 +73,10 @@ std::string KnnCheckReport::table() const {
 
 std::vector<PclKnnQuery> surfaceKnnQueries(const Scene& scene, const SceneGeometry& geometry, uint32_t count,
                                            float maxRadius, uint32_t k, uint64_t seed) {
-    RayCamera camera(scene.camera);
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::mt19937_64 rng(seed + 1);
     std::vector<PclKnnQuery> qs;
-    const int w = std::max(scene.camera.width, 1), h = std::max(scene.camera.height, 1);
-    for (uint64_t tries = 0; qs.size() < count && tries < 8ull * count; ++tries) {
-        const int x = std::min(int(u(rng) * w), w - 1), y = std::min(int(u(rng) * h), h - 1);
-        CameraSample s;
-        s.filmX = u(rng), s.filmY = u(rng), s.lensU = u(rng), s.lensV = u(rng), s.time = u(rng);
-        const PclRay ray = camera.generateRay(x, y, s);
-        PclHit hit;
-        if (!geometry.intersect(ray, hit)) continue;
-        qs.push_back(makeQuery(ray.ox + hit.t * ray.dx, ray.oy + hit.t * ray.dy, ray.oz + hit.t * ray.dz,
-                               radius2(rng, maxRadius), k));
-    }
+    for (const CameraSurfaceHit& h : cameraSurfaceHits(scene, geometry, count, seed))
+        qs.push_back(makeQuery(h.p.x, h.p.y, h.p.z, radius2(rng, maxRadius), k));
     return qs;
 }
 
