@@ -121,3 +121,14 @@ TEST_F(RenderCliTest, InterruptWritesThePassesDone) {
     for (auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
     EXPECT_EQ(files, 2u);  // the EXR and the PNG, no temporary left
 }
+
+// A 4 MiB buffer cap splits the eye samples into many more chunks (and the photon and kNN
+// batches): the image keeps every bit (random numbers are keyed by pixel and sample).
+TEST_F(RenderCliTest, BufferCapKeepsTheImageBits) {
+    std::string common = " --width 32 --height 32 --passes 1 --global-photons 20000 --caustic-photons 10000 -q --no-png";
+    ASSERT_EQ(run("render " + scene("cornell-spheres.json") + " -o " + (dir / "a.exr").string() + common).status, 0);
+    ASSERT_EQ(run("render " + scene("cornell-spheres.json") + " -o " + (dir / "b.exr").string() + common +
+                  " --max-buffer-mib 4").status, 0);
+    Result same = run("compare " + (dir / "b.exr").string() + " " + (dir / "a.exr").string() + " --max-rmse 0");
+    EXPECT_EQ(same.status, 0) << same.output;
+}
