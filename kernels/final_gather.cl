@@ -90,7 +90,8 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
         const PclMaterial M = materials[primInfo[hit.prim].material];
 
-        if (dn < 0.0f && sampling_max3(M.emission[0], M.emission[1], M.emission[2]) > 0.0f) {
+        if (dn < 0.0f && sampling_max3(M.emission[0], M.emission[1], M.emission[2]) > 0.0f &&
+            !(afterSpecular && params.causticMapRead != 0u)) {
             /* The BSDF-sampled half of the MIS pair with direct_light: a triangle light reached
              * straight from the eye hit; anything else (spheres, after a specular bounce, no
              * light sampling) counts fully. */

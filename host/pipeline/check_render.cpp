@@ -244,7 +244,8 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Render
     if (!maps.global.empty() && o.gatherRays > 0) {
         PhotonMapOnDevice global(device, maps.global, KnnStructure::KdTree, rMax);
         auto source = estimateIrradianceSource(global, o.k, es, &deviceScene);
-        const PclGatherParams gp = gatherParams(dp, o.gatherRays, o.k, rMax * rMax);
+        PclGatherParams gp = gatherParams(dp, o.gatherRays, o.k, rMax * rMax);
+        gp.causticMapRead = maps.caustic.empty() ? 0u : 1u;  // as the renderer: LS+D left to the caustic map
         cl::Buffer gathered = device.allocate<PclRadiance>(n, CL_MEM_READ_WRITE, "check render: gather");
         const GatherTiming gt = finalGather(device, deviceScene, deviceLights, gp, hits, *source, gathered);
         dGather = device.download<PclRadiance>(gathered, n);

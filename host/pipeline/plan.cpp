@@ -13,6 +13,7 @@ namespace {
 // What the plan needs to know of one primitive.
 struct Prim {
     bool diffuse, specular, pureSpecular, glossy, sphere;
+    bool litInside;       // sphere: a light sits inside it, so its inside sees itself (the furnace)
     Vec3 n, p;            // triangle: unit normal and a vertex (the plane); sphere: unused
     bool leavesPlane;     // triangle moving off its own plane over the shutter
     uint32_t material;
@@ -32,7 +33,14 @@ std::vector<Prim> gather(const Scene& scene, const SceneGeometry& geometry, cons
         p.glossy = p.specular && m.specular == PCL_SPECULAR_GLOSSY;
         PrimitiveRef ref = geometry.primitive(id);
         p.sphere = ref.kind == PrimitiveRef::Sphere;
-        if (!p.sphere) {
+        if (p.sphere) {
+            // Conservative over the shutter: the radius grown by the sphere's motion.
+            const Vec3 c(info.a, info.b, info.c);
+            const float reach = info.radius + length(Vec3(info.mx, info.my, info.mz));
+            for (const PclLight& l : buffers.lights)
+                if (l.type != PCL_LIGHT_DIRECTIONAL && length(Vec3(l.p[0], l.p[1], l.p[2]) - c) < reach)
+                    p.litInside = true;
+        } else {
             const TriangleMesh& mesh = scene.meshes[ref.object];
             p.n = Vec3(info.a, info.b, info.c);
             p.p = mesh.positions[mesh.indices[3 * ref.index]];
@@ -44,10 +52,11 @@ std::vector<Prim> gather(const Scene& scene, const SceneGeometry& geometry, cons
 }
 
 // Whether some primitive of A and some primitive of B can see each other: they exist, are
-// distinct, and are not all triangles of one plane (plan.h states the rule and its limits).
+// distinct, and are not all triangles of one plane; or a sphere with a light inside is in both
+// (its inside sees itself: the furnace). plan.h states the rule and its limits.
 template <typename A, typename B>
 bool canSee(const std::vector<Prim>& prims, float scale, A inA, B inB) {
-    bool anyA = false, anyB = false, flat = true;
+    bool anyA = false, anyB = false, flat = true, sphereInBoth = false;
     size_t n = 0;
     const Prim* ref = nullptr;
     for (const Prim& p : prims) {
@@ -55,6 +64,7 @@ bool canSee(const std::vector<Prim>& prims, float scale, A inA, B inB) {
         if (!a && !b) continue;
         anyA |= a;
         anyB |= b;
+        sphereInBoth |= a && b && p.sphere && p.litInside;
         ++n;
         if (p.sphere || p.leavesPlane) {
             flat = false;
@@ -66,7 +76,7 @@ bool canSee(const std::vector<Prim>& prims, float scale, A inA, B inB) {
             flat = parallel && onPlane;
         }
     }
-    return anyA && anyB && n >= 2 && !flat;
+    return sphereInBoth || (anyA && anyB && n >= 2 && !flat);
 }
 
 std::string names(const Scene& scene, const std::vector<Prim>& prims, bool (*pick)(const Prim&)) {

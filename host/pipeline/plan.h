@@ -8,8 +8,9 @@
 //  * reach from the lights: the projection maps (host/pipeline/projection_map.h) say whether a
 //    light can send photons straight at a specular object;
 //  * "can see each other": two primitives are taken to see each other when they are distinct and
-//    not both triangles of one plane. So one diffuse primitive, or diffuse triangles all in one
-//    plane (a floor, however many triangles), cannot interreflect; anything else is assumed to
+//    not both triangles of one plane, and a sphere with a light inside sees itself (the furnace).
+//    So one diffuse triangle or convex sphere, or diffuse triangles all in one plane (a floor,
+//    however many triangles), cannot interreflect; anything else is assumed to
 //    (back-to-back or occluded surfaces are not detected);
 //  * visible emitters: an emitting triangle whose lit side faces the camera position.
 #pragma once

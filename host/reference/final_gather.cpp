@@ -113,7 +113,8 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
         const float dn = dot(d, n);
         const Vec3 nf = dn < 0.0f ? n : -n;
         const PclMaterial& m = buffers.materials[buffers.primInfo[hit.prim].material];
-        if (dn < 0.0f && maxComponent(eyeVec(m.emission)) > 0.0f) {
+        // Light reached through a specular chain is the caustic map's when that is read.
+        if (dn < 0.0f && maxComponent(eyeVec(m.emission)) > 0.0f && !(afterSpecular && params.causticMapRead)) {
             float wMis = 1.0f;
             const PclLight* light = nullptr;
             for (const PclLight& L : buffers.lights)  // the light entry of this triangle, if any

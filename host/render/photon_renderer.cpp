@@ -288,6 +288,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
             cl::Buffer histograms;
             if (gather) {
                 gp = gatherParams(dp, s.gatherRays, s.globalK, maxRadius * maxRadius, maxSpecularGather);
+                gp.causticMapRead = maps.caustic ? 1u : 0u;
                 if (histogramMap) {
                     gp.histogramCells = dp.histogramCells = s.histogramCells;
                     timed(device, result.times.indirect,

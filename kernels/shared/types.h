@@ -364,7 +364,9 @@ typedef struct PclGatherParams {
     pcl_u32 irradianceStride; /* resolve: floats per irradiance record (8: PclEstimate, 4: float4) */
     pcl_u32 histogramCells;   /* G: gather rays importance-sampled from a G × G incident-flux
                                  histogram per eye hit (final_gather_histogram); 0: cosine only */
-    pcl_u32 pad0;
+    pcl_u32 causticMapRead;   /* 1: the caustic map is read at the eye hits, so light a gather ray
+                                 reaches after a specular bounce (LS+D seen from the eye hit) is
+                                 left to it, not counted twice */
 } PclGatherParams;
 #define PCL_GATHER_UNIFORM_MIX 0.25f  /* the cosine share of the importance histogram's density */
 #define PCL_GATHER_MAX_CELLS 16u      /* G ≤ 16 */

@@ -43,15 +43,6 @@ std::unique_ptr<Prepared> prepare(const std::string& name, int width, int height
     return p;
 }
 
-// The furnace is one sphere seen from inside. classifyLightPaths takes one primitive as unable
-// to light itself ("a single diffuse primitive"), so its plan has no global map and every
-// photon method would give ρ, not ρ/(1−ρ). The furnace tests below say what they test: the
-// renderer given the plan the scene needs (the classification is reported to be fixed).
-void forceIndirect(RenderPlan& plan) {
-    plan.globalMap = true;
-    plan.finalGather = true;
-}
-
 PhotonRenderResult render(const Prepared& p, PhotonRenderSettings s) {
     return renderPhotonMapped(test::testDevice(), p.scene, *p.geometry, p.buffers, p.plan, s);
 }
@@ -81,17 +72,15 @@ Image halve(const Image& img) {
 // gather rays, 8 light samples, 50k + 50k photons per pass: about a fortieth of the default
 // render's work) against the 16k-sample path-traced references. Mean within 2 %; relMSE under
 // 0.03 (measured 0.005-0.018).
-// Not here, and why (figures at these settings, reported to the lead):
-//  * cornell-spheres.json: mean +3.1 %. The caustic map holds the lamp's light through the glass
-//    and the mirror (LS+D at the eye hit), and the gather rays of final_gather.cl also count the
-//    lamp when they reach it through a specular bounce ("after a specular bounce counts fully"):
-//    the caustic is counted twice (the caustic AOV's mean equals the excess within noise).
-//  * cornell-spheres-point.json: mean +4.5 %. The path tracer cannot find paths on which a point
-//    light is seen through a specular surface (LS+D..., caustics and what they light), so its
-//    reference lacks that light; half the excess is the caustic AOV itself.
+// Not here, and why: cornell-spheres-point.json (mean +4.5 %). The path tracer cannot find paths
+// on which a point light is seen through a specular surface (LS+D..., the caustics and what they
+// light), so its reference lacks that light; half the excess is the caustic AOV itself.
+// cornell-spheres.json is here since final_gather.cl leaves light reached through a specular
+// bounce to the caustic map (causticMapRead): before, it counted the caustics twice (+3.1 %).
 TEST(PhotonRenderAccuracy, FinalGatherMatchesEachShippedSceneReference) {
     ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
-    for (const std::string name : {"cornell-box.json", "cornell-glossy.json", "motion-dof.json", "gltf-room.gltf"}) {
+    for (const std::string name : {"cornell-box.json", "cornell-spheres.json", "cornell-glossy.json", "motion-dof.json",
+                                  "gltf-room.gltf"}) {
         Image ref = readImage(referencePath(name));
         auto p = prepare(name, ref.width, ref.height);
         PhotonRenderSettings s;
@@ -143,7 +132,8 @@ TEST(PhotonRenderAccuracy, FurnaceInEveryMethod) {
         const std::string name = rho < 0.7 ? "furnace-0.5.json" : "furnace-0.8.json";
         const double expected = furnaceRadiance(rho);
         auto p = prepare(name, 32, 32);
-        forceIndirect(p->plan);
+        // One sphere seen from inside lights itself: the plan must build the global map.
+        ASSERT_TRUE(p->plan.globalMap && p->plan.finalGather) << name;
         for (RenderMethod m : {RenderMethod::FinalGather, RenderMethod::DirectVisualisation, RenderMethod::Progressive,
                                RenderMethod::PathTracing}) {
             Image img;

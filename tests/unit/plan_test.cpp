@@ -172,6 +172,11 @@ TEST(PlanRules, SingleDiffusePlaneNeedsNoGlobalMap) {
     addSphere(ball, Vec3(0, 0.5f, 0), 0.5f, addMaterial(ball, Vec3(0.5f)));
     ball.lights = {pointLight(Vec3(0, 3, 0))};
     EXPECT_FALSE(analyzeScene(ball).plan.globalMap);
+    // ... though its inside lights itself when the light is in it (the furnace) ...
+    Scene furnace = base();
+    addSphere(furnace, Vec3(0, 0, 0), 1.0f, addMaterial(furnace, Vec3(0.5f)));
+    furnace.lights = {pointLight(Vec3(0, 0.2f, 0))};
+    EXPECT_TRUE(analyzeScene(furnace).plan.globalMap);
     // ... but a second, tilted plane can.
     Scene two = floorUnderPointLight();
     addQuad(two, Vec3(-2, 0, 2), Vec3(0, 2, 0.5f), Vec3(4, 0, 0), 0);
