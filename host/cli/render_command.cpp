@@ -7,12 +7,16 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
+
+#include <pthread.h>
+#include <signal.h>
 
 #include "cli/command.h"
 #include "cli/memory_option.h"
@@ -56,11 +60,24 @@ std::string defaultOutput(const std::string& scenePath) {
 }
 
 // Ctrl-C: the render finishes the pass it is in and writes the passes done; a second Ctrl-C
-// falls back to the default action (terminate at once).
+// quits at once. SIGINT is blocked in every thread (PoCL's threads are created after this, and
+// inherit the mask) and taken by one sigwait thread instead of a handler: a terminal's Ctrl-C
+// goes to the whole process group, and PoCL links kernels in forked linker processes, which
+// inherit the blocked mask across exec and so are not killed halfway (that aborted PoCL).
 std::atomic<bool> gStop{false};
-extern "C" void onInterrupt(int) {
-    gStop.store(true);
-    std::signal(SIGINT, SIG_DFL);
+void watchInterrupts() {
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    pthread_sigmask(SIG_BLOCK, &set, nullptr);
+    std::thread([set] {
+        for (int presses = 0;;) {
+            int sig = 0;
+            if (sigwait(&set, &sig) != 0) continue;
+            if (++presses > 1) std::_Exit(130);  // 128 + SIGINT, as the default action reports
+            gStop.store(true);
+        }
+    }).detach();
 }
 
 // Part 7 of issue 6: what a render with no options uses, and why. Measured on the 2-core PoCL
@@ -335,7 +352,7 @@ int runRender(const RenderOptions& o) {
     if (!path) {
         // From here on Ctrl-C asks for a stop after the current pass (kernel builds included).
         gStop.store(false);
-        std::signal(SIGINT, onInterrupt);
+        watchInterrupts();
         return runPhotonRender(o, scene, geometry, output, start);
     }
 
