@@ -135,10 +135,15 @@ void chooseDefaults(const RenderOptions& o, const Scene& scene, const RenderPlan
                            "scene without them; the indirect noise falls as "
                            "1/sqrt(passes × samples × gather rays)"
                          : "64: the indirect part's noise falls as 1/sqrt(passes × gather rays)");
-    note("global photons per pass " + std::to_string(s.globalPhotons), !o.globalPhotons,
-         "the plan's (photoncl analyze); " + std::string(plan.globalMap ? "the scene needs a global map" : "no global map needed"));
-    note("caustic photons per pass " + std::to_string(s.causticPhotons), !o.causticPhotons,
-         plan.causticMap ? "the plan's; the scene has caustics" : "no caustic map needed");
+    // A map the method does not build (photon_renderer's mapsFor) emits nothing.
+    const RenderMaps built = mapsFor(s.method, plan);
+    note("global photons per pass " + std::to_string(built.global ? s.globalPhotons : 0u), !o.globalPhotons,
+         built.global ? (plan.globalMap ? "the plan's (photoncl analyze): the scene needs a global map"
+                                        : "the preview reads all light from the global map")
+                      : "no global map needed");
+    note("caustic photons per pass " + std::to_string(built.caustic ? s.causticPhotons : 0u), !o.causticPhotons,
+         built.caustic ? "the plan's: the scene has caustics"
+                       : (plan.causticMap ? "the preview reads caustics from the global map" : "no caustic map needed"));
     note("light samples " + std::to_string(s.lightSamples), !o.lightSamples,
          "16 shadow rays per diffuse hit: with N gather rays and M light samples the power heuristic gives the gather "
          "rays a share growing with N/M, and gather rays find a small lamp rarely");
