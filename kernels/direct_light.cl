@@ -23,11 +23,7 @@
 /* Unoccluded segment from o (already lifted) to o + dir·t, t in (0, tmax). */
 inline bool direct_visible(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                            __global const PclSphere* spheres, PclV3 o, PclV3 dir, float tmax, float tau) {
-    PclRay r;
-    r.ox = o.x; r.oy = o.y; r.oz = o.z; r.tmin = 0.0f;
-    r.dx = dir.x; r.dy = dir.y; r.dz = dir.z; r.tmax = tmax;
-    r.time = tau;
-    r.pad0 = r.pad1 = r.pad2 = 0u;
+    const PclRay r = bvh_ray(o.x, o.y, o.z, dir.x, dir.y, dir.z, 0.0f, tmax, tau);
     PclHit hit;
     return !bvh_trace(nodes, packets, spheres, r, true, &hit);
 }

@@ -90,14 +90,8 @@ __kernel void estimate_irradiance(const PclEstimateParams params, __global const
             const PclV3 n = photon_normal_decode(p.normal);
             if (!(estimate_dot(n, q.nx, q.ny, q.nz) >= params.minNormalCos)) continue;
             if (params.visibility) {
-                PclRay ray;
-                ray.ox = ax; ray.oy = ay; ray.oz = az; ray.tmin = 0.0f;
-                ray.dx = (p.x + h * n.x) - ax;
-                ray.dy = (p.y + h * n.y) - ay;
-                ray.dz = (p.z + h * n.z) - az;
-                ray.tmax = 1.0f;
-                ray.time = 0.0f;
-                ray.pad0 = ray.pad1 = ray.pad2 = 0u;
+                const PclRay ray = bvh_ray(ax, ay, az, (p.x + h * n.x) - ax, (p.y + h * n.y) - ay,
+                                           (p.z + h * n.z) - az, 0.0f, 1.0f, 0.0f);
                 PclHit hit;
                 if (bvh_trace(nodes, packets, spheres, ray, false, &hit)) continue;
             }

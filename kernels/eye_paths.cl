@@ -51,11 +51,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
 
     float T[3] = {1.0f, 1.0f, 1.0f}, Le[3] = {0.0f, 0.0f, 0.0f};
     for (uint v = 0u; v < params.maxDepth; ++v) {
-        PclRay ray;
-        ray.ox = o.x; ray.oy = o.y; ray.oz = o.z; ray.tmin = 0.0f;
-        ray.dx = d.x; ray.dy = d.y; ray.dz = d.z; ray.tmax = INFINITY;
-        ray.time = tau;
-        ray.pad0 = ray.pad1 = ray.pad2 = 0u;
+        const PclRay ray = bvh_ray(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY, tau);
         PclHit hit;
         if (!bvh_trace(nodes, packets, spheres, ray, false, &hit)) break;
         const PclV3 p = eye_add_scaled(o, d, hit.t);

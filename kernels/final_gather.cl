@@ -77,11 +77,7 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
     bool afterSpecular = false;
 
     for (uint b = 0u; b <= params.maxSpecular; ++b) {
-        PclRay ray;
-        ray.ox = o.x; ray.oy = o.y; ray.oz = o.z; ray.tmin = 0.0f;
-        ray.dx = d.x; ray.dy = d.y; ray.dz = d.z; ray.tmax = INFINITY;
-        ray.time = tau;
-        ray.pad0 = ray.pad1 = ray.pad2 = 0u;
+        const PclRay ray = bvh_ray(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY, tau);
         PclHit hit;
         if (!bvh_trace(nodes, packets, spheres, ray, false, &hit)) break;
         const PclV3 p = eye_add_scaled(o, d, hit.t);

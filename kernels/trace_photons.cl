@@ -55,11 +55,7 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
     uint count = 0u, flags = 0u, cause = PCL_END_ESCAPED;
     uint b = 1u;
     for (;; ++b) {
-        PclRay ray;
-        ray.ox = o.x; ray.oy = o.y; ray.oz = o.z; ray.tmin = 0.0f;
-        ray.dx = d.x; ray.dy = d.y; ray.dz = d.z; ray.tmax = INFINITY;
-        ray.time = tau;
-        ray.pad0 = ray.pad1 = ray.pad2 = 0u;
+        const PclRay ray = bvh_ray(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY, tau);
         PclHit hit;
         if (!bvh_trace(nodes, packets, spheres, ray, false, &hit)) {
             cause = PCL_END_ESCAPED;

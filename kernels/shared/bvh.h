@@ -40,6 +40,17 @@
 #define PCL_BVH_INLINE inline
 #endif
 
+/* The ray o + t d, t in [tmin, tmax], at normalised shutter time `time`. */
+inline PclRay bvh_ray(float ox, float oy, float oz, float dx, float dy, float dz, float tmin, float tmax,
+                      float time) {
+    PclRay r;
+    r.ox = ox; r.oy = oy; r.oz = oz; r.tmin = tmin;
+    r.dx = dx; r.dy = dy; r.dz = dz; r.tmax = tmax;
+    r.time = time;
+    r.pad0 = r.pad1 = r.pad2 = 0u;
+    return r;
+}
+
 /* Prefetch a hit child while its siblings are sorted: on a 1M-triangle mesh under PoCL the
  * traversal waits on memory, and prefetching the pushed nodes and packets raised it from
  * 0.62x to 0.73x Embree (rays per CPU-second). Only where the target is a CPU that clang
