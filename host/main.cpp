@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
     add(pcl::cli::addCompareCommand(app));
     add(pcl::cli::addAnalyzeCommand(app));
     add(pcl::cli::addPhotonsCommand(app));
+    add(pcl::cli::addSweepCommand(app));
 
     try {
         app.parse(argc, argv);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every benchmark in one go and writes one Markdown table of ratios measured in the same
 # run (machines here are noisy: only ratios within one run mean anything).
-#   scripts/bench.sh [--quick]          results in build/bench/ (JSON per program + bench.md)
+#   scripts/bench.sh [--quick]          results in build/bench/ (JSON per program + bench.md, and
+#                                       the quick speed-against-accuracy sweep: sweep-cornell-box.csv)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
@@ -26,3 +27,12 @@ done
 python3 scripts/bench_table.py "${jsons[@]}" > "$out/bench.md.tmp"
 mv "$out/bench.md.tmp" "$out/bench.md"
 cat "$out/bench.md"
+# Speed against accuracy (photoncl sweep, quick form: about a minute): its CSV beside bench.md,
+# charted when matplotlib is there (scripts/chart.py; the README's charts come from the full form).
+cmake --build build -j "$jobs" --target photoncl >&2
+echo "bench: running photoncl sweep --quick" >&2
+build/photoncl sweep scenes/cornell-box.json --reference tests/data/ref-cornell-box.exr --quick -o "$out" >&2
+if python3 -c 'import matplotlib' 2>/dev/null; then
+  python3 scripts/chart.py "$out/sweep-cornell-box.csv" -o "$out" >&2
+  cat "$out/winners.md"
+fi

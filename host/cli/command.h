@@ -16,5 +16,6 @@ Run addCheckCommand(CLI::App& app);
 Run addCompareCommand(CLI::App& app);
 Run addAnalyzeCommand(CLI::App& app);
 Run addPhotonsCommand(CLI::App& app);
+Run addSweepCommand(CLI::App& app);
 
 }  // namespace pcl::cli

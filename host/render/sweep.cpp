@@ -1,0 +1,405 @@
+#include "render/sweep.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <thread>
+
+#include "core/error.h"
+#include "device/device.h"
+#include "geometry/scene_geometry.h"
+#include "image/film.h"
+#include "image/image_io.h"
+#include "image/metrics.h"
+#include "pipeline/memory_plan.h"
+#include "pipeline/photon_pass.h"
+#include "pipeline/plan.h"
+#include "pipeline/projection_map.h"
+#include "pipeline/scene_buffers.h"
+#include "reference/path_tracer.h"
+#include "scene/load_scene.h"
+
+namespace pcl {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+uint64_t splitmix64(uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+// The seed of the passes [n, 2n) of seed `seed`'s curve: independent of every other increment.
+uint64_t incrementSeed(uint64_t seed, uint32_t increment) { return splitmix64(splitmix64(seed) + increment); }
+
+// A curve: one method with one setting variant (applied over the method's defaults).
+struct Curve {
+    std::string name;
+    RenderMethod method;
+    std::string variant;  // what differs from the method's defaults ("" for none)
+    std::function<void(PhotonRenderSettings&)> tweak;
+};
+
+std::vector<Curve> allCurves() {
+    auto none = [](PhotonRenderSettings&) {};
+    return {
+        {"path", RenderMethod::PathTracing, "", none},
+        {"direct", RenderMethod::DirectVisualisation, "", none},
+        {"fg-estimate", RenderMethod::FinalGather, "gather source: full estimate",
+         [](PhotonRenderSettings& s) { s.gatherSource = GatherSource::Estimate; }},
+        {"fg-precomputed", RenderMethod::FinalGather, "", none},
+        {"progressive", RenderMethod::Progressive, "", none},
+        // Variants (full form): one setting changed at a time.
+        {"fg-precomputed-rays/4", RenderMethod::FinalGather, "gather rays / 4",
+         [](PhotonRenderSettings& s) { s.gatherRays = std::max(1u, s.gatherRays / 4); }},
+        {"fg-precomputed-photons/4", RenderMethod::FinalGather, "global photons / 4",
+         [](PhotonRenderSettings& s) { s.globalPhotons = std::max(1000u, s.globalPhotons / 4); }},
+        {"direct-k200", RenderMethod::DirectVisualisation, "k 200", [](PhotonRenderSettings& s) { s.globalK = 200; }},
+        {"direct-box", RenderMethod::DirectVisualisation, "box filter",
+         [](PhotonRenderSettings& s) { s.filter = EstimateFilter::Box; }},
+        {"progressive-photons*4", RenderMethod::Progressive, "global photons x 4",
+         [](PhotonRenderSettings& s) { s.globalPhotons *= 4; }},
+    };
+}
+
+// The method's defaults as `photoncl render` chooses them with no options (cli/render_command.cpp,
+// chooseDefaults), scaled down for the quick form.
+PhotonRenderSettings methodDefaults(RenderMethod method, const RenderPlan& plan, bool quick) {
+    PhotonRenderSettings s;
+    s.method = method;
+    s.globalPhotons = plan.globalPhotons ? plan.globalPhotons : 200000;
+    s.causticPhotons = plan.causticPhotons ? plan.causticPhotons : 100000;
+    s.globalK = 50;
+    s.causticK = 50;
+    s.lightSamples = 16;
+    const bool distributed = plan.lensSampling || plan.timeSampling || plan.glossySampling;
+    switch (method) {
+        case RenderMethod::FinalGather:
+            s.strata = distributed ? 2 : 1;
+            s.gatherRays = distributed ? 16 : 64;
+            break;
+        case RenderMethod::DirectVisualisation:
+            s.gatherRays = 1;
+            s.strata = 2;
+            break;
+        default:
+            s.gatherRays = 1;
+            s.strata = 1;
+            break;
+    }
+    if (quick) {
+        s.globalPhotons = std::max(2000u, s.globalPhotons / 8);
+        s.causticPhotons = std::max(2000u, s.causticPhotons / 8);
+        s.gatherRays = std::max(1u, s.gatherRays / 4);
+        s.lightSamples = 4;
+    }
+    return s;
+}
+
+double mse(const ImageErrors& e) { return e.rmse * e.rmse; }
+
+// Per budget of a curve: the sums over seeds of each value and its square (bias² and variance).
+struct SeedMoments {
+    std::vector<double> sum, sumSq;
+    double mseSum = 0, secondsSum = 0;
+    uint32_t count = 0;
+    void add(const Image& img, double m, double seconds) {
+        if (sum.empty()) sum.assign(img.rgb.size(), 0.0), sumSq.assign(img.rgb.size(), 0.0);
+        for (size_t i = 0; i < img.rgb.size(); ++i) sum[i] += img.rgb[i], sumSq[i] += double(img.rgb[i]) * img.rgb[i];
+        mseSum += m;
+        secondsSum += seconds;
+        ++count;
+    }
+};
+
+std::string fmt(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return b;
+}
+
+struct SceneSetup {
+    Scene scene;
+    std::unique_ptr<SceneGeometry> geometry;
+    SceneBuffers buffers;
+    RenderPlan plan;
+};
+
+}  // namespace
+
+std::vector<std::string> sweepCurveNames(bool quick) {
+    std::vector<std::string> names;
+    for (const Curve& c : allCurves()) {
+        if (quick && !c.variant.empty() && c.name != "fg-estimate") continue;
+        names.push_back(c.name);
+    }
+    return names;
+}
+
+std::string sweepCsvHeader() {
+    return "scene,curve,method,variant_settings,device,seed,passes,samples_per_pixel,seconds,seconds_photons,"
+           "seconds_maps,seconds_camera,seconds_eye_paths,seconds_direct,seconds_caustic,seconds_indirect,"
+           "seconds_accumulate,rmse,relmse,mean_ratio,max_error,mse,bias2,variance\n";
+}
+
+std::string sweepCsvLine(const SweepRow& r) {
+    auto quote = [](const std::string& s) {
+        std::string q = "\"";
+        for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+        return q + "\"";
+    };
+    std::ostringstream o;
+    const StageTimes& t = r.times;
+    o << r.scene << "," << r.curve << "," << r.method << "," << quote(r.settings) << "," << quote(r.device) << ","
+      << r.seed << "," << r.passes << "," << r.samplesPerPixel << "," << fmt(t.total) << "," << fmt(t.photons) << ","
+      << fmt(t.maps) << "," << fmt(t.camera) << "," << fmt(t.eyePaths) << "," << fmt(t.direct) << ","
+      << fmt(t.caustic) << "," << fmt(t.indirect) << "," << fmt(t.accumulate) << "," << fmt(r.rmse) << ","
+      << fmt(r.relMse) << "," << fmt(r.meanRatio) << "," << fmt(r.maxError) << "," << fmt(r.mse) << ","
+      << (r.split ? fmt(r.bias2) : "") << "," << (r.split ? fmt(r.variance) : "") << "\n";
+    return o.str();
+}
+
+Image boxDownsample(const Image& image, int factor) {
+    if (factor < 1 || image.width % factor || image.height % factor)
+        throw InputError("sweep: cannot box-downsample a " + std::to_string(image.width) + "x" +
+                         std::to_string(image.height) + " image by " + std::to_string(factor));
+    Image out(image.width / factor, image.height / factor);
+    const double inv = 1.0 / (double(factor) * factor);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) {
+            double c[3] = {0, 0, 0};
+            for (int dy = 0; dy < factor; ++dy)
+                for (int dx = 0; dx < factor; ++dx) {
+                    Vec3 v = image.at(x * factor + dx, y * factor + dy);
+                    c[0] += v.x, c[1] += v.y, c[2] += v.z;
+                }
+            out.set(x, y, Vec3(float(c[0] * inv), float(c[1] * inv), float(c[2] * inv)));
+        }
+    return out;
+}
+
+std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(const std::vector<SweepRow>&)>& onRow) {
+    namespace fs = std::filesystem;
+    if (!fs::is_regular_file(o.scenePath)) throw InputError("sweep: scene " + o.scenePath + ": no such file");
+    if (!fs::is_regular_file(o.referencePath))
+        throw InputError("sweep: reference " + o.referencePath + ": no such file");
+    if (o.seeds < 1) throw InputError("sweep: --seeds must be at least 1");
+    if (!(o.maxSeconds > 0)) throw InputError("sweep: the time budget must be positive");
+
+    // Which curves: all of the form, or the named ones (in the sweep's order).
+    std::vector<Curve> curves;
+    {
+        const std::vector<std::string> form = sweepCurveNames(o.quick);
+        for (const std::string& n : o.curves) {
+            bool known = false;
+            for (const Curve& c : allCurves()) known |= c.name == n;
+            if (!known) {
+                std::string list;
+                for (const Curve& c : allCurves()) list += (list.empty() ? "" : ", ") + c.name;
+                throw InputError("sweep: unknown curve '" + n + "'; expected one of " + list);
+            }
+        }
+        for (const Curve& c : allCurves()) {
+            bool wanted = o.curves.empty() ? std::find(form.begin(), form.end(), c.name) != form.end()
+                                           : std::find(o.curves.begin(), o.curves.end(), c.name) != o.curves.end();
+            if (wanted) curves.push_back(c);
+        }
+    }
+
+    Image reference = readImage(o.referencePath);
+    SceneSetup setup;
+    setup.scene = loadScene(o.scenePath);
+    Camera& cam = setup.scene.camera;
+    // The reference's size sets the render's; a different aspect ratio is a different image.
+    const double camAspect = double(cam.width) / cam.height, refAspect = double(reference.width) / reference.height;
+    if (std::abs(camAspect / refAspect - 1.0) > 0.01)
+        throw InputError("sweep: reference " + o.referencePath + " is " + std::to_string(reference.width) + "x" +
+                         std::to_string(reference.height) + " (aspect " + fmt(refAspect) + ") but the camera of " +
+                         o.scenePath + " is " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+                         " (aspect " + fmt(camAspect) + "): expected a reference at the camera's aspect ratio");
+    if (o.quick) {
+        // A quarter (or half) of the reference's width: the box average of its pixels is the
+        // reference of the bigger pixels (the film's filter is the pixel's box).
+        int factor = reference.width >= 32 && reference.width % 4 == 0 && reference.height % 4 == 0 ? 4
+                     : reference.width % 2 == 0 && reference.height % 2 == 0                       ? 2
+                                                                                                   : 1;
+        reference = boxDownsample(reference, factor);
+    }
+    cam.width = reference.width;
+    cam.height = reference.height;
+    setup.geometry = std::make_unique<SceneGeometry>(SceneGeometry::build(setup.scene));
+    setup.buffers = buildSceneBuffers(setup.scene, *setup.geometry);
+    buildProjectionMaps(setup.scene, *setup.geometry, setup.buffers);
+    setup.plan = makePlan(setup.scene, classifyLightPaths(setup.scene, *setup.geometry, setup.buffers));
+    const std::string sceneName = fs::path(o.scenePath).stem().string();
+
+    std::unique_ptr<Device> device;
+    std::vector<SweepRow> rows;
+    auto say = [&](const std::string& line) {
+        if (o.progress) o.progress(line);
+    };
+    const uint32_t maxBudget = 1u << 20;
+
+    for (const Curve& curve : curves) {
+        const bool path = curve.method == RenderMethod::PathTracing;
+        PhotonRenderSettings base = methodDefaults(curve.method, setup.plan, o.quick);
+        if (!path) {
+            curve.tweak(base);
+            if (!device) device = std::make_unique<Device>(Device::open(o.device));
+            RenderMaps maps = mapsFor(base.method, setup.plan);
+            PhotonPassOptions pass;
+            pass.buildGlobal = maps.global;
+            pass.buildCaustic = maps.caustic;
+            pass.globalPhotons = maps.global ? base.globalPhotons : 0;
+            pass.causticPhotons = maps.caustic ? base.causticPhotons : 0;
+            const MemoryPlan memory = planMemory(photonPassMemoryRequest(*setup.geometry, setup.buffers, pass),
+                                                 memoryLimits(device->info()));
+            requireMemoryFits(memory);
+            base.photonBatch = memory.photonBatch;
+            // One untimed pass: builds this configuration's kernels.
+            PhotonRenderSettings warm = base;
+            warm.passes = 1;
+            warm.seed = ~0ull;
+            renderPhotonMapped(*device, setup.scene, *setup.geometry, setup.buffers, setup.plan, warm);
+        }
+        const std::string deviceName =
+            path ? "ref (CPU path tracer, " + std::to_string(o.threads ? o.threads : int(std::thread::hardware_concurrency())) + " threads)"
+                 : device->info().name;
+
+        std::vector<uint32_t> budgets;  // set by the first seed, repeated by the others
+        std::vector<SeedMoments> moments;
+        std::string settingsText;
+        for (uint32_t si = 0; si < o.seeds; ++si) {
+            const uint64_t seed = o.seed + si;
+            Film film(cam.width, cam.height);
+            StageTimes cumulative;
+            uint32_t done = 0;  // passes (or samples per pixel) in `film`
+            for (size_t bi = 0;; ++bi) {
+                uint32_t target;
+                if (si == 0) {
+                    if (bi == 0) {
+                        target = 1;
+                    } else {
+                        // Double, but aim the last point at maxSeconds rather than twice it.
+                        const double perPass = cumulative.total / std::max<uint32_t>(done, 1);
+                        const double last = rows.empty() ? 0 : rows.back().times.total;
+                        if (last >= o.maxSeconds || done >= maxBudget) break;
+                        target = done * 2;
+                        const double perUnit = curve.method == RenderMethod::Progressive ? last / done : perPass;
+                        if (perUnit > 0 && target * perUnit > o.maxSeconds * 1.05)
+                            target = std::max(done + 1, uint32_t(std::ceil(o.maxSeconds / perUnit)));
+                    }
+                    budgets.push_back(target);
+                    moments.emplace_back();
+                } else {
+                    if (bi >= budgets.size()) break;
+                    target = budgets[bi];
+                }
+
+                SweepRow row;
+                row.scene = sceneName;
+                row.curve = curve.name;
+                row.method = renderMethodName(curve.method);
+                row.device = deviceName;
+                row.seed = std::to_string(seed);
+                if (path) {
+                    PathTracerSettings ps;
+                    ps.seed = seed;
+                    ps.threads = o.threads;
+                    ps.firstSample = int(done);
+                    ps.samplesPerPixel = int(target - done);
+                    PathTracerStats stats;
+                    auto t = Clock::now();
+                    film.merge(PathTracer(setup.scene, *setup.geometry, ps).render(&stats));
+                    cumulative.total += since(t);
+                    settingsText = "unidirectional, NEE + MIS, Russian roulette from bounce " +
+                                   std::to_string(ps.rouletteDepth) + ", max depth " + std::to_string(ps.maxDepth);
+                    row.samplesPerPixel = target;
+                } else {
+                    PhotonRenderSettings s = base;
+                    PhotonRenderResult r;
+                    if (curve.method == RenderMethod::Progressive) {
+                        // From scratch: the radius schedule follows the pass index.
+                        s.passes = target;
+                        s.seed = seed;
+                        r = renderPhotonMapped(*device, setup.scene, *setup.geometry, setup.buffers, setup.plan, s);
+                        film = r.film;
+                        cumulative = r.times;
+                    } else {
+                        s.passes = target - done;
+                        s.seed = incrementSeed(seed, uint32_t(bi));
+                        r = renderPhotonMapped(*device, setup.scene, *setup.geometry, setup.buffers, setup.plan, s);
+                        film.merge(r.film);
+                        StageTimes& c = cumulative;
+                        const StageTimes& t = r.times;
+                        c.photons += t.photons, c.maps += t.maps, c.camera += t.camera, c.eyePaths += t.eyePaths;
+                        c.direct += t.direct, c.caustic += t.caustic, c.indirect += t.indirect;
+                        c.accumulate += t.accumulate, c.total += t.total;
+                    }
+                    if (r.nonFiniteSamples)
+                        say("warning: " + std::to_string(r.nonFiniteSamples) + " non-finite samples dropped");
+                    settingsText = r.summary;
+                    row.samplesPerPixel = uint64_t(target) * s.strata * s.strata;
+                }
+                done = target;
+                row.passes = target;
+                row.times = cumulative;
+                row.settings = (curve.variant.empty() ? std::string() : curve.variant + "; ") + settingsText;
+                Image image = film.resolve();
+                ImageErrors e = compare(image, reference);
+                row.rmse = e.rmse, row.relMse = e.relMse, row.meanRatio = e.meanRatio, row.maxError = e.maxAbsDiff;
+                row.mse = mse(e);
+                rows.push_back(row);
+                if (o.seeds > 1) moments[bi].add(image, row.mse, row.times.total);
+                say(sceneName + " " + curve.name + " seed " + row.seed + ": " + std::to_string(target) +
+                    (path ? " spp" : " passes") + ", " + fmt(row.times.total) + " s, relMSE " + fmt(row.relMse) +
+                    ", RMSE " + fmt(row.rmse) + ", mean ratio " + fmt(row.meanRatio));
+                if (onRow) onRow(rows);
+            }
+        }
+        if (o.seeds > 1) {
+            for (size_t bi = 0; bi < budgets.size(); ++bi) {
+                const SeedMoments& m = moments[bi];
+                const double S = m.count;
+                Image mean(reference.width, reference.height);
+                double var = 0;
+                for (size_t i = 0; i < m.sum.size(); ++i) {
+                    double mu = m.sum[i] / S;
+                    mean.rgb[i] = float(mu);
+                    var += std::max(0.0, (m.sumSq[i] - S * mu * mu) / (S - 1));
+                }
+                var /= double(m.sum.size());
+                ImageErrors e = compare(mean, reference);
+                SweepRow row;
+                row.scene = sceneName;
+                row.curve = curve.name;
+                row.method = renderMethodName(curve.method);
+                row.device = deviceName;
+                row.seed = "all";
+                row.passes = budgets[bi];
+                row.samplesPerPixel = path ? budgets[bi] : uint64_t(budgets[bi]) * base.strata * base.strata;
+                row.times.total = m.secondsSum / S;
+                row.settings = (curve.variant.empty() ? std::string() : curve.variant + "; ") +
+                               "mean image over " + std::to_string(m.count) + " seeds";
+                row.rmse = e.rmse, row.relMse = e.relMse, row.meanRatio = e.meanRatio, row.maxError = e.maxAbsDiff;
+                row.mse = m.mseSum / S;
+                row.split = true;
+                row.variance = var;
+                row.bias2 = mse(e) - var / S;
+                rows.push_back(row);
+                say(sceneName + " " + curve.name + " all seeds: " + std::to_string(budgets[bi]) + ": bias² " +
+                    fmt(row.bias2) + ", variance " + fmt(row.variance));
+            }
+            if (onRow) onRow(rows);
+        }
+    }
+    return rows;
+}
+
+}  // namespace pcl
