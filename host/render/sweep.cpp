@@ -290,6 +290,11 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
                         const double perPass = cumulative.total / std::max<uint32_t>(done, 1);
                         const double last = rows.empty() ? 0 : rows.back().times.total;
                         if (last >= o.maxSeconds || done >= maxBudget) break;
+                        // Progressive renders every point from scratch: a last point only a few
+                        // passes beyond one near the budget would cost a whole render for nothing.
+                        // The others: a point within 10 % of the budget ends the curve (the
+                        // next would add a pass or two at the cost of a timing's noise).
+                        if (last >= (curve.method == RenderMethod::Progressive ? 0.75 : 0.9) * o.maxSeconds) break;
                         target = done * 2;
                         const double perUnit = curve.method == RenderMethod::Progressive ? last / done : perPass;
                         if (perUnit > 0 && target * perUnit > o.maxSeconds * 1.05)
