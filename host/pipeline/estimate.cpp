@@ -105,6 +105,7 @@ PclEstimateParams estimateParams(const EstimateSettings& s, uint32_t firstQuery,
     p.firstQuery = firstQuery;
     p.queryCount = queryCount;
     p.stride = stride;
+    p.maxSearchRadius2 = std::numeric_limits<float>::infinity();
     return p;
 }
 
@@ -224,7 +225,8 @@ EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, con
     cl::Buffer knnQueries = device.allocate<PclKnnQuery>(batch, CL_MEM_READ_WRITE, "estimate: kNN queries");
     for (size_t first = 0; first < queryCount; first += batch) {
         const size_t n = std::min(batch, queryCount - first);
-        const PclEstimateParams params = estimateParams(settings, uint32_t(first), uint32_t(n), maxK);
+        PclEstimateParams params = estimateParams(settings, uint32_t(first), uint32_t(n), maxK);
+        params.maxSearchRadius2 = searchRadius2;
         cl::Event c = device.launchLocal("estimate", convert, estimateGlobalRange(n), cl::NDRange(kEstimateGroup),
                                          params, cl_float(searchRadius2), queries, knnQueries);
         DeviceKnnOutput knn;

@@ -1,6 +1,7 @@
 #include "pipeline/scene_buffers.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 #include "core/error.h"
@@ -74,7 +75,14 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
     b.sceneCentre = bounds.centre();
     float diagonal = length(bounds.extent());
     b.sceneRadius = 0.5f * diagonal * 1.01f;
-    b.rayEpsilon = std::max(1e-6f, 1e-4f * diagonal);
+    // Also 32 float ulps of the largest coordinate: a hit point carries round-off of a few ulps of
+    // its coordinates, so a small scene far from the origin (bounds 1 at 1e4) needs more than
+    // 1e-4 of its diagonal (the stability suite's self-intersection test: 1 % of rays spawned
+    // from triangles 1e4 times their size from the origin re-hit them).
+    const Vec3 lo = bounds.lo, hi = bounds.hi;
+    const float maxAbs = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y),
+                                   std::abs(hi.z)});
+    b.rayEpsilon = std::max({1e-6f, 1e-4f * diagonal, 32.0f * std::numeric_limits<float>::epsilon() * maxAbs});
     b.hasMotion = scene.hasMotion();
 
     for (const Light& light : scene.lights) {

@@ -152,7 +152,12 @@ std::vector<PclEstimate> referenceEstimateWithKnn(const std::vector<PclPhoton>& 
         // The first k slots of a larger stride are the answer for k (the order is total).
         const uint32_t count = std::min(knn.counts[i], queries[i].k);
         const size_t base = i * knn.stride;
-        const float r2 = count ? knn.dist2[base + count - 1] : 0.0f;
+        // Fewer than k found: the disc is the search radius's (as estimate.cl; the hash grid's own
+        // limit is not known here, the query's radius is).
+        const float cap2 = queries[i].maxRadius2;
+        const float r2 = count == 0 ? 0.0f
+                         : count < queries[i].k && std::isfinite(cap2) ? cap2
+                                                                        : knn.dist2[base + count - 1];
         out[i] = referenceEstimateFromNeighbours(map, queries[i], knn.indices.data() + base, knn.dist2.data() + base,
                                                  count, r2, settings, geometry);
     });

@@ -13,8 +13,10 @@
 namespace pcl {
 
 // `map` must outlive the source; settings.filter must be Box (InputError otherwise). Queries
-// are answered with radius min(query maxRadius2, radius2) and k = min(query k, maxK).
+// are answered with radius min(query maxRadius2, radius2) and k = min(query k, maxK). scene:
+// needed when settings.visibility is on (as for estimateIrradianceSource).
 std::shared_ptr<IrradianceSource> fixedRadiusSource(const PhotonMapOnDevice& map, uint32_t maxK,
-                                                    const EstimateSettings& settings, float radius2);
+                                                    const EstimateSettings& settings, float radius2,
+                                                    const DeviceScene* scene = nullptr);
 
 }  // namespace pcl

@@ -170,6 +170,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
     EstimateSettings est;
     est.filter = progressive ? EstimateFilter::Box : s.filter;
     est.rayEpsilon = buffers.rayEpsilon;
+    est.visibility = s.visibility;
     const double area = sceneSurfaceArea(scene);
     double r0Squared = s.initialRadius > 0 ? double(s.initialRadius) * s.initialRadius : 0.0;
 
@@ -177,17 +178,18 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
         char line[512];
         std::snprintf(line, sizeof line,
                       "method %s, %u pass(es)%s, %u spp/pass, global %s, caustic %s, k %u/%u, %s%u gather rays%s, "
-                      "%u light samples, r_max %.4g, seed %llu",
+                      "%u light samples, r_max %.4g%s, seed %llu",
                       renderMethodName(s.method), s.passes, s.seconds > 0 ? " or time budget" : "", spp,
                       maps.global ? std::to_string(s.globalPhotons).c_str() : "none",
                       maps.caustic ? std::to_string(s.causticPhotons).c_str() : "none", s.globalK, s.causticK,
-                      fg ? (s.gatherSource == GatherSource::Precomputed ? "precomputed irradiance, " : "full estimate, ")
+                      fg ? (s.gatherSource == GatherSource::Precomputed && !s.visibility ? "precomputed irradiance, " : "full estimate, ")
                          : "",
                       fg ? s.gatherRays : 0u,
                       fg && s.histogramCells ? (" (importance " + std::to_string(s.histogramCells) + "x" +
                                                 std::to_string(s.histogramCells) + ")").c_str()
                                              : "",
-                      s.lightSamples, maxRadius, static_cast<unsigned long long>(s.seed));
+                      s.lightSamples, maxRadius, s.visibility ? ", visibility test" : "",
+                      static_cast<unsigned long long>(s.seed));
         result.summary = line;
     }
 
@@ -242,9 +244,12 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
                     if (!indirect.empty()) {
                         globalMap = std::make_unique<PhotonMapOnDevice>(device, indirect, KnnStructure::KdTree,
                                                                         searchRadius);
-                        globalSource = fixedRadiusSource(*globalMap, PCL_KNN_MAX_K, est, radius2);
+                        globalSource = fixedRadiusSource(*globalMap, PCL_KNN_MAX_K, est, radius2, &dscene);
                     }
-                } else if (fg && s.gatherSource == GatherSource::Precomputed) {
+                } else if (fg && s.gatherSource == GatherSource::Precomputed && !s.visibility) {
+                    // (With visibility the full estimate is read instead: a precomputed record is
+                    // found by one nearest lookup with no visibility test, so a record across a
+                    // thin wall would be read: the stability suite's thin-wall test.)
                     PrecomputedIrradianceOptions po;
                     po.k = s.globalK;
                     po.maxRadius = maxRadius;
@@ -266,7 +271,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
             if (maps.caustic && !photons.caustic.empty()) {
                 causticMap = std::make_unique<PhotonMapOnDevice>(device, photons.caustic, KnnStructure::KdTree,
                                                                  searchRadius);
-                causticSource = progressive ? fixedRadiusSource(*causticMap, PCL_KNN_MAX_K, est, radius2)
+                causticSource = progressive ? fixedRadiusSource(*causticMap, PCL_KNN_MAX_K, est, radius2, &dscene)
                                             : estimateIrradianceSource(*causticMap, s.causticK, est, &dscene);
             }
         });

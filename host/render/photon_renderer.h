@@ -51,6 +51,11 @@ struct PhotonRenderSettings {
     uint32_t eyeDepth = 0;            // hits per eye path; 0: kDefaultEyeDepth
     float maxRadius = 0.0f;           // kNN search radius cap; 0: 5 % of the scene's bounds diagonal
     EstimateFilter filter = EstimateFilter::Cone;     // fg/direct estimates (progressive: box)
+    // Every estimate (global, caustic; fg, direct and progressive) also rejects photons whose
+    // lifted segment to the query is occluded (EstimateSettings::visibility): no light through
+    // walls thinner than the search radius, at the cost of one ray per photon used. fg then reads
+    // the full estimate, not precomputed irradiance (its nearest-record lookup has no such test).
+    bool visibility = false;
     GatherSource gatherSource = GatherSource::Precomputed;
     // fg: G > 0 importance-samples the gather rays from a G × G histogram of the incident flux of
     // the globalK photons nearest each eye hit (Jensen 1995; pipeline/final_gather.h), mixed with

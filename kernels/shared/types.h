@@ -240,7 +240,7 @@ typedef struct PclEstimateParams {
     pcl_u32 firstQuery;    /* this batch's first query (queries and results are indexed from 0) */
     pcl_u32 queryCount;    /* queries in this batch */
     pcl_u32 stride;        /* kNN slots per query (the batch's largest k) */
-    pcl_u32 pad0;
+    pcl_f32 maxSearchRadius2; /* the structure's own search limit (hash grid r_max^2, else +inf) */
 } PclEstimateParams;
 PCL_STATIC_ASSERT(sizeof(PclEstimateParams) == 48, PclEstimateParams_size);
 
