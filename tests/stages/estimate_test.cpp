@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "device_fixture.h"
+#include "common/two_rooms.h"
 #include "photon_test_scenes.h"
 #include "pipeline/check_estimate.h"
 #include "pipeline/device_scene.h"
@@ -409,20 +410,6 @@ TEST(Estimate, EdgeAndCornerReadHalfAndQuarterOfTheInterior) {
 // coplanar with A's, so A's floor photons pass B's normal tests: only the visibility test stops
 // them. The shared wall's B face (normal +x) sees A's photons only on A's wall face (normal −x)
 // and floor/ceiling (normals ±y): the normal test rejects them all.
-void addRoom(Scene& s, Vec3 lo, Vec3 hi, int material) {
-    TriangleMesh m;
-    m.material = material;
-    Vec3 c[8];
-    for (int i = 0; i < 8; ++i) c[i] = Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
-    test::addQuad(m, c[0], c[1], c[3], c[2]);
-    test::addQuad(m, c[4], c[6], c[7], c[5]);
-    test::addQuad(m, c[0], c[4], c[5], c[1]);
-    test::addQuad(m, c[2], c[3], c[7], c[6]);
-    test::addQuad(m, c[0], c[2], c[6], c[4]);
-    test::addQuad(m, c[1], c[5], c[7], c[3]);
-    s.meshes.push_back(m);
-}
-
 // `count` points on the face of room [lo, hi] at coordinate `axis` = lo or hi (side), inward
 // normal; half of them within `near` of x = nearX when the face touches it.
 void facePoints(Vec3 lo, Vec3 hi, int axis, bool high, uint32_t count, float nearX, float near, float rMax,
@@ -445,8 +432,8 @@ TEST(Estimate, NoLightLeaksThroughAThinWallWithVisibility) {
     Scene s;
     const int white = test::addMaterial(s, Vec3(0.7f));
     const Vec3 aLo(-1.0f, 0.0f, 0.0f), aHi(-t / 2, 1.0f, 1.0f), bLo(t / 2, 0.0f, 0.0f), bHi(1.0f, 1.0f, 1.0f);
-    addRoom(s, aLo, aHi, white);
-    addRoom(s, bLo, bHi, white);
+    test::addRoom(s, aLo, aHi, white);
+    test::addRoom(s, bLo, bHi, white);
     s.lights.push_back(test::pointLight(Vec3(-0.3f, 0.5f, 0.5f), Vec3(10.0f)));
     test::BuiltScene b = test::build(s);
     PhotonPassOptions po;

@@ -14,9 +14,10 @@ struct Result {
     std::string output;  // stdout and stderr together
 };
 
-// `photoncl ARGS 2>&1`: the exit status (-1 if it did not exit normally) and everything printed.
-inline Result run(const std::string& args) {
-    std::string cmd = std::string(PHOTONCL_BINARY) + " " + args + " 2>&1";
+// `ENV photoncl ARGS 2>&1`: the exit status (-1 if it did not exit normally) and everything
+// printed. env: shell variable assignments for this run only ("NAME=value ..."), or empty.
+inline Result run(const std::string& args, const std::string& env = "") {
+    std::string cmd = (env.empty() ? "" : env + " ") + std::string(PHOTONCL_BINARY) + " " + args + " 2>&1";
     Result r;
     FILE* pipe = popen(cmd.c_str(), "r");
     if (!pipe) return r;
