@@ -45,7 +45,7 @@ struct RenderOptions {
     int width = 0, height = 0;
     uint64_t seed = 0;
     int threads = 0;
-    bool quiet = false, noPng = false;
+    bool quiet = false, noPng = false, visibility = false;
     uint64_t maxBufferMib = 0;  // --max-buffer-mib: applyBufferCap on the OpenCL device
     // Photon methods; 0 / empty: chosen (chooseDefaults).
     uint32_t histogramCells = 0;
@@ -240,6 +240,7 @@ int runPhotonRender(const RenderOptions& o, Scene& scene, const SceneGeometry& g
     s.seconds = o.seconds;
     s.seed = o.seed;
     s.filter = parseEstimateFilter(o.filter);
+    s.visibility = o.visibility;
     s.gatherSource = o.gatherSource == "estimate" ? GatherSource::Estimate : GatherSource::Precomputed;
     s.alpha = o.alpha;
     s.histogramCells = o.histogramCells;
@@ -429,6 +430,10 @@ Run addRenderCommand(CLI::App& app) {
                     "photons on a GxG histogram (Jensen 1995), mixed with the cosine density; 0: cosine only")
         ->check(CLI::Range(0u, 16u))
         ->capture_default_str();
+    sub->add_flag("--visibility", o->visibility,
+                  "Estimates also reject photons hidden from the shaded point (a shadow ray per photon): no light "
+                  "through walls thinner than the search radius; fg then reads the full estimate, not precomputed "
+                  "irradiance (slower)");
     sub->add_option("--filter", o->filter, "fg/direct estimate filter: box, cone, epanechnikov, gaussian")
         ->check(CLI::IsMember({"box", "cone", "epanechnikov", "gaussian"}))
         ->capture_default_str();
