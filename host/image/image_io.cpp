@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <set>
 #include <sstream>
 #include <system_error>
 #include <unistd.h>
@@ -225,6 +226,13 @@ Image readImage(const std::string& path, ImageMetadata* metadata) {
         m.samples = std::strtoll(spec.get_string_attribute("photoncl:samples", "0").c_str(), nullptr, 10);
         m.seed = std::strtoull(spec.get_string_attribute("photoncl:seed", "0").c_str(), nullptr, 10);
         m.seconds = spec.get_float_attribute("photoncl:seconds", 0.0f);
+        // The other photoncl: string attributes (settings, photons, stage times...) come back as extras.
+        static const std::set<std::string> kNamed = {"scene", "method", "device", "version", "samples", "seed", "seconds"};
+        for (const OIIO::ParamValue& p : spec.extra_attribs) {
+            const std::string name = p.name().string();
+            if (name.rfind("photoncl:", 0) != 0 || kNamed.count(name.substr(9)) || p.type() != OIIO::TypeString) continue;
+            m.extra.emplace_back(name.substr(9), spec.get_string_attribute(name));
+        }
         *metadata = m;
     }
     in->close();

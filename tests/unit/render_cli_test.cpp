@@ -82,9 +82,22 @@ TEST_F(RenderCliTest, HelpExplainsEveryOption) {
     ASSERT_EQ(r.status, 0);
     for (const char* opt : {"--method", "--device", "--passes", "--time", "--strata", "--global-photons",
                             "--caustic-photons", "--k", "--caustic-k", "--gather-rays", "--light-samples",
-                            "--gather-source", "--gather-importance", "--filter", "--radius", "--alpha", "--aov", "--max-buffer-mib",
+                            "--gather-source", "--gather-importance", "--filter", "--visibility", "--radius", "--alpha", "--aov",
+                            "--max-buffer-mib",
                             "progressive", "Ctrl-C"})
         EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
+}
+
+// --visibility reaches the renderer: its settings line (logged and in the EXR) says so.
+TEST_F(RenderCliTest, VisibilityFlagReachesTheRenderer) {
+    Result r = run("render " + scene("cornell-box.json") + " -o " + (dir / "v.exr").string() + small +
+                   " --passes 1 --no-png --visibility");
+    ASSERT_EQ(r.status, 0) << r.output;
+    pcl::ImageMetadata meta;
+    pcl::readImage((dir / "v.exr").string(), &meta);
+    bool found = false;
+    for (const auto& kv : meta.extra) found |= kv.second.find("visibility test") != std::string::npos;
+    EXPECT_TRUE(found) << "the EXR's settings should record the visibility test";
 }
 
 TEST_F(RenderCliTest, DefaultsAreLoggedWithTheirReasons) {
