@@ -6,8 +6,9 @@
 Per scene, DIR/<scene>-error.png: relMSE and RMSE against render seconds, log-log, one curve per
 method (+ variant); per-seed rows at one budget are averaged. Where the CSV has bias/variance rows
 (seed "all", from --seeds >= 2), DIR/<scene>-bias-variance.png: bias^2 and variance against seconds.
-DIR/winners.md: per scene and budget, the curve with the lowest relMSE among the points finished
-within that budget (a curve whose first point took longer has no entry at it), and the runner-up.
+DIR/winners.md: per scene and budget, the curves with the lowest and second-lowest relMSE (and RMSE)
+at that many seconds, read off each curve by log-log interpolation between its points (a curve
+whose first point took longer, or that ended more than 15 % short of the budget, has none).
 Needs matplotlib (Debian: python3-matplotlib); Agg backend, no display.
 """
 import argparse
@@ -70,14 +71,20 @@ def positive(v):
 
 def chart_errors(scene, curves, path):
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.4))
+    variants = defaultdict(int)  # per colour: variants drawn so far (each its own dashes and marker)
     for name in sorted(curves):
         pts = curves[name]["points"]
         if not pts:
             continue
-        dashed = name not in STYLE
+        if name in STYLE:
+            style, marker = "-", "o"
+        else:
+            i = variants[colour(name)]
+            variants[colour(name)] += 1
+            style, marker = ("--", ":", "-.")[i % 3], ("s", "^", "v", "D")[i % 4]
         for ax, idx in ((axes[0], 1), (axes[1], 2)):
-            ax.plot([p[0] for p in pts], [positive(p[idx]) for p in pts], marker="o", markersize=3,
-                    color=colour(name), linestyle="--" if dashed else "-", label=name)
+            ax.plot([p[0] for p in pts], [positive(p[idx]) for p in pts], marker=marker, markersize=3,
+                    color=colour(name), linestyle=style, label=name)
     for ax, what in ((axes[0], "relMSE"), (axes[1], "RMSE")):
         ax.set_xscale("log")
         ax.set_yscale("log")
@@ -119,27 +126,41 @@ def chart_split(scene, curves, path):
     return True
 
 
-def best_within(pts, budget):
-    done = [p for p in pts if p[0] <= budget]
-    return min(done, key=lambda p: p[1]) if done else None
+def at_budget(pts, budget, idx):
+    """The curve's error at `budget` seconds: log-log interpolation between the points around it;
+    the last point if the curve ended within 15 % short of it; None if it never got that far or
+    its first point took longer."""
+    if not pts or pts[0][0] > budget:
+        return None
+    for p, q in zip(pts, pts[1:]):
+        if p[0] <= budget <= q[0]:
+            if p[idx] <= 0 or q[idx] <= 0 or q[0] <= p[0]:
+                return p[idx]
+            t = (math.log(budget) - math.log(p[0])) / (math.log(q[0]) - math.log(p[0]))
+            return math.exp(math.log(p[idx]) + t * (math.log(q[idx]) - math.log(p[idx])))
+    return pts[-1][idx] if pts[-1][0] >= 0.85 * budget else None
 
 
 def winners(data, budgets):
-    lines = ["| scene | budget | best (relMSE, seconds) | runner-up (relMSE) | ratio |", "|---|---|---|---|---|"]
+    lines = ["| scene | budget | best by relMSE | runner-up | its relMSE / best | best by RMSE | runner-up | "
+             "its RMSE / best |", "|---|---|---|---|---|---|---|---|"]
     for scene in sorted(data):
-        longest = max((p[0] for c in data[scene].values() for p in c["points"]), default=0)
         for b in budgets:
-            if b > longest * 1.5:
-                continue  # the sweep did not run this long: no claim
-            ranked = sorted(((best_within(c["points"], b), n) for n, c in data[scene].items()),
-                            key=lambda t: t[0][1] if t[0] else float("inf"))
-            ranked = [(p, n) for p, n in ranked if p]
-            if not ranked:
-                continue
-            (p1, n1) = ranked[0]
-            second = f"{ranked[1][1]} ({ranked[1][0][1]:.3g})" if len(ranked) > 1 else "-"
-            ratio = f"{ranked[1][0][1] / p1[1]:.2f}x" if len(ranked) > 1 and p1[1] > 0 else "-"
-            lines.append(f"| {scene} | {b:g} s | {n1} ({p1[1]:.3g}, {p1[0]:.1f} s) | {second} | {ratio} |")
+            cells = []
+            for idx in (1, 2):
+                ranked = sorted((v, n) for n, c in data[scene].items()
+                                for v in [at_budget(c["points"], b, idx)] if v is not None)
+                if not ranked:
+                    cells = None
+                    break
+                v1, n1 = ranked[0]
+                if len(ranked) > 1:
+                    v2, n2 = ranked[1]
+                    cells += [f"{n1} ({v1:.3g})", f"{n2} ({v2:.3g})", f"{v2 / v1:.2f}x" if v1 > 0 else "-"]
+                else:
+                    cells += [f"{n1} ({v1:.3g})", "-", "-"]
+            if cells:
+                lines.append(f"| {scene} | {b:g} s | " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 
