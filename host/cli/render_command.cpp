@@ -65,16 +65,17 @@ std::string defaultOutput(const std::string& scenePath) {
 // goes to the whole process group, and PoCL links kernels in forked linker processes, which
 // inherit the blocked mask across exec and so are not killed halfway (that aborted PoCL).
 std::atomic<bool> gStop{false};
-void watchInterrupts() {
+// graceful false (the path tracer, which cannot stop between passes): the first Ctrl-C quits.
+void watchInterrupts(bool graceful) {
     sigset_t set;
     sigemptyset(&set);
     sigaddset(&set, SIGINT);
     pthread_sigmask(SIG_BLOCK, &set, nullptr);
-    std::thread([set] {
+    std::thread([set, graceful] {
         for (int presses = 0;;) {
             int sig = 0;
             if (sigwait(&set, &sig) != 0) continue;
-            if (++presses > 1) std::_Exit(130);  // 128 + SIGINT, as the default action reports
+            if (++presses > 1 || !graceful) std::_Exit(130);  // 128 + SIGINT, as the default action reports
             gStop.store(true);
         }
     }).detach();
@@ -334,6 +335,10 @@ int runPhotonRender(const RenderOptions& o, Scene& scene, const SceneGeometry& g
 
 int runRender(const RenderOptions& o) {
     const bool path = o.method == "path";
+    // First, before PoCL or the path tracer start threads (they inherit the blocked mask): a
+    // Ctrl-C from here on stops a photon render after the current pass, kernel builds included.
+    gStop.store(false);
+    watchInterrupts(!path);
     if (path && o.device != "cpu" && o.device != "ref" && o.device != "auto")
         throw InputError("render: --method path runs on the CPU reference (--device ref); got --device " + o.device);
     std::string output = o.output.empty() ? defaultOutput(o.scene) : o.output;
@@ -355,12 +360,7 @@ int runRender(const RenderOptions& o) {
         std::fprintf(stderr, "scene %s: %zu triangles, %zu spheres, %zu lights; BVH %zu nodes in %.2fs\n",
                      o.scene.c_str(), scene.triangleCount(), scene.spheres.size(), scene.lights.size(),
                      geometry.stats().nodes, geometry.stats().buildSeconds);
-    if (!path) {
-        // From here on Ctrl-C asks for a stop after the current pass (kernel builds included).
-        gStop.store(false);
-        watchInterrupts();
-        return runPhotonRender(o, scene, geometry, output, start);
-    }
+    if (!path) return runPhotonRender(o, scene, geometry, output, start);
 
     // The plan (photoncl analyze) decides which maps and samplers a render uses. The path
     // tracer builds no photon maps; its lens and time samplers follow the camera and the motion
