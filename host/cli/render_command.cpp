@@ -60,8 +60,9 @@ std::string defaultOutput(const std::string& scenePath) {
 }
 
 // Ctrl-C: the render finishes the pass it is in and writes the passes done; a second Ctrl-C
-// quits at once. SIGINT is blocked in every thread (PoCL's threads are created after this, and
-// inherit the mask) and taken by one sigwait thread instead of a handler: a terminal's Ctrl-C
+// (a second or more later) quits at once. SIGINT is blocked in every thread (PoCL's threads
+// are created after this, and inherit the mask) and taken by one sigwait thread instead of a
+// handler: a terminal's Ctrl-C
 // goes to the whole process group, and PoCL links kernels in forked linker processes, which
 // inherit the blocked mask across exec and so are not killed halfway (that aborted PoCL).
 std::atomic<bool> gStop{false};
@@ -72,10 +73,17 @@ void watchInterrupts(bool graceful) {
     sigaddset(&set, SIGINT);
     pthread_sigmask(SIG_BLOCK, &set, nullptr);
     std::thread([set, graceful] {
-        for (int presses = 0;;) {
+        // One interrupt can arrive twice: timeout(1) signals the process and then its group.
+        // Signals within a second of the first count as one.
+        std::chrono::steady_clock::time_point first;
+        for (bool pressed = false;;) {
             int sig = 0;
             if (sigwait(&set, &sig) != 0) continue;
-            if (++presses > 1 || !graceful) std::_Exit(130);  // 128 + SIGINT, as the default action reports
+            const auto now = std::chrono::steady_clock::now();
+            if (!graceful || (pressed && now - first > std::chrono::seconds(1)))
+                std::_Exit(130);  // 128 + SIGINT, as the default action reports
+            if (!pressed) first = now;
+            pressed = true;
             gStop.store(true);
         }
     }).detach();
