@@ -59,4 +59,9 @@ bool allFinite(const Image& image, size_t* firstBad = nullptr);
 // One line for the command line: "RMSE 0.0123  relMSE 0.00456  mean ratio 1.0012  max diff 0.789".
 std::string formatErrors(const ImageErrors& e);
 
+// 2×2, 4×4 … box average, each output pixel the mean of factor² input pixels (the film's box
+// filter makes it the expectation of a render at the smaller size). InputError unless factor
+// divides both sides.
+Image boxDownsample(const Image& image, int factor);
+
 }  // namespace pcl

@@ -165,25 +165,6 @@ std::string sweepCsvLine(const SweepRow& r) {
     return o.str();
 }
 
-Image boxDownsample(const Image& image, int factor) {
-    if (factor < 1 || image.width % factor || image.height % factor)
-        throw InputError("sweep: cannot box-downsample a " + std::to_string(image.width) + "x" +
-                         std::to_string(image.height) + " image by " + std::to_string(factor));
-    Image out(image.width / factor, image.height / factor);
-    const double inv = 1.0 / (double(factor) * factor);
-    for (int y = 0; y < out.height; ++y)
-        for (int x = 0; x < out.width; ++x) {
-            double c[3] = {0, 0, 0};
-            for (int dy = 0; dy < factor; ++dy)
-                for (int dx = 0; dx < factor; ++dx) {
-                    Vec3 v = image.at(x * factor + dx, y * factor + dy);
-                    c[0] += v.x, c[1] += v.y, c[2] += v.z;
-                }
-            out.set(x, y, Vec3(float(c[0] * inv), float(c[1] * inv), float(c[2] * inv)));
-        }
-    return out;
-}
-
 std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(const std::vector<SweepRow>&)>& onRow) {
     namespace fs = std::filesystem;
     if (!fs::is_regular_file(o.scenePath)) throw InputError("sweep: scene " + o.scenePath + ": no such file");

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "image/image.h"
+#include "image/metrics.h"
 #include "render/photon_renderer.h"
 
 namespace pcl {
@@ -66,8 +67,5 @@ std::string sweepCsvLine(const SweepRow& row);
 std::vector<SweepRow> runSweep(const SweepOptions& options,
                                const std::function<void(const std::vector<SweepRow>&)>& onRow = {});
 
-// 2×2, 4×4 … box average (each output pixel the mean of factor² input pixels): the reference at
-// the size of a quick sweep. InputError unless factor divides both sides.
-Image boxDownsample(const Image& image, int factor);
 
 }  // namespace pcl

@@ -53,19 +53,6 @@ void expectFinite(const PhotonRenderResult& r, const Image& img, const std::stri
     EXPECT_TRUE(allFinite(img, &bad)) << what << ": pixel " << bad;
 }
 
-// 2×2 box average: the film's box filter makes a pixel of the half-size image exactly the mean
-// of its four pixels at full size, so a reference serves half-size tests.
-Image halve(const Image& img) {
-    Image out(img.width / 2, img.height / 2);
-    for (int y = 0; y < out.height; ++y)
-        for (int x = 0; x < out.width; ++x)
-            out.set(x, y,
-                    (img.at(2 * x, 2 * y) + img.at(2 * x + 1, 2 * y) + img.at(2 * x, 2 * y + 1) +
-                     img.at(2 * x + 1, 2 * y + 1)) *
-                        0.25f);
-    return out;
-}
-
 }  // namespace
 
 // Final gathering at the test's settings (64 pixels wide, 2 passes × 4 stratified samples, 32
@@ -174,7 +161,7 @@ TEST(PhotonRenderAccuracy, FurnaceInEveryMethod) {
 TEST(PhotonRenderAccuracy, ProgressiveZTestOverSixteenSeeds) {
     ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
     const std::string name = "cornell-box.json";
-    Image ref = halve(readImage(referencePath(name)));
+    Image ref = boxDownsample(readImage(referencePath(name)), 2);
     auto p = prepare(name, ref.width, ref.height);
     std::vector<Image> runs;
     double seconds = 0.0;

@@ -63,16 +63,4 @@ inline double channelSum(const Image& img) {
     return s;
 }
 
-// 2×2 box average (the film's box filter makes it the half-size render's expectation).
-inline Image halve(const Image& img) {
-    Image out(img.width / 2, img.height / 2);
-    for (int y = 0; y < out.height; ++y)
-        for (int x = 0; x < out.width; ++x)
-            out.set(x, y,
-                    (img.at(2 * x, 2 * y) + img.at(2 * x + 1, 2 * y) + img.at(2 * x, 2 * y + 1) +
-                     img.at(2 * x + 1, 2 * y + 1)) *
-                        0.25f);
-    return out;
-}
-
 }  // namespace pcl::stability
