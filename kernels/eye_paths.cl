@@ -89,8 +89,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
         if (!eye_specular_scatter(M, d, n, rng_u01(wb[3]), rng_u01(wb[0]), rng_u01(wb[1]), &dNew, w)) break;
         const float ps = 1.0f - pd;
         for (int c = 0; c < 3; ++c) T[c] = T[c] * w[c] / ps;
-        const float eps = sampling_dot(dNew, nf) > 0.0f ? params.rayEpsilon : -params.rayEpsilon;
-        o = eye_add_scaled(p, nf, eps);
+        o = eye_spawn(p, nf, dNew, params.rayEpsilon);
         d = dNew;
     }
     for (int c = 0; c < 3; ++c) h.emitted[c] = Le[c];

@@ -117,8 +117,7 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
         if (!eye_specular_scatter(M, d, n, rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3]), &dNew, ws)) break;
         const float ps = 1.0f - pd;
         for (int c = 0; c < 3; ++c) T[c] = T[c] * ws[c] / ps;
-        const float eps = sampling_dot(dNew, nf) > 0.0f ? params.rayEpsilon : -params.rayEpsilon;
-        o = eye_add_scaled(p, nf, eps);
+        o = eye_spawn(p, nf, dNew, params.rayEpsilon);
         d = dNew;
         afterSpecular = true;
     }

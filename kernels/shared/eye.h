@@ -16,6 +16,11 @@ inline PclV3 eye_add_scaled(PclV3 p, PclV3 d, float t) {
     return sampling_v3(p.x + t * d.x, p.y + t * d.y, p.z + t * d.z);
 }
 
+/* The origin of a ray leaving p along d: p moved eps off the surface on the side d goes to. */
+inline PclV3 eye_spawn(PclV3 p, PclV3 nf, PclV3 d, float eps) {
+    return eye_add_scaled(p, nf, sampling_dot(d, nf) > 0.0f ? eps : -eps);
+}
+
 /* The unit outside normal of `prim` at p (spheres placed at shutter time tau). */
 inline PclV3 eye_normal(__global const PclPrimInfo* primInfo, uint prim, uint triangleCount, PclV3 p, float tau) {
     const PclPrimInfo info = primInfo[prim];
