@@ -94,42 +94,20 @@ void watchInterrupts(bool graceful) {
 void chooseDefaults(const RenderOptions& o, const Scene& scene, const RenderPlan& plan, PhotonRenderSettings& s,
                     std::string& log) {
     std::ostringstream why;
-    const size_t pixels = size_t(scene.camera.width) * scene.camera.height;
-    const double megapixels = pixels / 1e6;
     auto note = [&](const std::string& what, bool chosen, const std::string& reason) {
         why << "  " << what << (chosen ? "  (default: " + reason + ")" : "  (given)") << "\n";
     };
-    s.globalPhotons = o.globalPhotons ? o.globalPhotons : plan.globalPhotons ? plan.globalPhotons : 200000;
-    s.causticPhotons = o.causticPhotons ? o.causticPhotons : plan.causticPhotons ? plan.causticPhotons : 100000;
-    s.globalK = o.k ? o.k : 50;
-    s.causticK = o.causticK ? o.causticK : 50;
-    s.lightSamples = o.lightSamples ? o.lightSamples : 16;
+    applyRenderDefaults(s, plan);
+    if (o.globalPhotons) s.globalPhotons = o.globalPhotons;
+    if (o.causticPhotons) s.causticPhotons = o.causticPhotons;
+    if (o.k) s.globalK = o.k;
+    if (o.causticK) s.causticK = o.causticK;
+    if (o.lightSamples) s.lightSamples = o.lightSamples;
+    if (o.strata && s.method != RenderMethod::PathTracing) s.strata = o.strata;
+    if (o.gatherRays && s.method == RenderMethod::FinalGather) s.gatherRays = o.gatherRays;
+    if (s.method != RenderMethod::PathTracing)
+        s.passes = o.passes ? o.passes : (o.seconds > 0 ? 0 : defaultPasses(s.method, scene.camera.width, scene.camera.height));
     const bool distributed = plan.lensSampling || plan.timeSampling || plan.glossySampling;
-    switch (s.method) {
-        case RenderMethod::FinalGather:
-            // Gather rays carry the noise of the indirect part; strata × passes antialias and
-            // add fresh photons. One 256² pass with 64 gather rays takes ~6 s under PoCL on 2 cores.
-            // Lens, shutter and glossy lobes are sampled by the eye samples: scenes that need them
-            // get 2×2 per pass and a quarter of the gather rays (the same gather work per pass).
-            s.strata = o.strata ? o.strata : (distributed ? 2 : 1);
-            s.gatherRays = o.gatherRays ? o.gatherRays : (distributed ? 16 : 64);
-            // 10 passes of 256² (cornell-spheres: ~40 s on 2 cores), scaled by pixel count, 1..64.
-            s.passes = o.passes ? o.passes
-                                : (o.seconds > 0 ? 0
-                                                 : std::clamp(int(10 * 0.065536 / std::max(megapixels, 1e-6) + 0.5), 1, 64));
-            break;
-        case RenderMethod::DirectVisualisation:
-            s.gatherRays = 1;
-            s.strata = o.strata ? o.strata : 2;
-            s.passes = o.passes ? o.passes : (o.seconds > 0 ? 0 : 4);  // a preview: seconds
-            break;
-        case RenderMethod::Progressive:
-            s.gatherRays = 1;
-            s.strata = o.strata ? o.strata : 1;
-            s.passes = o.passes ? o.passes : (o.seconds > 0 ? 0 : 32);
-            break;
-        case RenderMethod::PathTracing: break;
-    }
     s.passes = std::min<uint32_t>(s.passes, 1u << 20);
     note("passes " + (s.passes ? std::to_string(s.passes) : std::string("until --time")), !o.passes && !(o.seconds > 0),
          s.method == RenderMethod::FinalGather ? "10 passes of a 256x256 image (about 40 s on 2 CPU cores), scaled by pixel count, 1 to 64"

@@ -120,6 +120,45 @@ bool finite(const PclRadiance& r) { return std::isfinite(r.r) && std::isfinite(r
 
 }  // namespace
 
+void applyRenderDefaults(PhotonRenderSettings& s, const RenderPlan& plan) {
+    s.globalPhotons = plan.globalPhotons ? plan.globalPhotons : 200000;
+    s.causticPhotons = plan.causticPhotons ? plan.causticPhotons : 100000;
+    s.globalK = 50;
+    s.causticK = 50;
+    s.lightSamples = 16;
+    const bool distributed = plan.lensSampling || plan.timeSampling || plan.glossySampling;
+    switch (s.method) {
+        case RenderMethod::FinalGather:
+            // Gather rays carry the noise of the indirect part; strata × passes antialias and
+            // add fresh photons. Lens, shutter and glossy lobes are sampled by the eye samples:
+            // scenes that need them get 2×2 per pass and a quarter of the gather rays.
+            s.strata = distributed ? 2 : 1;
+            s.gatherRays = distributed ? 16 : 64;
+            break;
+        case RenderMethod::DirectVisualisation:
+            s.gatherRays = 1;
+            s.strata = 2;
+            break;
+        case RenderMethod::Progressive:
+            s.gatherRays = 1;
+            s.strata = 1;
+            break;
+        case RenderMethod::PathTracing: break;
+    }
+}
+
+uint32_t defaultPasses(RenderMethod method, int width, int height) {
+    const double megapixels = double(width) * height / 1e6;
+    switch (method) {
+        // One 256² pass with 64 gather rays takes ~2-6 s under PoCL on 2 cores.
+        case RenderMethod::FinalGather: return uint32_t(std::clamp(int(10 * 0.065536 / std::max(megapixels, 1e-6) + 0.5), 1, 64));
+        case RenderMethod::DirectVisualisation: return 4;  // a preview: seconds
+        case RenderMethod::Progressive: return 32;
+        case RenderMethod::PathTracing: break;
+    }
+    return 0;
+}
+
 PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const SceneGeometry& geometry,
                                       const SceneBuffers& buffers, const RenderPlan& plan,
                                       const PhotonRenderSettings& s) {

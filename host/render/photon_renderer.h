@@ -110,6 +110,15 @@ struct RenderMaps {
 };
 RenderMaps mapsFor(RenderMethod method, const RenderPlan& plan);
 
+// The settings `render` uses for s.method when given no options (its log says why; `sweep`
+// starts from them too): photons per pass from the plan, k 50, 16 light samples, and per method
+// the eye strata and gather rays (2×2 samples and a quarter of the gather rays when the plan
+// samples a lens, a shutter or glossy lobes). Passes are left alone: defaultPasses.
+void applyRenderDefaults(PhotonRenderSettings& s, const RenderPlan& plan);
+// Passes of `render` with no --passes or --time: fg 10 at 256×256 scaled by pixel count (1..64),
+// direct 4, progressive 32.
+uint32_t defaultPasses(RenderMethod method, int width, int height);
+
 // Total area of the scene's surfaces (triangles and spheres), for photon densities.
 double sceneSurfaceArea(const Scene& scene);
 

@@ -70,29 +70,11 @@ std::vector<Curve> allCurves() {
 
 // The method's defaults as `photoncl render` chooses them with no options (cli/render_command.cpp,
 // chooseDefaults), scaled down for the quick form.
+// render's defaults for the method (applyRenderDefaults); quick: fewer photons and rays.
 PhotonRenderSettings methodDefaults(RenderMethod method, const RenderPlan& plan, bool quick) {
     PhotonRenderSettings s;
     s.method = method;
-    s.globalPhotons = plan.globalPhotons ? plan.globalPhotons : 200000;
-    s.causticPhotons = plan.causticPhotons ? plan.causticPhotons : 100000;
-    s.globalK = 50;
-    s.causticK = 50;
-    s.lightSamples = 16;
-    const bool distributed = plan.lensSampling || plan.timeSampling || plan.glossySampling;
-    switch (method) {
-        case RenderMethod::FinalGather:
-            s.strata = distributed ? 2 : 1;
-            s.gatherRays = distributed ? 16 : 64;
-            break;
-        case RenderMethod::DirectVisualisation:
-            s.gatherRays = 1;
-            s.strata = 2;
-            break;
-        default:
-            s.gatherRays = 1;
-            s.strata = 1;
-            break;
-    }
+    applyRenderDefaults(s, plan);
     if (quick) {
         s.globalPhotons = std::max(2000u, s.globalPhotons / 8);
         s.causticPhotons = std::max(2000u, s.causticPhotons / 8);
