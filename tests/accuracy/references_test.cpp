@@ -3,6 +3,7 @@
 // and fresh path-traced renders give L = ρ/(1−ρ) within 1 %; a short fresh render agrees with
 // each stored reference (a stale reference after a scene edit fails here, not in a photon test).
 #include <gtest/gtest.h>
+#include "common/optional_feature.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -31,7 +32,7 @@ Image pathTraced(const Scene& scene, int spp, uint64_t seed) {
 }  // namespace
 
 TEST(References, EveryShippedSceneHasAFiniteReference) {
-    if (!haveOpenImageIO()) GTEST_SKIP() << "built without OpenImageIO: references are EXR";
+    PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (the references are EXR)");
     for (const std::string& name : referencedScenes()) {
         ASSERT_TRUE(std::filesystem::exists(referencePath(name)))
             << referencePath(name) << " missing: run scripts/make_references.py";
@@ -73,7 +74,7 @@ TEST(References, FurnaceMatchesTheClosedForm) {
 // 3 % (the 32-sample mean over ~4000 pixels has a standard error of 0.3-1 %, the caustic scenes'
 // fireflies the most) and relMSE of the same order as the noise of 32 samples.
 TEST(References, FreshPathTracedRenderAgreesWithEachReference) {
-    if (!haveOpenImageIO()) GTEST_SKIP() << "built without OpenImageIO: references are EXR";
+    PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (the references are EXR)");
     for (const std::string& name : referencedScenes()) {
         Image ref = readImage(referencePath(name));
         Scene scene = loadSceneAt(name, ref.width, ref.height);

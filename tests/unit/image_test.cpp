@@ -1,6 +1,7 @@
 // Film, image files and error metrics: values and metadata survive a round trip, writers leave
 // no temporary behind, and metrics equal hand-computed values.
 #include <gtest/gtest.h>
+#include "common/optional_feature.h"
 
 #include <cmath>
 #include <filesystem>
@@ -146,7 +147,7 @@ TEST(ImageIo, LinearRoundTripKeepsValuesAndMetadata) {
 }
 
 TEST(ImageIo, PngWrittenInSrgb) {
-    if (!haveOpenImageIO()) GTEST_SKIP() << "built without OpenImageIO";
+    PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO");
     TempDir dir;
     Image img(3, 1);
     img.set(0, 0, Vec3(0.0f, 0.18f, 1.0f));

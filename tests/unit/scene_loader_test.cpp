@@ -1,6 +1,7 @@
 // Scene loaders: the JSON format, the glTF loader and validation. Bad inputs must throw
 // InputError whose message names the file and the field; good inputs must give exact numbers.
 #include <gtest/gtest.h>
+#include "common/optional_feature.h"
 
 #include <cmath>
 #include <cstdio>
@@ -26,7 +27,7 @@ using namespace pcl;
 #ifdef PHOTONCL_HAVE_GLTF
 #define REQUIRE_GLTF()
 #else
-#define REQUIRE_GLTF() GTEST_SKIP() << "built without glTF support"
+#define REQUIRE_GLTF() PCL_REQUIRE_FEATURE(false, "glTF support (tinygltf)")
 #endif
 
 namespace {
