@@ -17,5 +17,9 @@ Run addCompareCommand(CLI::App& app);
 Run addAnalyzeCommand(CLI::App& app);
 Run addPhotonsCommand(CLI::App& app);
 Run addSweepCommand(CLI::App& app);
+// `batch` with plan/run/merge (host/cli/batch_command.cpp); it calls addBatchSlurmCommand(*batch)
+// (host/cli/batch_slurm_command.cpp) to add `batch slurm`, whose Run is called when that was parsed.
+Run addBatchCommand(CLI::App& app);
+Run addBatchSlurmCommand(CLI::App& batch);
 
 }  // namespace pcl::cli
