@@ -52,7 +52,7 @@ struct RenderOptions {
     uint32_t strata = 0, globalPhotons = 0, causticPhotons = 0, k = 0, causticK = 0, gatherRays = 0,
              lightSamples = 0;
     float radius = 0.0f, alpha = 2.0f / 3.0f, maxRadius = 0.0f;
-    std::string filter = "cone", gatherSource = "precomputed", aov;
+    std::string filter = "cone", gatherSource = "precomputed", aov, structure = "kd-tree";
 };
 
 std::string defaultOutput(const std::string& scenePath) {
@@ -228,6 +228,7 @@ int runPhotonRender(const RenderOptions& o, Scene& scene, const SceneGeometry& g
     s.seed = o.seed;
     s.filter = parseEstimateFilter(o.filter);
     s.visibility = o.visibility;
+    s.structure = o.structure == "hash-grid" ? KnnStructure::HashGrid : KnnStructure::KdTree;
     s.gatherSource = o.gatherSource == "estimate" ? GatherSource::Estimate : GatherSource::Precomputed;
     s.alpha = o.alpha;
     s.histogramCells = o.histogramCells;
@@ -422,6 +423,11 @@ Run addRenderCommand(CLI::App& app) {
                   "irradiance (slower)");
     sub->add_option("--filter", o->filter, "fg/direct estimate filter: box, cone, epanechnikov, gaussian")
         ->check(CLI::IsMember({"box", "cone", "epanechnikov", "gaussian"}))
+        ->capture_default_str();
+    sub->add_option("--structure", o->structure,
+                    "Search structure of the photon maps: kd-tree or hash-grid (the same photons are found; "
+                    "only the speed differs, see `photoncl sweep`)")
+        ->check(CLI::IsMember({"kd-tree", "hash-grid"}))
         ->capture_default_str();
     sub->add_option("--max-radius", o->maxRadius, "Largest photon search radius (default: 5 % of the scene's diagonal)")
         ->check(CLI::PositiveNumber);

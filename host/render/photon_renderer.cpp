@@ -217,7 +217,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
         char line[512];
         std::snprintf(line, sizeof line,
                       "method %s, %u pass(es)%s, %u spp/pass, global %s, caustic %s, k %u/%u, %s%u gather rays%s, "
-                      "%u light samples, r_max %.4g%s, seed %llu",
+                      "%u light samples, r_max %.4g, %s%s, seed %llu",
                       renderMethodName(s.method), s.passes, s.seconds > 0 ? " or time budget" : "", spp,
                       maps.global ? std::to_string(s.globalPhotons).c_str() : "none",
                       maps.caustic ? std::to_string(s.causticPhotons).c_str() : "none", s.globalK, s.causticK,
@@ -227,7 +227,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
                       fg && s.histogramCells ? (" (importance " + std::to_string(s.histogramCells) + "x" +
                                                 std::to_string(s.histogramCells) + ")").c_str()
                                              : "",
-                      s.lightSamples, maxRadius, s.visibility ? ", visibility test" : "",
+                      s.lightSamples, maxRadius, knnStructureName(s.structure), s.visibility ? ", visibility test" : "",
                       static_cast<unsigned long long>(s.seed));
         result.summary = line;
     }
@@ -281,7 +281,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
                 if (progressive) {
                     std::vector<PclPhoton> indirect = indirectPhotons(photons.global);
                     if (!indirect.empty()) {
-                        globalMap = std::make_unique<PhotonMapOnDevice>(device, indirect, KnnStructure::KdTree,
+                        globalMap = std::make_unique<PhotonMapOnDevice>(device, indirect, s.structure,
                                                                         searchRadius);
                         globalSource = fixedRadiusSource(*globalMap, PCL_KNN_MAX_K, est, radius2, &dscene);
                     }
@@ -297,18 +297,18 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
                         precomputeIrradiance(device, photons.global, po, &dscene));
                     globalSource = precomputedIrradianceSource(*irradiance);
                 } else {
-                    globalMap = std::make_unique<PhotonMapOnDevice>(device, photons.global, KnnStructure::KdTree,
+                    globalMap = std::make_unique<PhotonMapOnDevice>(device, photons.global, s.structure,
                                                                     searchRadius);
                     globalSource = estimateIrradianceSource(*globalMap, s.globalK, est, &dscene);
                 }
             }
             if (fg && s.histogramCells > 0 && globalSource) {
                 // The importance histograms read the global map's k nearest photons directly.
-                histogramMap = std::make_unique<PhotonMapOnDevice>(device, photons.global, KnnStructure::KdTree,
+                histogramMap = std::make_unique<PhotonMapOnDevice>(device, photons.global, s.structure,
                                                                    searchRadius);
             }
             if (maps.caustic && !photons.caustic.empty()) {
-                causticMap = std::make_unique<PhotonMapOnDevice>(device, photons.caustic, KnnStructure::KdTree,
+                causticMap = std::make_unique<PhotonMapOnDevice>(device, photons.caustic, s.structure,
                                                                  searchRadius);
                 causticSource = progressive ? fixedRadiusSource(*causticMap, PCL_KNN_MAX_K, est, radius2, &dscene)
                                             : estimateIrradianceSource(*causticMap, s.causticK, est, &dscene);

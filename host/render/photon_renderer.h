@@ -51,6 +51,9 @@ struct PhotonRenderSettings {
     uint32_t eyeDepth = 0;            // hits per eye path; 0: kDefaultEyeDepth
     float maxRadius = 0.0f;           // kNN search radius cap; 0: 5 % of the scene's bounds diagonal
     EstimateFilter filter = EstimateFilter::Cone;     // fg/direct estimates (progressive: box)
+    // The search structure of every map the pass builds (precomputed irradiance keeps its own):
+    // the same photons are found either way; only the speed differs (the sweep charts both).
+    KnnStructure structure = KnnStructure::KdTree;
     // Every estimate (global, caustic; fg, direct and progressive) also rejects photons whose
     // lifted segment to the query is occluded (EstimateSettings::visibility): no light through
     // walls thinner than the search radius, at the cost of one ray per photon used. fg then reads

@@ -63,6 +63,13 @@ std::vector<Curve> allCurves() {
         {"direct-k200", RenderMethod::DirectVisualisation, "k 200", [](PhotonRenderSettings& s) { s.globalK = 200; }},
         {"direct-box", RenderMethod::DirectVisualisation, "box filter",
          [](PhotonRenderSettings& s) { s.filter = EstimateFilter::Box; }},
+        {"fg-estimate-hashgrid", RenderMethod::FinalGather, "gather source: full estimate; hash grid",
+         [](PhotonRenderSettings& s) {
+             s.gatherSource = GatherSource::Estimate;
+             s.structure = KnnStructure::HashGrid;
+         }},
+        {"direct-hashgrid", RenderMethod::DirectVisualisation, "hash grid",
+         [](PhotonRenderSettings& s) { s.structure = KnnStructure::HashGrid; }},
         {"progressive-photons*4", RenderMethod::Progressive, "global photons x 4",
          [](PhotonRenderSettings& s) { s.globalPhotons *= 4; }},
     };
