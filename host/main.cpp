@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
     add(pcl::cli::addAnalyzeCommand(app));
     add(pcl::cli::addPhotonsCommand(app));
     add(pcl::cli::addSweepCommand(app));
+    add(pcl::cli::addBatchCommand(app));
 
     try {
         app.parse(argc, argv);

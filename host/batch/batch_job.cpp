@@ -22,7 +22,7 @@ const char* const kKeys[] = {"scene",        "output",       "method",      "sha
                              "seed",         "width",        "height",      "globalPhotons", "causticPhotons",
                              "strata",       "gatherRays",   "k",           "causticK",      "lightSamples",
                              "gatherImportance", "radius",   "alpha",       "maxRadius",     "filter",
-                             "gatherSource", "visibility",   "device",      "maxBufferMib"};
+                             "gatherSource", "visibility",   "device",      "maxBufferMib",  "structure"};
 
 std::string allowedKeys() {
     std::string out;
@@ -130,6 +130,7 @@ BatchJob loadBatchJob(const std::string& path) {
     job.maxRadius = r.real("maxRadius", 1e-30, 1e30, 0.0f, "a positive number");
     job.filter = r.text("filter", "cone", {"box", "cone", "epanechnikov", "gaussian"});
     job.gatherSource = r.text("gatherSource", "precomputed", {"precomputed", "estimate"});
+    job.structure = r.text("structure", "kd-tree", {"kd-tree", "hash-grid"});
     job.visibility = r.flag("visibility", false);
     job.device = r.text("device", "cpu");
     job.maxBufferMib = r.integer("maxBufferMib", 1, uint64_t(1) << 30, 0);

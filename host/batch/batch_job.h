@@ -35,7 +35,7 @@ struct BatchJob {
     uint32_t globalPhotons = 0, causticPhotons = 0, strata = 0, gatherRays = 0, k = 0, causticK = 0,
              lightSamples = 0, gatherImportance = 0;
     float radius = 0.0f, alpha = 2.0f / 3.0f, maxRadius = 0.0f;
-    std::string filter = "cone", gatherSource = "precomputed";
+    std::string filter = "cone", gatherSource = "precomputed", structure = "kd-tree";
     bool visibility = false;
     std::string device = "cpu";  // default for `batch run` (--device overrides)
     uint64_t maxBufferMib = 0;   // 0: no cap

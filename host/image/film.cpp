@@ -1,6 +1,7 @@
 #include "image/film.h"
 
 #include <string>
+#include <utility>
 
 #include "core/error.h"
 
@@ -12,6 +13,15 @@ Film::Film(int width, int height) : width_(width), height_(height) {
                          std::to_string(height));
     sum_.assign(static_cast<size_t>(width) * height * 3, 0.0);
     weight_.assign(static_cast<size_t>(width) * height, 0.0);
+}
+
+Film::Film(int width, int height, std::vector<double> sums, std::vector<double> weights) : Film(width, height) {
+    if (sums.size() != sum_.size() || weights.size() != weight_.size())
+        throw InputError("film: expected " + std::to_string(sum_.size()) + " sums and " + std::to_string(weight_.size()) +
+                         " weights for " + std::to_string(width) + "x" + std::to_string(height) + ", got " +
+                         std::to_string(sums.size()) + " and " + std::to_string(weights.size()));
+    sum_ = std::move(sums);
+    weight_ = std::move(weights);
 }
 
 void Film::add(int x, int y, Vec3 radiance, double weight) {

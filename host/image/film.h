@@ -13,6 +13,8 @@ class Film {
 public:
     Film() = default;
     Film(int width, int height);
+    // From stored sums (3 per pixel) and weights (1 per pixel); sizes checked (InputError).
+    Film(int width, int height, std::vector<double> sums, std::vector<double> weights);
 
     int width() const { return width_; }
     int height() const { return height_; }
@@ -27,6 +29,10 @@ public:
     Vec3 sum(int x, int y) const;
     double weight(int x, int y) const { return weight_[index(x, y)]; }
     double totalWeight() const;
+    // The sums as held (doubles, 3 per pixel) and the weights (1 per pixel): for exact copies
+    // (image/fixed_point_film.h rounds them to fixed point).
+    const std::vector<double>& sums() const { return sum_; }
+    const std::vector<double>& weights() const { return weight_; }
 
 private:
     size_t index(int x, int y) const { return static_cast<size_t>(y) * width_ + x; }

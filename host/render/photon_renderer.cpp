@@ -184,7 +184,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
     const uint32_t maxSpecularGather = kDefaultGatherSpecular;
 
     PhotonRenderResult result;
-    result.film = Film(width, height);
+    result.sums = FixedPointFilm(width, height);
     if (s.aovs)
         result.aovs = {Film(width, height), Film(width, height), Film(width, height),
                        Film(width, height), Film(width, height), Film(width, height)};
@@ -212,6 +212,30 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
     est.visibility = s.visibility;
     const double area = sceneSurfaceArea(scene);
     double r0Squared = s.initialRadius > 0 ? double(s.initialRadius) * s.initialRadius : 0.0;
+    auto photonPass = [&](uint32_t pass) {
+        PhotonPassOptions po;
+        po.globalPhotons = s.globalPhotons;
+        po.causticPhotons = s.causticPhotons;
+        po.seed = s.seed;
+        po.pass = pass;
+        po.batchSize = s.photonBatch;
+        po.buildGlobal = maps.global;
+        po.buildCaustic = maps.caustic;
+        return runPhotonPass(device, geometry, buffers, po);
+    };
+    // Progressive r_0: about progressiveK0 photons in the first disc at the mean density of
+    // pass 0's stored global photons (caustic-only scenes: the caustic map's). A render that
+    // starts later (a batch shard, firstPass > 0) traces pass 0's photons once to get the same
+    // r_0, so r_0 never depends on which passes a shard holds.
+    auto firstRadius2 = [&](const PhotonMaps& pass0) {
+        double stored = maps.global ? pass0.global.size() : pass0.caustic.size();
+        double lambda = std::max(stored, 1.0) / std::max(area, 1e-12);
+        return std::min(double(maxRadius) * maxRadius, s.progressiveK0 / (M_PI * lambda));
+    };
+    if (progressive && r0Squared == 0.0 && s.firstPass > 0 && (maps.global || maps.caustic)) {
+        timed(device, result.times.photons, [&] { r0Squared = firstRadius2(photonPass(0)); });
+        result.firstRadius = static_cast<float>(std::sqrt(r0Squared));
+    }
 
     {
         char line[512];
@@ -232,27 +256,20 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
         result.summary = line;
     }
 
-    for (uint32_t pass = 0;; ++pass) {
-        if (s.passes && pass >= s.passes) break;
-        if (pass > 0 && s.seconds > 0 && since(start) >= s.seconds) break;
-        if (pass > 0 && s.stop && s.stop->load()) {
+    Film passFilm;
+    for (uint32_t done = 0;; ++done) {
+        if (s.passes && done >= s.passes) break;
+        if (done > 0 && s.seconds > 0 && since(start) >= s.seconds) break;
+        if (done > 0 && s.stop && s.stop->load()) {
             result.stopped = true;
             break;
         }
+        const uint32_t pass = s.firstPass + done;  // the global pass index: in every seed
+        passFilm = Film(width, height);
         // 1. Photons: a fresh pass (the pass index in its seed).
         PhotonMaps photons;
         if (maps.global || maps.caustic) {
-            timed(device, result.times.photons, [&] {
-                PhotonPassOptions po;
-                po.globalPhotons = s.globalPhotons;
-                po.causticPhotons = s.causticPhotons;
-                po.seed = s.seed;
-                po.pass = pass;
-                po.batchSize = s.photonBatch;
-                po.buildGlobal = maps.global;
-                po.buildCaustic = maps.caustic;
-                photons = runPhotonPass(device, geometry, buffers, po);
-            });
+            timed(device, result.times.photons, [&] { photons = photonPass(pass); });
             result.globalEmitted += photons.stats.global.emitted;
             result.causticEmitted += photons.stats.caustic.emitted;
             result.globalStored += photons.global.size();
@@ -264,12 +281,8 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
         std::shared_ptr<IrradianceSource> globalSource, causticSource;
         float radius2 = maxRadius * maxRadius;
         if (progressive) {
-            if (r0Squared == 0.0) {
-                // About progressiveK0 photons in the first disc at the mean density of stored
-                // global photons (caustic-only scenes: the caustic map's).
-                double stored = maps.global ? photons.global.size() : photons.caustic.size();
-                double lambda = std::max(stored, 1.0) / std::max(area, 1e-12);
-                r0Squared = std::min(double(maxRadius) * maxRadius, s.progressiveK0 / (M_PI * lambda));
+            if (r0Squared == 0.0) {  // pass 0 (firstPass > 0 computed it above)
+                r0Squared = firstRadius2(photons);
                 result.firstRadius = static_cast<float>(std::sqrt(r0Squared));
             }
             radius2 = static_cast<float>(progressiveRadius2(r0Squared, s.alpha, pass));
@@ -384,7 +397,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
                     ++result.nonFiniteSamples;
                     sum = zero;  // counted and reported; the pixel keeps its weight
                 }
-                result.film.add(x, y, {sum.r, sum.g, sum.b});
+                passFilm.add(x, y, {sum.r, sum.g, sum.b});
                 if (s.aovs) {
                     auto v = [](const PclRadiance& r) { return finite(r) ? Vec3(r.r, r.g, r.b) : Vec3(0.0f); };
                     result.aovs.direct.add(x, y, v(direct[i]));
@@ -399,7 +412,14 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
             result.times.accumulate += since(t);
             result.samples += count;
         }
-        result.passes = pass + 1;
+        // 5. The pass's sums, rounded once to fixed point, join the render's (exact: any
+        // grouping of passes gives the same bits).
+        {
+            auto t = Clock::now();
+            result.sums.addPass(passFilm);
+            result.times.accumulate += since(t);
+        }
+        result.passes = done + 1;
         double fraction = s.passes ? double(result.passes) / s.passes : 0.0;
         if (s.seconds > 0) fraction = std::max(fraction, std::min(1.0, since(start) / s.seconds));
         if (s.log)
@@ -409,6 +429,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
         if (s.onPass) s.onPass(result.passes, std::min(1.0, fraction));
     }
     if (!result.stopped && s.stop && s.stop->load() && s.passes && result.passes < s.passes) result.stopped = true;
+    result.film = result.sums.toFilm();
     result.times.total = since(start);
     return result;
 }

@@ -21,6 +21,7 @@
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
 #include "image/film.h"
+#include "image/fixed_point_film.h"
 #include "pipeline/estimate.h"
 #include "pipeline/plan.h"
 #include "pipeline/scene_buffers.h"
@@ -39,6 +40,10 @@ enum class GatherSource { Precomputed, Estimate };
 struct PhotonRenderSettings {
     RenderMethod method = RenderMethod::FinalGather;
     uint32_t passes = 1;              // passes to run (with seconds > 0: at most this many; 0: no limit)
+    // The global index of the first pass: passes [firstPass, firstPass + passes) are rendered,
+    // each with its global index in the photon and eye seeds and the progressive radius, so a
+    // batch shard renders exactly the passes a single run would (batch/batch_render.h).
+    uint32_t firstPass = 0;
     double seconds = 0.0;             // time budget: no new pass starts after it (at least one runs)
     uint32_t strata = 1;              // n: n × n stratified eye samples per pixel per pass
     uint32_t globalPhotons = 200000;  // photons emitted per pass for the global map
@@ -94,6 +99,11 @@ struct RenderAovs {
 };
 
 struct PhotonRenderResult {
+    // Each pass is rendered into a Film of doubles and its per-pixel sums are rounded once to
+    // 64-bit fixed point and added (image/fixed_point_film.h): integer sums do not depend on how
+    // passes are grouped, so the same passes rendered in one run or as batch shards and merged
+    // give the same bits. `film` is `sums` as doubles (for callers that merge or resolve films).
+    FixedPointFilm sums;
     Film film;
     RenderAovs aovs;                  // empty films unless settings.aovs
     StageTimes times;

@@ -1,0 +1,151 @@
+#include "batch/shard_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "pipeline/memory_plan.h"
+#include "pipeline/photon_pass.h"
+
+namespace pcl {
+namespace {
+
+// Host bytes per pixel while a shard renders: FixedPointFilm sums (4 × int64), the pass's Film
+// (4 doubles), and at the end the Film of the result (4 doubles) and the written image (3 floats).
+constexpr double kHostBytesPerPixel = 32 + 32 + 32 + 12 + 4;
+
+std::string mib(double bytes) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.1f MiB", bytes / (1024.0 * 1024.0));
+    return b;
+}
+
+std::string hms(double s) {
+    char b[48];
+    if (s >= 3600) std::snprintf(b, sizeof b, "%dh%02dm", int(s / 3600), int(std::fmod(s, 3600) / 60));
+    else if (s >= 60) std::snprintf(b, sizeof b, "%dm%02ds", int(s / 60), int(std::fmod(s, 60)));
+    else std::snprintf(b, sizeof b, "%.1fs", s);
+    return b;
+}
+
+}  // namespace
+
+BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, Device* device) {
+    BatchPlanEstimate e;
+    e.device = info.name;
+    const PhotonRenderSettings& s = bs.settings;
+    const BatchJob& job = bs.job;
+    const RenderMaps maps = mapsFor(s.method, bs.plan);
+    const bool fg = s.method == RenderMethod::FinalGather;
+    const size_t pixels = size_t(job.width) * job.height;
+    const size_t passSamples = pixels * s.strata * s.strata;
+
+    // The renderer's chunk (photon_renderer.cpp): per-sample gather buffers within a quarter of
+    // the max allocation, 256 .. 2^18 samples.
+    const size_t perSample = 32u * (fg ? s.gatherRays : 1u);
+    e.eyeChunk = std::min(std::clamp<size_t>(info.maxAlloc / 4 / perSample, 256, size_t(1) << 18), passSamples);
+    e.deviceEyeBytes = uint64_t(e.eyeChunk) * (48 + 112 + 3 * 16 + (fg ? 32ull * s.gatherRays : 0ull));
+
+    PhotonPassOptions pass;
+    pass.buildGlobal = maps.global;
+    pass.buildCaustic = maps.caustic;
+    pass.globalPhotons = maps.global ? s.globalPhotons : 0;
+    pass.causticPhotons = maps.caustic ? s.causticPhotons : 0;
+    MemoryRequest req = photonPassMemoryRequest(bs.geometry, bs.buffers, pass);
+    req.queries = e.eyeChunk;  // each chunk's eye hits search the maps
+    req.k = std::max(s.globalK, s.causticK);
+    const MemoryPlan memory = planMemory(req, memoryLimits(info));
+    e.devicePhotonPassBytes = memory.peakBytes();
+    for (const std::string& p : memory.problems) e.memoryProblems += "  " + p + "\n";
+    e.deviceBytes = e.devicePhotonPassBytes + e.deviceEyeBytes;
+
+    // Host without calibration: the per-pixel films and the photon maps read back (24-byte
+    // records, about 2 per emitted global path and 1 per caustic path, ×2 for the copies a
+    // pass holds).
+    e.hostBytes = uint64_t(kHostBytesPerPixel * pixels) +
+                  2ull * 24 * (2ull * pass.globalPhotons + pass.causticPhotons) + (200ull << 20);
+
+    if (device) {
+        // One pass at no more than 65 536 pixels (same aspect), rendered twice: the first warms
+        // the kernel cache, the second is timed.
+        const double shrink = std::min(1.0, std::sqrt(65536.0 / double(pixels)));
+        Scene small = bs.scene;
+        small.camera.width = std::max(1, int(std::lround(job.width * shrink)));
+        small.camera.height = std::max(1, int(std::lround(job.height * shrink)));
+        e.calibrationWidth = small.camera.width;
+        e.calibrationHeight = small.camera.height;
+        PhotonRenderSettings c = s;
+        c.firstPass = 0;
+        c.passes = 1;
+        c.seconds = 0;
+        c.photonBatch = memory.photonBatch;
+        PhotonRenderResult r;
+        for (int i = 0; i < 2; ++i) r = renderPhotonMapped(*device, small, bs.geometry, bs.buffers, bs.plan, c);
+        const double ratio = double(pixels) / (double(small.camera.width) * small.camera.height);
+        e.photonSecondsPerPass = r.times.photons + r.times.maps;
+        e.eyeSecondsPerPass = (r.times.camera + r.times.eyePaths + r.times.direct + r.times.caustic + r.times.indirect +
+                               r.times.accumulate) * ratio;
+        e.secondsPerPass = e.photonSecondsPerPass + e.eyeSecondsPerPass;
+        e.calibrationRssBytes = hostMaxRssBytes();
+        e.hostBytes = e.calibrationRssBytes +
+                      uint64_t(kHostBytesPerPixel * double(pixels - std::min(pixels, size_t(small.camera.width) * small.camera.height)));
+        e.calibrated = true;
+    }
+    for (uint32_t i = 0; i < job.shards; ++i) {
+        ShardEstimate se;
+        se.index = i;
+        se.range = shardPasses(job, i);
+        se.seconds = e.calibrated ? e.secondsPerPass * se.range.count() : 0.0;
+        e.shards.push_back(se);
+    }
+    return e;
+}
+
+std::string formatBatchPlan(const BatchScene& bs, const BatchPlanEstimate& e) {
+    const BatchJob& job = bs.job;
+    const PhotonRenderSettings& s = bs.settings;
+    const RenderMaps maps = mapsFor(s.method, bs.plan);
+    std::ostringstream o;
+    o << "job " << job.path << ": " << job.scene << " at " << job.width << "x" << job.height << ", method " << job.method
+      << ", " << job.passes << " passes in " << job.shards << " shard(s), seed " << job.seed << "\n";
+    o << "per pass: " << (maps.global ? s.globalPhotons : 0u) << " global + " << (maps.caustic ? s.causticPhotons : 0u)
+      << " caustic photons, " << s.strata * s.strata << " eye sample(s)/pixel";
+    if (s.method == RenderMethod::FinalGather) o << ", " << s.gatherRays << " gather rays";
+    o << "\nsettings " << hex64(bs.settingsHash) << ": " << bs.settingsText << "\n";
+    o << "scene hash " << hex64(bs.sceneHash) << "\n";
+    o << "shard files: " << shardFolder(job) << "/, image " << job.output << ", manifest " << manifestPath(job) << "\n\n";
+    o << "memory per shard (device " << e.device << "):\n";
+    o << "  device: " << mib(double(e.deviceBytes)) << " = photon pass, maps and searches " << mib(double(e.devicePhotonPassBytes))
+      << " (memory plan) + eye buffers " << mib(double(e.deviceEyeBytes)) << " (" << e.eyeChunk << " samples per chunk)\n";
+    if (!e.memoryProblems.empty()) o << "  does NOT fit this device:\n" << e.memoryProblems;
+    o << "  host:   " << mib(double(e.hostBytes))
+      << (e.calibrated ? " (the calibration's peak RSS " + mib(double(e.calibrationRssBytes)) +
+                             " + 112 bytes per further pixel: sums, pass film, output)"
+                       : " (estimate: 112 bytes per pixel, the photon maps read back, 200 MiB runtime)")
+      << "\n";
+    if (e.calibrated) {
+        char line[256];
+        std::snprintf(line, sizeof line,
+                      "time per pass: %.2fs = photon pass + maps %.2fs + eye stages %.2fs (one warm pass at %dx%d on "
+                      "this device, eye stages scaled by pixels)\n",
+                      e.secondsPerPass, e.photonSecondsPerPass, e.eyeSecondsPerPass, e.calibrationWidth, e.calibrationHeight);
+        o << line;
+    } else {
+        o << "time: not calibrated (--no-calibrate)\n";
+    }
+    o << "\n  shard  passes              device      host        time\n";
+    double total = 0;
+    for (const ShardEstimate& se : e.shards) {
+        char line[256];
+        std::snprintf(line, sizeof line, "  %5u  [%6u, %6u) %4u  %-10s  %-10s  %s\n", se.index, se.range.first, se.range.end,
+                      se.range.count(), mib(double(e.deviceBytes)).c_str(), mib(double(e.hostBytes)).c_str(),
+                      e.calibrated ? hms(se.seconds).c_str() : "-");
+        o << line;
+        total += se.seconds;
+    }
+    if (e.calibrated) o << "  total " << hms(total) << " of device time (" << job.shards << " shard(s))\n";
+    return o.str();
+}
+
+}  // namespace pcl

@@ -1,0 +1,52 @@
+// `photoncl batch plan` (issue 8 parts 1 and 6): the shards' pass ranges and what each is
+// expected to cost, so a user can size a farm before rendering.
+//   device memory: the memory plan's peak for one photon pass with its maps and searches
+//     (pipeline/memory_plan.h, the same formulas the stages allocate by) plus the renderer's eye
+//     buffers per chunk of samples (camera rays, eye hits, three radiance parts, the gather's
+//     32 bytes per gather ray);
+//   host memory: measured when calibrated (the calibration's peak RSS, plus 112 bytes per extra
+//     pixel: the shard's fixed-point sums 32, the pass's film 32, the film and image written 48);
+//     otherwise the same per-pixel bytes plus the photon maps held on the host;
+//   time: calibrated by rendering one pass of the job (its photons, a smaller image: at most
+//     65 536 pixels, same aspect) twice on the device and taking the second (warm kernel
+//     cache); per pass = photon pass + maps + the eye stages scaled by the pixel ratio.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "batch/batch_render.h"
+#include "device/device.h"
+
+namespace pcl {
+
+struct ShardEstimate {
+    uint32_t index = 0;
+    PassRange range;
+    double seconds = 0;  // 0: not calibrated
+};
+
+struct BatchPlanEstimate {
+    size_t eyeChunk = 0;                 // eye samples per chunk (as the renderer chooses)
+    uint64_t devicePhotonPassBytes = 0;  // memory plan peak: photon pass, maps, searches
+    uint64_t deviceEyeBytes = 0;         // eye buffers of one chunk
+    uint64_t deviceBytes = 0;            // the sum: expected device peak per shard
+    uint64_t hostBytes = 0;              // expected host peak RSS per shard
+    std::string memoryProblems;          // the memory plan's, when it does not fit ("" fits)
+    bool calibrated = false;
+    int calibrationWidth = 0, calibrationHeight = 0;
+    double photonSecondsPerPass = 0;     // photon pass + maps (independent of the image size)
+    double eyeSecondsPerPass = 0;        // eye stages at the job's size (scaled)
+    double secondsPerPass = 0;
+    uint64_t calibrationRssBytes = 0;
+    std::string device;
+    std::vector<ShardEstimate> shards;
+};
+
+// Memory from the plan; with `calibrateOn` also time (renders two one-pass calibrations).
+BatchPlanEstimate estimateBatch(const BatchScene& scene, const DeviceInfo& info, Device* calibrateOn);
+
+// The table `batch plan` prints.
+std::string formatBatchPlan(const BatchScene& scene, const BatchPlanEstimate& e);
+
+}  // namespace pcl
