@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-matplotlib python3-numpy
   libembree-dev libnanoflann-dev
+  slurm-wlm munge  # tests/batch/slurm_test.sh: a single-node cluster started by hand
 )
 
 missing=()

@@ -9,6 +9,9 @@
 #   scripts/slurm_cluster.sh stop DIR    cancel jobs, stop each daemon by its pid file, wait
 #   scripts/slurm_cluster.sh env DIR     print `export SLURM_CONF=...` for sbatch/squeue/sinfo
 #
+# DIR: no blanks (slurm.conf paths cannot hold them), and every folder above it open to all for
+# execute (munged checks the path to its socket; `mktemp -d` makes 0700: chmod 755 it).
+#
 # Configuration choices (Debian 12, Slurm 22.05): proctrack/linuxproc, task/none and
 # jobacct_gather/none need no cgroups (a container or a CI machine without systemd has no
 # delegated cgroup tree); select/cons_tres with CR_Core, so array tasks share the node by cores;
