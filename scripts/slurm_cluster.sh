@@ -55,6 +55,9 @@ dump_logs() {
 start() {
   mkdir -p "$dir"
   dir=$(cd "$dir" && pwd)
+  case $dir in
+    *[[:space:]]*) echo "slurm_cluster: '$dir': expected a folder without blanks (slurm.conf cannot hold them)" >&2; exit 2 ;;
+  esac
   mkdir -p "$dir/etc" "$dir/munge" "$dir/socket" "$dir/state" "$dir/spool" "$dir/log" "$dir/run"
   # munged wants its key private and the folders up to its socket open to all for execute
   # (mktemp -d makes 0700) and writable by no one else.
