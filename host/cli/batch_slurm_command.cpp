@@ -11,15 +11,19 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "batch/batch_job.h"
+#include "batch/batch_render.h"
+#include "batch/shard_plan.h"
 #include "batch/slurm_script.h"
 #include "cli/command.h"
+#include "cli/memory_option.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "device/device.h"
 
 extern char** environ;
 
@@ -37,17 +41,6 @@ std::string selfExecutable() {
 }
 
 std::string absolutePath(const std::string& path) { return fs::absolute(fs::path(path)).lexically_normal().string(); }
-
-// Writes to a temporary name, then renames: a script is never half written.
-void writeFile(const std::string& path, const std::string& text) {
-    std::string tmp = path + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << text;
-        if (!out.flush()) throw InputError("batch slurm: " + tmp + ": cannot write the script");
-    }
-    fs::rename(tmp, path);
-}
 
 struct Captured {
     int status = -1;     // exit status, -1 when the program could not start or died by a signal
@@ -88,6 +81,35 @@ Captured runCapturing(const std::vector<std::string>& argv) {
     return result;
 }
 
+// Memory per array task when --mem-mib is left out: `batch plan`'s host estimate for one shard
+// (without calibration: films, photon maps read back, the runtime) times 1.5, as the estimate
+// leaves out what the driver allocates, rounded up to 64 MiB. 0 (no --mem) when the job's device
+// cannot be opened on this machine (a login node without it): the partition's default then.
+uint64_t defaultMemPerTaskMib(const BatchJob& job, const std::string& deviceOption) {
+    const std::string spec = deviceOption.empty() ? job.device : deviceOption;
+    BatchScene scene = loadBatchScene(job);
+    std::string why;
+    try {
+        Device device = Device::open(spec);
+        applyBufferCap(device, job.maxBufferMib);
+        BatchPlanEstimate e = estimateBatch(scene, device.info(), nullptr);
+        const uint64_t mib = (e.hostBytes * 3 / 2 + (1ull << 20) - 1) >> 20;
+        const uint64_t rounded = (mib + 63) / 64 * 64;
+        std::fprintf(stderr, "batch slurm: --mem %lluM per shard: 1.5x the plan's host estimate (%llu MiB on %s); "
+                             "--mem-mib sets it, --mem-mib 0 leaves it to the partition\n",
+                     static_cast<unsigned long long>(rounded), static_cast<unsigned long long>(e.hostBytes >> 20),
+                     device.info().name.c_str());
+        return rounded;
+    } catch (const DeviceError& e) {
+        why = e.what();
+    } catch (const cl::Error& e) {
+        why = deviceError("batch slurm", e).what();
+    }
+    std::fprintf(stderr, "batch slurm: no --mem (device \"%s\" cannot be opened here to plan for: %s); --mem-mib sets it\n",
+                 spec.c_str(), why.c_str());
+    return 0;
+}
+
 // Submits argv; returns the job id sbatch --parsable printed.
 std::string submit(std::vector<std::string> argv, const std::string& sbatch, const std::string& what) {
     argv[0] = sbatch;
@@ -103,7 +125,7 @@ std::string submit(std::vector<std::string> argv, const std::string& sbatch, con
 Run addBatchSlurmCommand(CLI::App& batch) {
     struct Options {
         std::string job, partition, time, device, logDir, jobName, sbatch = "sbatch";
-        uint64_t memMib = 0;
+        int64_t memMib = -1;  // -1: from the plan
         uint32_t cpus = 0, maxRunning = 0;
         std::vector<std::string> sbatchArgs;
         bool dryRun = false;
@@ -116,7 +138,10 @@ Run addBatchSlurmCommand(CLI::App& batch) {
     sub->add_flag("--dry-run", o->dryRun, "Print the two scripts and the sbatch commands; submit nothing");
     sub->add_option("--partition", o->partition, "Slurm partition (default: the cluster's)");
     sub->add_option("--time", o->time, "Time limit per job, sbatch's format (e.g. 30, 2:00:00)");
-    sub->add_option("--mem-mib", o->memMib, "Memory per array task in MiB (sbatch --mem)");
+    sub->add_option("--mem-mib", o->memMib,
+                    "Memory per array task in MiB (sbatch --mem); default 1.5x `batch plan`'s host estimate; 0: "
+                    "no --mem (the partition's default)")
+        ->check(CLI::NonNegativeNumber);
     sub->add_option("--cpus-per-task", o->cpus, "CPUs per array task (sbatch --cpus-per-task)");
     sub->add_option("--max-running", o->maxRunning, "At most this many shards at once (--array=0-N%M)");
     sub->add_option("--device", o->device, "Device for every shard (`batch run --device`; default: the job's)");
@@ -135,7 +160,7 @@ Run addBatchSlurmCommand(CLI::App& batch) {
         s.logDir = absolutePath(o->logDir.empty() ? job.output + ".slurm" : o->logDir);
         s.partition = o->partition;
         s.timeLimit = o->time;
-        s.memPerTaskMib = o->memMib;
+        s.memPerTaskMib = o->memMib >= 0 ? uint64_t(o->memMib) : defaultMemPerTaskMib(job, o->device);
         s.cpusPerTask = o->cpus;
         s.maxRunning = o->maxRunning;
         s.device = o->device;
@@ -152,8 +177,8 @@ Run addBatchSlurmCommand(CLI::App& batch) {
         }
 
         fs::create_directories(s.logDir);
-        writeFile(slurmShardScriptPath(s), shardScript);
-        writeFile(slurmMergeScriptPath(s), mergeScript);
+        writeFileAtomically(slurmShardScriptPath(s), shardScript);
+        writeFileAtomically(slurmMergeScriptPath(s), mergeScript);
         std::string shardsId = submit(shardCommand, o->sbatch, "shards (job array)");
         std::string mergeId;
         try {
@@ -166,7 +191,7 @@ Run addBatchSlurmCommand(CLI::App& batch) {
         std::printf("shards: job %s, array 0-%u, logs %s/shard-<task>.log\n", shardsId.c_str(), s.shards - 1,
                     s.logDir.c_str());
         std::printf("merge: job %s, after job %s succeeds, log %s/merge.log, writes %s\n", mergeId.c_str(),
-                    shardsId.c_str(), s.logDir.c_str(), job.output.c_str());
+                    shardsId.c_str(), s.logDir.c_str(), absolutePath(job.output).c_str());
         return kExitOk;
     };
 }
