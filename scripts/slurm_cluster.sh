@@ -93,7 +93,7 @@ AuthType=auth/munge
 CredType=cred/munge
 AuthInfo=socket=$dir/socket/munge.socket
 StateSaveLocation=$dir/state
-SlurmdSpoolDir=$dir/spool/%n
+SlurmdSpoolDir=$dir/spool
 SlurmctldPidFile=$dir/run/slurmctld.pid
 SlurmdPidFile=$dir/run/slurmd.pid
 SlurmctldLogFile=$dir/log/slurmctld.log
