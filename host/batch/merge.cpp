@@ -48,11 +48,23 @@ MergedShards mergeShardFiles(const std::vector<std::string>& files, const MergeE
         ShardData shard;
     };
     std::vector<Entry> shards;
+    // Each file's sums are added as soon as it is read and checked, and its film dropped, so a
+    // merge holds one shard at a time (a 4K shard is 265 MB). Integer sums: the order of the
+    // additions cannot change the result; any problem found later still refuses the merge.
+    FixedPointFilm sum;
+    int sumWidth = expectIn.width, sumHeight = expectIn.height;
     for (const std::string& f : files) {
         try {
-            shards.push_back({f, readShardFile(f)});
+            Entry e{f, readShardFile(f)};
+            if (!sumWidth) sumWidth = e.shard.width, sumHeight = e.shard.height;
+            if (e.shard.width == sumWidth && e.shard.height == sumHeight) {
+                if (sum.width() == 0) sum = FixedPointFilm(sumWidth, sumHeight);
+                sum.add(e.shard.film);
+            }
+            e.shard.film = FixedPointFilm();
+            shards.push_back(std::move(e));
         } catch (const InputError& e) {
-            problems.push_back(std::string(e.what()) + " (corrupt: refused)");
+            problems.push_back(std::string(e.what()) + " (refused)");
         }
     }
     MergeExpectation expect = expectIn;
@@ -122,14 +134,12 @@ MergedShards mergeShardFiles(const std::vector<std::string>& files, const MergeE
 
     MergedShards out;
     out.passes = expect.passes;
-    out.film = FixedPointFilm(expect.width, expect.height);
+    out.film = std::move(sum);
     for (Entry& e : shards) {
-        out.film.add(e.shard.film);  // integer sums: exact, any order
         out.passesDone += e.shard.passesDone;
         partial = partial || !e.shard.complete();
         if (std::find(out.devices.begin(), out.devices.end(), e.shard.device) == out.devices.end())
             out.devices.push_back(e.shard.device);
-        e.shard.film = FixedPointFilm();
         out.files.push_back(e.file);
         out.shards.push_back(std::move(e.shard));
     }
