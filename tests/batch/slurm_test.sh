@@ -2,8 +2,9 @@
 # `photoncl batch slurm` end to end (issue 8): a single-node Slurm cluster brought up by hand
 # under a temp folder (scripts/slurm_cluster.sh: munged, slurmctld, slurmd, no systemd), a
 # 4-shard job submitted through it (a job array plus a merge that depends on it), and the merged
-# image checked bit for bit against the same job rendered as one shard on this machine. Every
-# daemon it started is stopped by its pid, on success, failure or interruption.
+# image checked bit for bit against the same job rendered as one shard on this machine and against
+# `photoncl render` of the same passes. Every daemon it started is stopped by its pid, on success,
+# failure or interruption.
 #
 #   tests/batch/slurm_test.sh PHOTONCL SOURCE_DIR
 #
@@ -85,7 +86,11 @@ write_job "$sharded" "out/cornell.exr" 4
   || fail "batch merge of the reference job: $(tail -n 20 "$tmp/reference.log")"
 reference="$tmp/jobs/single run/out/cornell.exr"
 [ -f "$reference" ] || fail "the reference merge wrote no $reference"
-echo "[figure] slurm test: reference (1 shard, kernels cached) after $(seconds_since "$started") s"
+# And `photoncl render` of the same passes, which accumulates the same way (README, "Exact merges").
+"$photoncl" render "$source_dir/scenes/cornell-box.json" --method fg --passes 4 --width 32 --height 24 --seed 7 \
+  --global-photons 4000 --caustic-photons 2000 --gather-rays 8 --light-samples 4 -o "$tmp/render.exr" --no-png -q \
+  >>"$tmp/reference.log" 2>&1 || fail "photoncl render of the job's settings: $(tail -n 20 "$tmp/reference.log")"
+echo "[figure] slurm test: references (1 shard, render; kernels cached) after $(seconds_since "$started") s"
 
 cluster_start=$(date +%s.%N)
 "$source_dir/scripts/slurm_cluster.sh" start "$cluster" || fail "the cluster did not come up"
@@ -140,8 +145,9 @@ done
 merged="$tmp/jobs/slurm run/out/cornell.exr"
 [ -f "$merged" ] || fail "the merge job wrote no $merged"
 # Bit for bit: RMSE exactly 0 means every channel of every pixel is the same float.
-"$photoncl" compare "$merged" "$reference" --max-rmse 0 || fail "the merged image differs from the single run"
-echo "[figure] slurm test: merged image of 4 Slurm shards identical to the single run (RMSE 0)"
+"$photoncl" compare "$merged" "$reference" --max-rmse 0 || fail "the merged image differs from the job as one shard"
+"$photoncl" compare "$merged" "$tmp/render.exr" --max-rmse 0 || fail "the merged image differs from photoncl render"
+echo "[figure] slurm test: merged image of 4 Slurm shards identical to the job as one shard and to photoncl render (RMSE 0)"
 
 # A failing shard (a device that does not exist): the merge never runs; afterok can no longer be
 # met and --kill-on-invalid-dep cancels it rather than leaving it pending.
