@@ -232,6 +232,7 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
     run["host"] = out.host;
     run["stopped"] = r.stopped;
     nlohmann::json sec;
+    sec["load"] = options.loadSeconds;
     sec["setup"] = setup;
     sec["photonPass"] = r.times.photons;
     sec["maps"] = r.times.maps;
@@ -242,7 +243,7 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
     sec["indirect"] = r.times.indirect;
     sec["accumulate"] = r.times.accumulate;
     sec["render"] = r.times.total;
-    sec["total"] = std::chrono::duration<double>(Clock::now() - start).count();
+    sec["total"] = std::chrono::duration<double>(Clock::now() - start).count() + options.loadSeconds;
     run["seconds"] = sec;
     nlohmann::json mem;
     mem["devicePlannedPhotonPassPeakBytes"] = memory.peakBytes();

@@ -44,6 +44,7 @@ struct ShardRunOptions {
     const std::atomic<bool>* stop = nullptr;             // Ctrl-C: finish the pass, then stop
     std::function<void(uint32_t done, uint32_t total)> onPass;
     bool log = false;
+    double loadSeconds = 0;  // loading the scene and opening the device before this shard (manifest)
 };
 
 // Renders passes [range.first + resumeFrom.passesDone, range.end) on `device` and returns the

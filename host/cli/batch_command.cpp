@@ -121,7 +121,7 @@ std::string checkExisting(const std::string& path, const BatchScene& bs, uint32_
 }
 
 // Renders shard i (resuming a partial one); false if interrupted.
-bool renderOne(Device& device, const BatchScene& bs, uint32_t i, bool force, bool quiet) {
+bool renderOne(Device& device, const BatchScene& bs, uint32_t i, bool force, bool quiet, double& loadSeconds) {
     const BatchJob& job = bs.job;
     const std::string path = shardPath(job, i);
     const PassRange range = shardPasses(job, i);
@@ -149,6 +149,8 @@ bool renderOne(Device& device, const BatchScene& bs, uint32_t i, bool force, boo
     auto start = std::chrono::steady_clock::now();
     ShardRunOptions ro;
     ro.stop = &gStop;
+    ro.loadSeconds = loadSeconds;  // counted once, for the first shard this process renders
+    loadSeconds = 0;
     ro.onPass = [&](uint32_t done, uint32_t total) {
         if (!quiet) {
             double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -186,10 +188,12 @@ int runRun(const BatchOptions& o) {
         if (i >= n) throw InputError("batch run: --shard " + o.shard + ": I must be in 0.." + std::to_string(n - 1));
         todo.push_back(i);
     }
+    auto loadStart = std::chrono::steady_clock::now();
     BatchScene scene = loadBatchScene(job);
     Device device = openDevice(o, job);
+    double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
     for (uint32_t i : todo) {
-        if (!renderOne(device, scene, i, o.force, o.quiet)) {
+        if (!renderOne(device, scene, i, o.force, o.quiet, loadSeconds)) {
             std::fprintf(stderr, "interrupted: shard %u written with the passes done%s\n", i,
                          o.all && i + 1 < job.shards ? "; the shards after it were not started" : "");
             return kExitInterrupted;
