@@ -4,17 +4,24 @@
 // What "the caustic's total power" means here, the same for both renderers: the floor's image
 // with the specular object minus the floor's image with a black twin in its place (same shape,
 // ρ = 0: the same shadow, no light through it), summed over the pixels where the camera sees
-// the floor (the twin's albedo AOV reads the floor's ρ). That difference is exactly the light
-// that reaches the floor by way of the specular object: the caustic map's part in the photon
-// renderer (plus the little that final gathering adds by way of the object), all of it in the
-// path tracer. The light is an area light facing down, so the path tracer finds the caustic by
-// BSDF sampling (with a point light it cannot). Same seed for the pair: paths that never touch
-// the object are identical in both images and cancel exactly.
+// the floor (the twin's albedo AOV reads the floor's ρ, and so do its 8 neighbours: a pixel on
+// the object's silhouette can have all its few photon-renderer eye samples on the floor while
+// the path tracer's hundreds of samples partly see the object). That difference is exactly the
+// light that reaches the floor by way of the specular object: the caustic map's part in the
+// photon renderer (plus the little that final gathering adds by way of the object), all of it
+// in the path tracer. The light is an area light facing down, so the path tracer finds the
+// caustic by BSDF sampling (with a point light it cannot). Same seed for the pair: paths that
+// never touch the object are identical in both images and cancel exactly. The camera must see
+// the whole caustic, away from the object's silhouette: a density estimate blurs the caustic by
+// its search radius, and the path tracer samples a pixel differently from the photon renderer,
+// so a sum over pixels that cuts through the caustic compares neither its power nor the same
+// pixels.
 #include "stability/stability_common.h"
 
 #include <functional>
 #include <random>
 
+#include "pipeline/estimate.h"
 #include "pipeline/photon_pass.h"
 
 #include "reference/path_tracer.h"
@@ -26,7 +33,8 @@ namespace {
 
 // Floor (ρ 0.5) 3 × 3 at y = 0, an area light 0.6 × 0.6 at y = 1.5 facing down, the camera
 // above and to the side; `object` adds the specular object (or its twin) with material m.
-Scene causticStage(const std::function<void(Scene&, int)>& object, bool twin) {
+Scene causticStage(const std::function<void(Scene&, int)>& object, bool twin,
+                   const std::function<void(Camera&)>& view = nullptr) {
     Scene s;
     const int floorM = test::addMaterial(s, Vec3(0.5f));
     int lightM = test::addMaterial(s, Vec3(0.0f));
@@ -49,6 +57,7 @@ Scene causticStage(const std::function<void(Scene&, int)>& object, bool twin) {
     s.camera.lookAt = Vec3(0.0f, 0.0f, 0.0f);
     s.camera.vfovDegrees = 55.0f;
     s.camera.width = s.camera.height = 32;
+    if (view) view(s.camera);
     validateScene(s);
     return s;
 }
@@ -58,9 +67,35 @@ struct CausticPower {
     size_t pixels = 0;
 };
 
-CausticPower measure(const std::function<void(Scene&, int)>& object, bool glass, uint32_t causticK = 50) {
+struct MeasureOptions {
+    bool glass = false;
+    std::function<void(Camera&)> view;  // the camera; none: causticStage's
+    uint32_t passes = 2;                // photon renderer passes (2 × 2 eye samples each)
+    int pathSamples = 512;              // path tracer samples per pixel
+};
+
+// The floor's pixels: the twin's albedo reads ρ = 0.5 there and at the 8 neighbours (inside the
+// image), so no pixel on the object's silhouette counts.
+std::vector<bool> floorPixels(const Image& albedo) {
+    auto floor = [&](int x, int y) { return std::abs(albedo.at(x, y).x - 0.5f) <= 1e-4f; };
+    std::vector<bool> mask(albedo.pixelCount(), false);
+    for (int y = 0; y < albedo.height; ++y)
+        for (int x = 0; x < albedo.width; ++x) {
+            bool all = true;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx >= 0 && yy >= 0 && xx < albedo.width && yy < albedo.height && !floor(xx, yy)) all = false;
+                }
+            mask[size_t(y) * albedo.width + x] = all;
+        }
+    return mask;
+}
+
+CausticPower measure(const std::function<void(Scene&, int)>& object, const MeasureOptions& o) {
+    const bool glass = o.glass;
     auto withObject = [&](bool twin) {
-        Scene s = causticStage(object, twin);
+        Scene s = causticStage(object, twin, o.view);
         if (glass && !twin) {
             Material& m = s.materials.back();
             m.specular = SpecularKind::Dielectric;
@@ -70,32 +105,31 @@ CausticPower measure(const std::function<void(Scene&, int)>& object, bool glass,
     };
     auto spec = withObject(false), black = withObject(true);
     PhotonRenderSettings rs;
-    rs.passes = 2;
+    rs.passes = o.passes;
     rs.strata = 2;
     rs.globalPhotons = 50000;
     rs.causticPhotons = 200000;
-    rs.causticK = causticK;
     rs.gatherRays = 16;
     rs.aovs = true;
     rs.seed = 13;
     PhotonRenderResult a = render(*spec, rs), b = render(*black, rs);
-    const Image ia = a.film.resolve(), ib = b.film.resolve(), ca = a.aovs.caustic.resolve(),
-                mask = b.aovs.albedo.resolve();
+    const Image ia = a.film.resolve(), ib = b.film.resolve(), ca = a.aovs.caustic.resolve();
+    const std::vector<bool> mask = floorPixels(b.aovs.albedo.resolve());
     const Image da = a.aovs.direct.resolve(), db = b.aovs.direct.resolve(), na = a.aovs.indirect.resolve(),
                 nb = b.aovs.indirect.resolve(), ea = a.aovs.emitted.resolve(), eb = b.aovs.emitted.resolve();
     expectFinite(a, ia, "photon, specular");
     expectFinite(b, ib, "photon, twin");
     PathTracerSettings pt;
-    pt.samplesPerPixel = 512;
+    pt.samplesPerPixel = o.pathSamples;
     pt.seed = 4;
     pt.threads = 2;
     const Image pa = PathTracer(spec->scene, *spec->geometry, pt).render().resolve();
     const Image pb = PathTracer(black->scene, *black->geometry, pt).render().resolve();
     EXPECT_TRUE(allFinite(pa) && allFinite(pb));
     CausticPower c;
-    for (int y = 0; y < mask.height; ++y)
-        for (int x = 0; x < mask.width; ++x) {
-            if (std::abs(mask.at(x, y).x - 0.5f) > 1e-4f) continue;
+    for (int y = 0; y < ia.height; ++y)
+        for (int x = 0; x < ia.width; ++x) {
+            if (!mask[size_t(y) * ia.width + x]) continue;
             ++c.pixels;
             for (int k = 0; k < 3; ++k) {
                 c.photon += ia.at(x, y)[k] - ib.at(x, y)[k];
@@ -128,30 +162,44 @@ TEST(Caustics, MirrorCausticPowerMatchesPathTracer) {
                           Vec3(0.6f, 1.4f, -0.8f));
             s.meshes.push_back(mirror);
         },
-        false);
+        MeasureOptions{});
     report("mirror", c);
-    ASSERT_GT(c.pixels, 300u);
+    ASSERT_GT(c.pixels, 250u);
     ASSERT_GT(c.path, 0.0);
     EXPECT_NEAR(c.photon / c.path, 1.0, 0.03);
 }
 
-// A glass ball (ior 1.5, radius 0.35) under the lamp: refracted twice, focused on the floor.
-// OPEN, disabled: the photon-mapped difference reads 1.21 × the path tracer's (caustic AOV
-// alone 1.10 ×; k 10 instead of 50: 1.27 ×), while the same measurement on the mirror agrees
-// within 0.1 % and the caustic map's power agrees with an independent Monte Carlo within 0.2 %
-// (next test). So either the eye-side caustic estimate at a focused caustic or the path
-// tracer's dielectric is off; not found in the time this suite had. Run it with
-// --gtest_also_run_disabled_tests.
-TEST(Caustics, DISABLED_GlassCausticPowerMatchesPathTracer) {
+// A glass ball (ior 1.5, radius 0.35) under the lamp: refracted twice, focused on the floor
+// (LSSDE). Its caustic lies under the ball (radius ≈ 0.24 about the origin), so the camera looks
+// from low (22° above the floor) and sees all of it below the ball. From causticStage's camera
+// (above, to the side) the caustic's bright centre sat on the ball's lower silhouette and this
+// test read 1.21 × the path tracer: the floor pixels held only the caustic's edge, 4-8
+// silhouette pixels carried most of the sum, and whether they counted depended on where the 8
+// jittered eye samples of a pixel fell (the path tracer's sum over one seed's mask 5.1, over
+// another's 9.0-10.7; with silhouette pixels left out 1.4-1.6 against the photon renderer's
+// 1.5-1.7). Seen whole, the caustic AOV sums to 1.02 × the caustic map's photons projected onto
+// the same pixels (the k-nearest estimate's small excess; 1.007 × integrated over the whole
+// floor), and over seeds 13-16 / 4-7 the ratio below read 1.009-1.021.
+TEST(Caustics, GlassCausticPowerMatchesPathTracer) {
+    MeasureOptions o;
+    o.glass = true;
+    o.view = [](Camera& c) {
+        c.position = Vec3(0.0f, 0.9f, -2.2f);
+        c.lookAt = Vec3(0.0f, 0.05f, 0.0f);
+        c.vfovDegrees = 30.0f;
+        c.width = c.height = 48;
+    };
+    o.passes = 4;
+    o.pathSamples = 2048;
     CausticPower c = measure([](Scene& s, int m) {
         Sphere ball;
         ball.centre = Vec3(0.0f, 0.5f, 0.0f);
         ball.radius = 0.35f;
         ball.material = m;
         s.spheres.push_back(ball);
-    }, true);
+    }, o);
     report("glass ball", c);
-    ASSERT_GT(c.pixels, 300u);
+    ASSERT_GT(c.pixels, 1000u);
     ASSERT_GT(c.path, 0.0);
     EXPECT_NEAR(c.photon / c.path, 1.0, 0.03);
 }
@@ -254,4 +302,55 @@ TEST(Caustics, GlassCausticMapPowerMatchesIndependentMonteCarlo) {
                 "(tolerance 3%%)\n",
                 stored, maps.caustic.size(), expected, stored / expected);
     EXPECT_NEAR(stored / expected, 1.0, 0.03);
+}
+
+// The eye side's reading of the same caustic on its own: the caustic estimate (k = 50, cone, the
+// renderer's r_max = 5 % of the bounds' diagonal) on a 1 cm grid over the whole floor, integrated,
+// against the map's stored power: measured 1.014 × (1.007 × over the central 2.4 m square, where
+// the box filter read 1.028 × and k = 10 with the cone 1.024 ×; the rest is the sparse tail of
+// light reflected off the ball). The k-nearest estimate neither loses nor makes this caustic's
+// power beyond the 3 %.
+TEST(Caustics, GlassCausticEstimateIntegratesToMapPower) {
+    Scene s = causticStage(
+        [](Scene& sc, int m) {
+            Sphere ball;
+            ball.centre = Vec3(0.0f, 0.5f, 0.0f);
+            ball.radius = 0.35f;
+            ball.material = m;
+            sc.spheres.push_back(ball);
+        },
+        false);
+    s.materials.back().specular = SpecularKind::Dielectric;
+    s.materials.back().ior = 1.5f;
+    auto p = prepare(s);
+    PhotonPassOptions po;
+    po.globalPhotons = 1000;
+    po.causticPhotons = 200000;
+    po.seed = 13;
+    po.buildGlobal = false;
+    PhotonMaps maps = runPhotonPass(test::testDevice(), *p->geometry, p->buffers, po);
+    double stored = 0.0;
+    for (const PclPhoton& ph : maps.caustic) stored += test::decodedPower(ph);
+    const float rMax = 0.05f * length(p->geometry->bounds().extent());
+    const double h = 0.01;
+    const int n = 300;  // the floor is 3 × 3
+    std::vector<PclEstimateQuery> queries;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            PclEstimateQuery q{};
+            q.x = float(-1.5 + (i + 0.5) * h);
+            q.z = float(-1.5 + (j + 0.5) * h);
+            q.ny = 1.0f;
+            q.maxRadius2 = rMax * rMax;
+            q.k = 50;
+            queries.push_back(q);
+        }
+    EstimateResult r = estimateOnDevice(test::testDevice(), maps.caustic, queries, EstimateSettings{}, nullptr);
+    double integral = 0.0;
+    for (const PclEstimate& e : r.values) integral += (double(e.r) + e.g + e.b) / 3.0 * h * h;
+    std::printf("[figure] glass ball caustic estimate integrated over the floor %.4f W vs the map's %.4f W "
+                "(%zu photons): ratio %.4f (tolerance 3%%)\n",
+                integral, stored, maps.caustic.size(), integral / stored);
+    ASSERT_GT(stored, 0.0);
+    EXPECT_NEAR(integral / stored, 1.0, 0.03);
 }
