@@ -29,6 +29,16 @@ std::string hms(double s) {
     return b;
 }
 
+// Device bytes the eye stages allocate per eye sample of a chunk, all counted as live at once
+// (an upper bound; labels as Device::allocate reports them, measured on cornell-spheres): camera
+// ray 48, eye hit 112, three radiance parts 48, the estimates' query and result records 3 × 32,
+// the kNN's indices and distances 8 per neighbour, and for final gathering per gather ray the
+// query 32, the gathered ray 32, the precomputed-irradiance lookup 16 and its chosen point 4.
+uint64_t eyeBytesPerSample(const PhotonRenderSettings& s) {
+    const bool fg = s.method == RenderMethod::FinalGather;
+    return 48 + 112 + 3 * 16 + 3 * 32 + 8ull * std::max(s.globalK, s.causticK) + (fg ? 84ull * s.gatherRays : 0ull);
+}
+
 }  // namespace
 
 BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, Device* device) {
@@ -45,7 +55,7 @@ BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, De
     // the max allocation, 256 .. 2^18 samples.
     const size_t perSample = 32u * (fg ? s.gatherRays : 1u);
     e.eyeChunk = std::min(std::clamp<size_t>(info.maxAlloc / 4 / perSample, 256, size_t(1) << 18), passSamples);
-    e.deviceEyeBytes = uint64_t(e.eyeChunk) * (48 + 112 + 3 * 16 + (fg ? 32ull * s.gatherRays : 0ull));
+    e.deviceEyeBytes = uint64_t(e.eyeChunk) * eyeBytesPerSample(s);
 
     PhotonPassOptions pass;
     pass.buildGlobal = maps.global;
@@ -88,8 +98,13 @@ BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, De
                                r.times.accumulate) * ratio;
         e.secondsPerPass = e.photonSecondsPerPass + e.eyeSecondsPerPass;
         e.calibrationRssBytes = hostMaxRssBytes();
-        e.hostBytes = e.calibrationRssBytes +
-                      uint64_t(kHostBytesPerPixel * double(pixels - std::min(pixels, size_t(small.camera.width) * small.camera.height)));
+        const size_t smallPixels = size_t(small.camera.width) * small.camera.height;
+        e.hostBytes = e.calibrationRssBytes + uint64_t(kHostBytesPerPixel * double(pixels - std::min(pixels, smallPixels)));
+        // A CPU device's buffers are host memory: the full-size chunk's eye buffers add to the RSS.
+        if (info.type & CL_DEVICE_TYPE_CPU) {
+            const size_t smallChunk = std::min(e.eyeChunk, smallPixels * s.strata * s.strata);
+            e.hostBytes += uint64_t(e.eyeChunk - smallChunk) * eyeBytesPerSample(s);
+        }
         e.calibrated = true;
     }
     for (uint32_t i = 0; i < job.shards; ++i) {
@@ -121,7 +136,7 @@ std::string formatBatchPlan(const BatchScene& bs, const BatchPlanEstimate& e) {
     if (!e.memoryProblems.empty()) o << "  does NOT fit this device:\n" << e.memoryProblems;
     o << "  host:   " << mib(double(e.hostBytes))
       << (e.calibrated ? " (the calibration's peak RSS " + mib(double(e.calibrationRssBytes)) +
-                             " + 112 bytes per further pixel: sums, pass film, output)"
+                             " + 112 bytes per further pixel: sums, pass film, output; on a CPU device + the larger eye chunk)"
                        : " (estimate: 112 bytes per pixel, the photon maps read back, 200 MiB runtime)")
       << "\n";
     if (e.calibrated) {

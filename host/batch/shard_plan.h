@@ -2,10 +2,12 @@
 // expected to cost, so a user can size a farm before rendering.
 //   device memory: the memory plan's peak for one photon pass with its maps and searches
 //     (pipeline/memory_plan.h, the same formulas the stages allocate by) plus the renderer's eye
-//     buffers per chunk of samples (camera rays, eye hits, three radiance parts, the gather's
-//     32 bytes per gather ray);
+//     buffers per chunk of samples (camera rays, eye hits, radiance parts, estimate queries,
+//     kNN results, and per gather ray 84 bytes: query, gathered ray, lookup, chosen point), all
+//     counted as live together (an upper bound);
 //   host memory: measured when calibrated (the calibration's peak RSS, plus 112 bytes per extra
-//     pixel: the shard's fixed-point sums 32, the pass's film 32, the film and image written 48);
+//     pixel: the shard's fixed-point sums 32, the pass's film 32, the film and image written 48;
+//     on a CPU device, whose buffers are host memory, plus the eye buffers of the larger chunk);
 //     otherwise the same per-pixel bytes plus the photon maps held on the host;
 //   time: calibrated by rendering one pass of the job (its photons, a smaller image: at most
 //     65 536 pixels, same aspect) twice on the device and taking the second (warm kernel
