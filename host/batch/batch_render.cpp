@@ -150,7 +150,6 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
     out.device = device.info().name;
     out.platform = device.info().platform;
     out.host = hostName();
-    out.film = FixedPointFilm(job.width, job.height);
     nlohmann::json runs = nlohmann::json::array();
     if (resumeFrom) {
         // A partial shard of the same range: its passes stay, the rest are rendered and added
@@ -213,7 +212,9 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
             device.setAllocationObserver(nullptr);
             throw;
         }
-        out.film.add(r.sums);
+        if (resumeFrom) out.film.add(r.sums);
+        else out.film = std::move(r.sums);  // (no second copy: a 4K film is 265 MB)
+        r.film = Film();
         out.passesDone += r.passes;
         out.globalEmitted += r.globalEmitted;
         out.causticEmitted += r.causticEmitted;
@@ -223,6 +224,7 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
         out.nonFiniteSamples += r.nonFiniteSamples;
     }
     device.setAllocationObserver(nullptr);
+    if (out.film.width() == 0) out.film = FixedPointFilm(job.width, job.height);  // nothing rendered
 
     nlohmann::json run;
     run["started"] = started;

@@ -15,13 +15,14 @@ Film::Film(int width, int height) : width_(width), height_(height) {
     weight_.assign(static_cast<size_t>(width) * height, 0.0);
 }
 
-Film::Film(int width, int height, std::vector<double> sums, std::vector<double> weights) : Film(width, height) {
-    if (sums.size() != sum_.size() || weights.size() != weight_.size())
-        throw InputError("film: expected " + std::to_string(sum_.size()) + " sums and " + std::to_string(weight_.size()) +
+Film::Film(int width, int height, std::vector<double> sums, std::vector<double> weights)
+    : width_(width), height_(height), sum_(std::move(sums)), weight_(std::move(weights)) {
+    // (No zero-filled arrays first: a 4K film is 265 MB.)
+    const size_t pixels = width > 0 && height > 0 ? size_t(width) * height : 0;
+    if (!pixels || sum_.size() != 3 * pixels || weight_.size() != pixels)
+        throw InputError("film: expected " + std::to_string(3 * pixels) + " sums and " + std::to_string(pixels) +
                          " weights for " + std::to_string(width) + "x" + std::to_string(height) + ", got " +
-                         std::to_string(sums.size()) + " and " + std::to_string(weights.size()));
-    sum_ = std::move(sums);
-    weight_ = std::move(weights);
+                         std::to_string(sum_.size()) + " and " + std::to_string(weight_.size()));
 }
 
 void Film::add(int x, int y, Vec3 radiance, double weight) {

@@ -41,13 +41,12 @@ FixedPointFilm::FixedPointFilm(int width, int height) : width_(width), height_(h
 }
 
 FixedPointFilm::FixedPointFilm(int width, int height, std::vector<int64_t> sums, std::vector<int64_t> weights)
-    : FixedPointFilm(width, height) {
-    if (sums.size() != sum_.size() || weights.size() != weight_.size())
-        throw InputError("fixed-point film: expected " + std::to_string(sum_.size()) + " sums and " +
-                         std::to_string(weight_.size()) + " weights, got " + std::to_string(sums.size()) + " and " +
-                         std::to_string(weights.size()));
-    sum_ = std::move(sums);
-    weight_ = std::move(weights);
+    : width_(width), height_(height), sum_(std::move(sums)), weight_(std::move(weights)) {
+    const size_t pixels = width > 0 && height > 0 ? size_t(width) * height : 0;
+    if (!pixels || sum_.size() != 3 * pixels || weight_.size() != pixels)
+        throw InputError("fixed-point film: expected " + std::to_string(3 * pixels) + " sums and " +
+                         std::to_string(pixels) + " weights for " + std::to_string(width) + "x" + std::to_string(height) +
+                         ", got " + std::to_string(sum_.size()) + " and " + std::to_string(weight_.size()));
 }
 
 void FixedPointFilm::addPass(const Film& pass) {

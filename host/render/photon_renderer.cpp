@@ -429,6 +429,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
         if (s.onPass) s.onPass(result.passes, std::min(1.0, fraction));
     }
     if (!result.stopped && s.stop && s.stop->load() && s.passes && result.passes < s.passes) result.stopped = true;
+    passFilm = Film();  // (host memory: a 4K film is 265 MB)
     result.film = result.sums.toFilm();
     result.times.total = since(start);
     return result;

@@ -222,3 +222,27 @@ TEST(BatchResumeKill, KilledShardsLeaveNothingMergeAcceptsAndAllResumes) {
     EXPECT_TRUE(same);
     fs::remove_all(dir);
 }
+
+TEST(BatchPlan, PrintsEveryShardWithItsMemoryAndCalibratedTime) {
+    const fs::path dir = fs::temp_directory_path() / ("photoncl-batch-plan-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string job = (dir / "job.json").string();
+    std::ofstream(job) << R"({"scene": ")" << PHOTONCL_SOURCE_DIR << R"(/scenes/cornell-spheres.json", "output": "img.exr",
+        "passes": 10, "shards": 4, "width": 24, "height": 16, "globalPhotons": 3000, "causticPhotons": 2000})";
+    Result r = run("batch plan " + job);
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (const char* row : {"[     0,      2)", "[     2,      5)", "[     5,      7)", "[     7,     10)"})
+        EXPECT_NE(r.output.find(row), std::string::npos) << row << "\n" << r.output;
+    EXPECT_NE(r.output.find("device: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("host: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("time per pass: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("settings "), std::string::npos) << r.output;
+    // A job whose photon map cannot fit under the buffer cap: the plan says so, exit 2.
+    std::ofstream(job) << R"({"scene": ")" << PHOTONCL_SOURCE_DIR << R"(/scenes/cornell-spheres.json", "output": "img.exr",
+        "passes": 2, "shards": 1, "width": 24, "height": 16, "globalPhotons": 3000000, "maxBufferMib": 8})";
+    r = run("batch plan " + job + " --no-calibrate");
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("does NOT fit"), std::string::npos) << r.output;
+    fs::remove_all(dir);
+}
