@@ -22,7 +22,7 @@ const char* const kKeys[] = {"scene",        "output",       "method",      "sha
                              "seed",         "width",        "height",      "globalPhotons", "causticPhotons",
                              "strata",       "gatherRays",   "k",           "causticK",      "lightSamples",
                              "gatherImportance", "radius",   "alpha",       "maxRadius",     "filter",
-                             "gatherSource", "visibility",   "device",      "maxBufferMib",  "structure"};
+                             "gatherSource", "visibility",   "device",      "maxBufferMib",  "structure", "threads"};
 
 std::string allowedKeys() {
     std::string out;
@@ -103,16 +103,9 @@ BatchJob loadBatchJob(const std::string& path) {
     job.path = path;
     job.scene = resolveAgainst(folder, r.text("scene", ""));
     job.output = resolveAgainst(folder, r.text("output", ""));
-    // The path tracer (render --method path) is refused: its samples are indexed by sample
-    // number already (PathTracerSettings::firstSample), but its film is summed in doubles per
-    // tile and it runs on the CPU reference only, not an OpenCL device; a shard of it would
-    // need its own fixed-point accumulation. Left out (README, "Batch renders").
-    if (r.find("method") && r.find("method")->is_string() && r.find("method")->get<std::string>() == "path")
-        failInput(path, "method",
-                  "\"fg\", \"direct\" or \"progressive\" (batch renders photon-mapping passes; the path tracer is "
-                  "not supported in batch jobs)",
-                  "\"path\"");
-    job.method = r.text("method", "fg", {"fg", "direct", "progressive"});
+    // path: the CPU reference path tracer, one sample per pixel per pass (its samples are
+    // indexed by sample number: PathTracerSettings::firstSample), on the host, not a device.
+    job.method = r.text("method", "fg", {"fg", "direct", "progressive", "path"});
     job.shards = static_cast<uint32_t>(r.integer("shards", 1, 100000, 1));
     job.seed = r.integer("seed", 0, UINT64_MAX, 0);
     job.width = static_cast<int>(r.integer("width", 1, 65536, 0));
@@ -134,6 +127,7 @@ BatchJob loadBatchJob(const std::string& path) {
     job.visibility = r.flag("visibility", false);
     job.device = r.text("device", "cpu");
     job.maxBufferMib = r.integer("maxBufferMib", 1, uint64_t(1) << 30, 0);
+    job.threads = static_cast<int>(r.integer("threads", 0, 4096, 0));
 
     // The resolution and default passes follow from the scene's camera, as in `render`.
     if (!job.width || !job.height || !root.contains("passes")) {
@@ -143,8 +137,9 @@ BatchJob loadBatchJob(const std::string& path) {
         job.width = w ? w : (h ? std::max(1, h * cam.width / cam.height) : cam.width);
         job.height = h ? h : (w ? std::max(1, w * cam.height / cam.width) : cam.height);
     }
-    job.passes = static_cast<uint32_t>(
-        r.integer("passes", 1, 1u << 20, defaultPasses(parseRenderMethod(job.method), job.width, job.height)));
+    // path: `render --method path`'s default of 64 samples per pixel.
+    const uint32_t fallback = job.method == "path" ? 64u : defaultPasses(parseRenderMethod(job.method), job.width, job.height);
+    job.passes = static_cast<uint32_t>(r.integer("passes", 1, 1u << 20, fallback));
     if (job.shards > job.passes)
         failInput(path, "shards", "at most the number of passes (" + std::to_string(job.passes) + "): a shard renders whole passes",
                   std::to_string(job.shards));

@@ -26,9 +26,10 @@ struct BatchJob {
     std::string path;         // the job file as given
     std::string scene;        // scene file, resolved against the job file's folder
     std::string output;       // final EXR, resolved against the job file's folder
-    std::string method = "fg";  // fg | direct | progressive (path: refused, see batch_job.cpp)
+    std::string method = "fg";  // fg | direct | progressive | path (the CPU reference path tracer)
     uint32_t shards = 1;      // N
-    uint32_t passes = 0;      // P: total passes (resolved: the render default when left out)
+    uint32_t passes = 0;      // P: total passes (resolved: the render default when left out);
+                              // path: samples per pixel, one per pass
     uint64_t seed = 0;
     int width = 0, height = 0;  // resolved: the scene camera's when left out (one alone keeps the aspect)
     // Settings; 0 / empty: the render default for the method (applyRenderDefaults).
@@ -39,6 +40,7 @@ struct BatchJob {
     bool visibility = false;
     std::string device = "cpu";  // default for `batch run` (--device overrides)
     uint64_t maxBufferMib = 0;   // 0: no cap
+    int threads = 0;             // path: CPU threads (0: all cores); never changes the bits
 };
 
 // Reads and checks a job file. Unknown keys, wrong types and values out of range throw

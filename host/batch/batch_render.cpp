@@ -17,6 +17,7 @@
 #include "pipeline/memory_plan.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/projection_map.h"
+#include "reference/path_tracer.h"
 #include "scene/json_parse.h"
 #include "scene/load_scene.h"
 
@@ -97,6 +98,10 @@ BatchScene loadBatchScene(const BatchJob& job) {
     // the shard count (a pass is the same pass in any shard).
     const RenderMaps maps = mapsFor(s.method, b.plan);
     std::ostringstream t;
+    if (s.method == RenderMethod::PathTracing)  // (its own settings are fixed: depth, roulette, MIS)
+        t << "method=path;width=" << job.width << ";height=" << job.height << ";passes=" << job.passes
+          << ";seed=" << s.seed << ";samplesPerPass=1;fixedPointBits=" << FixedPointFilm::kFractionBits;
+    else
     t << "method=" << renderMethodName(s.method) << ";width=" << job.width << ";height=" << job.height
       << ";passes=" << job.passes << ";seed=" << s.seed << ";strata=" << s.strata
       << ";globalPhotons=" << (maps.global ? s.globalPhotons : 0u) << ";causticPhotons=" << (maps.caustic ? s.causticPhotons : 0u)
@@ -128,8 +133,41 @@ BatchScene loadBatchScene(const BatchJob& job) {
     return b;
 }
 
-ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, PassRange range,
+namespace {
+
+// The path tracer's passes [first, first + count): one sample per pixel each, on the host.
+PhotonRenderResult renderPathPasses(const BatchScene& bs, uint32_t first, uint32_t count, int threads,
+                                    const std::atomic<bool>* stop, const std::function<void(uint32_t, double)>& onPass) {
+    auto start = std::chrono::steady_clock::now();
+    PhotonRenderResult r;
+    r.sums = FixedPointFilm(bs.job.width, bs.job.height);
+    PathTracerSettings pt;
+    pt.seed = bs.settings.seed;
+    pt.samplesPerPixel = 1;
+    pt.threads = threads;
+    for (uint32_t done = 0; done < count; ++done) {
+        if (done > 0 && stop && stop->load()) {
+            r.stopped = true;
+            break;
+        }
+        pt.firstSample = static_cast<int>(first + done);
+        PathTracerStats stats;
+        r.sums.addPass(PathTracer(bs.scene, bs.geometry, pt).render(&stats));
+        r.samples += stats.samples;
+        r.nonFiniteSamples += stats.discardedSamples;
+        r.passes = done + 1;
+        if (onPass) onPass(r.passes, double(r.passes) / count);
+    }
+    r.times.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+}
+
+}  // namespace
+
+ShardData renderShard(Device* device, const BatchScene& bs, uint32_t index, PassRange range,
                       const ShardData* resumeFrom, const ShardRunOptions& options) {
+    const bool path = bs.settings.method == RenderMethod::PathTracing;
+    if (!path && !device) throw InputError("batch: method " + bs.job.method + " needs an OpenCL device");
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     const BatchJob& job = bs.job;
@@ -147,8 +185,8 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
     out.settingsHash = bs.settingsHash;
     out.settings = bs.settingsText;
     out.version = PHOTONCL_VERSION;
-    out.device = device.info().name;
-    out.platform = device.info().platform;
+    out.device = path ? kPathTracerDevice : device->info().name;
+    out.platform = path ? "host" : device->info().platform;
     out.host = hostName();
     nlohmann::json runs = nlohmann::json::array();
     if (resumeFrom) {
@@ -183,19 +221,23 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
     pass.buildCaustic = maps.caustic;
     pass.globalPhotons = maps.global ? s.globalPhotons : 0;
     pass.causticPhotons = maps.caustic ? s.causticPhotons : 0;
-    const MemoryPlan memory = planMemory(photonPassMemoryRequest(bs.geometry, bs.buffers, pass), memoryLimits(device.info()));
-    requireMemoryFits(memory);
-    s.photonBatch = memory.photonBatch;
+    MemoryPlan memory;
+    if (!path) {
+        memory = planMemory(photonPassMemoryRequest(bs.geometry, bs.buffers, pass), memoryLimits(device->info()));
+        requireMemoryFits(memory);
+        s.photonBatch = memory.photonBatch;
+    }
 
     // Device memory as observed: the largest buffer, and every buffer made up to the end of
     // the first pass summed as if none were freed (an upper bound of the peak: the scene and
     // eye buffers live throughout, a pass's photon buffers are made and dropped within it).
     uint64_t largest = 0, firstPassBytes = 0;
     bool firstPassDone = false;
-    device.setAllocationObserver([&](const std::string&, size_t bytes) {
-        largest = std::max<uint64_t>(largest, bytes);
-        if (!firstPassDone) firstPassBytes += bytes;
-    });
+    if (device)
+        device->setAllocationObserver([&](const std::string&, size_t bytes) {
+            largest = std::max<uint64_t>(largest, bytes);
+            if (!firstPassDone) firstPassBytes += bytes;
+        });
     auto userOnPass = s.onPass;
     s.onPass = [&](uint32_t done, double f) {
         firstPassDone = true;
@@ -207,9 +249,10 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
     const double setup = std::chrono::duration<double>(Clock::now() - start).count();
     if (s.passes > 0) {
         try {
-            r = renderPhotonMapped(device, bs.scene, bs.geometry, bs.buffers, bs.plan, s);
+            r = path ? renderPathPasses(bs, first, s.passes, options.threads, s.stop, s.onPass)
+                     : renderPhotonMapped(*device, bs.scene, bs.geometry, bs.buffers, bs.plan, s);
         } catch (...) {
-            device.setAllocationObserver(nullptr);
+            if (device) device->setAllocationObserver(nullptr);
             throw;
         }
         if (resumeFrom) out.film.add(r.sums);
@@ -223,7 +266,7 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
         out.samples += r.samples;
         out.nonFiniteSamples += r.nonFiniteSamples;
     }
-    device.setAllocationObserver(nullptr);
+    if (device) device->setAllocationObserver(nullptr);
     if (out.film.width() == 0) out.film = FixedPointFilm(job.width, job.height);  // nothing rendered
 
     nlohmann::json run;
@@ -244,6 +287,7 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
     sec["caustic"] = r.times.caustic;
     sec["indirect"] = r.times.indirect;
     sec["accumulate"] = r.times.accumulate;
+    if (path) sec["pathTrace"] = r.times.total;
     sec["render"] = r.times.total;
     sec["total"] = std::chrono::duration<double>(Clock::now() - start).count() + options.loadSeconds;
     run["seconds"] = sec;
@@ -251,8 +295,8 @@ ShardData renderShard(Device& device, const BatchScene& bs, uint32_t index, Pass
     mem["devicePlannedPhotonPassPeakBytes"] = memory.peakBytes();
     mem["deviceLargestBufferBytes"] = largest;
     mem["deviceFirstPassAllocatedBytes"] = firstPassBytes;
-    mem["deviceMaxAllocBytes"] = device.info().maxAlloc;
-    mem["deviceGlobalMemBytes"] = device.info().globalMem;
+    mem["deviceMaxAllocBytes"] = device ? device->info().maxAlloc : 0;
+    mem["deviceGlobalMemBytes"] = device ? device->info().globalMem : 0;
     mem["hostMaxRssBytes"] = hostMaxRssBytes();
     run["memory"] = mem;
     runs.push_back(run);

@@ -45,13 +45,21 @@ struct ShardRunOptions {
     std::function<void(uint32_t done, uint32_t total)> onPass;
     bool log = false;
     double loadSeconds = 0;  // loading the scene and opening the device before this shard (manifest)
+    int threads = 0;         // path: CPU threads (0: all cores)
 };
 
 // Renders passes [range.first + resumeFrom.passesDone, range.end) on `device` and returns the
 // shard: the sums of resumeFrom (a partial shard of the same range, or nothing) plus the new
 // passes. Fills every header field (hashes, device, photons, seconds by stage, memory).
-ShardData renderShard(Device& device, const BatchScene& scene, uint32_t index, PassRange range,
+// The path tracer (method path) runs on the host: `device` may then be null. Its pass p is
+// sample p of every pixel (PathTracerSettings::firstSample), rounded to fixed point on its own,
+// so its shards merge exactly too (but `render --method path`, which sums samples in doubles,
+// is not the same bits: its film is not accumulated in fixed point).
+ShardData renderShard(Device* device, const BatchScene& scene, uint32_t index, PassRange range,
                       const ShardData* resumeFrom, const ShardRunOptions& options);
+
+// The device name a path-traced shard records.
+constexpr const char* kPathTracerDevice = "ref (CPU reference path tracer)";
 
 // Host peak resident set size of this process so far, bytes (getrusage ru_maxrss).
 uint64_t hostMaxRssBytes();

@@ -7,6 +7,7 @@
 
 #include "pipeline/memory_plan.h"
 #include "pipeline/photon_pass.h"
+#include "reference/path_tracer.h"
 
 namespace pcl {
 namespace {
@@ -41,13 +42,56 @@ uint64_t eyeBytesPerSample(const PhotonRenderSettings& s) {
     return 48 + 112 + 3 * 16 + 3 * 32 + 8ull * std::max(s.globalK, s.causticK) + (fg ? 84ull * s.gatherRays : 0ull);
 }
 
+void planShards(const BatchJob& job, BatchPlanEstimate& e) {
+    for (uint32_t i = 0; i < job.shards; ++i) {
+        ShardEstimate se;
+        se.index = i;
+        se.range = shardPasses(job, i);
+        se.seconds = e.calibrated ? e.secondsPerPass * se.range.count() : 0.0;
+        e.shards.push_back(se);
+    }
+}
+
+// The path tracer: no device; the host holds the scene, the BVH and the films. Calibrated by
+// one sample per pixel at no more than 65 536 pixels, twice, the second timed, scaled by pixels.
+BatchPlanEstimate estimatePathTracer(const BatchScene& bs, bool calibrate, int threads) {
+    BatchPlanEstimate e;
+    e.device = kPathTracerDevice;
+    const size_t pixels = size_t(bs.job.width) * bs.job.height;
+    e.hostBytes = uint64_t(kHostBytesPerPixel * pixels) + (200ull << 20);
+    if (calibrate) {
+        const double shrink = std::min(1.0, std::sqrt(65536.0 / double(pixels)));
+        Scene small = bs.scene;
+        small.camera.width = std::max(1, int(std::lround(bs.job.width * shrink)));
+        small.camera.height = std::max(1, int(std::lround(bs.job.height * shrink)));
+        e.calibrationWidth = small.camera.width;
+        e.calibrationHeight = small.camera.height;
+        PathTracerSettings pt;
+        pt.seed = bs.settings.seed;
+        pt.samplesPerPixel = 1;
+        pt.threads = threads;
+        PathTracerStats stats;
+        for (int i = 0; i < 2; ++i) PathTracer(small, bs.geometry, pt).render(&stats);
+        const size_t smallPixels = size_t(small.camera.width) * small.camera.height;
+        e.eyeSecondsPerPass = stats.seconds * double(pixels) / double(smallPixels);
+        e.secondsPerPass = e.eyeSecondsPerPass;
+        e.calibrationRssBytes = hostMaxRssBytes();
+        e.hostBytes = e.calibrationRssBytes + uint64_t(kHostBytesPerPixel * double(pixels - std::min(pixels, smallPixels)));
+        e.calibrated = true;
+    }
+    planShards(bs.job, e);
+    return e;
+}
+
 }  // namespace
 
-BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, Device* device) {
+BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, Device* device, bool calibrate,
+                                int threads) {
     BatchPlanEstimate e;
     e.device = info.name;
     const PhotonRenderSettings& s = bs.settings;
     const BatchJob& job = bs.job;
+    if (s.method == RenderMethod::PathTracing) return estimatePathTracer(bs, calibrate, threads);
     const RenderMaps maps = mapsFor(s.method, bs.plan);
     const bool fg = s.method == RenderMethod::FinalGather;
     const size_t pixels = size_t(job.width) * job.height;
@@ -78,7 +122,7 @@ BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, De
     e.hostBytes = uint64_t(kHostBytesPerPixel * pixels) +
                   2ull * 24 * (2ull * pass.globalPhotons + pass.causticPhotons) + (200ull << 20);
 
-    if (device) {
+    if (calibrate && device) {
         // One pass at no more than 65 536 pixels (same aspect), rendered twice: the first warms
         // the kernel cache, the second is timed.
         const double shrink = std::min(1.0, std::sqrt(65536.0 / double(pixels)));
@@ -109,13 +153,7 @@ BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, De
         }
         e.calibrated = true;
     }
-    for (uint32_t i = 0; i < job.shards; ++i) {
-        ShardEstimate se;
-        se.index = i;
-        se.range = shardPasses(job, i);
-        se.seconds = e.calibrated ? e.secondsPerPass * se.range.count() : 0.0;
-        e.shards.push_back(se);
-    }
+    planShards(job, e);
     return e;
 }
 
@@ -126,22 +164,32 @@ std::string formatBatchPlan(const BatchScene& bs, const BatchPlanEstimate& e) {
     std::ostringstream o;
     o << "job " << job.path << ": " << job.scene << " at " << job.width << "x" << job.height << ", method " << job.method
       << ", " << job.passes << " passes in " << job.shards << " shard(s), seed " << job.seed << "\n";
-    o << "per pass: " << (maps.global ? s.globalPhotons : 0u) << " global + " << (maps.caustic ? s.causticPhotons : 0u)
+    if (s.method == RenderMethod::PathTracing) o << "per pass: 1 path-traced sample per pixel (CPU reference path tracer)";
+    else o << "per pass: " << (maps.global ? s.globalPhotons : 0u) << " global + " << (maps.caustic ? s.causticPhotons : 0u)
       << " caustic photons, " << s.strata * s.strata << " eye sample(s)/pixel";
     if (s.method == RenderMethod::FinalGather) o << ", " << s.gatherRays << " gather rays";
     o << "\nsettings " << hex64(bs.settingsHash) << ": " << bs.settingsText << "\n";
     o << "scene hash " << hex64(bs.sceneHash) << "\n";
     o << "shard files: " << shardFolder(job) << "/, image " << job.output << ", manifest " << manifestPath(job) << "\n\n";
+    const bool path = s.method == RenderMethod::PathTracing;
     o << "memory per shard (device " << e.device << "):\n";
-    o << "  device: " << mib(double(e.deviceBytes)) << " = photon pass, maps and searches " << mib(double(e.devicePhotonPassBytes))
+    if (path) o << "  device: none (the path tracer runs on the host's cores)\n";
+    else o << "  device: " << mib(double(e.deviceBytes)) << " = photon pass, maps and searches " << mib(double(e.devicePhotonPassBytes))
       << " (memory plan) + eye buffers " << mib(double(e.deviceEyeBytes)) << " (" << e.eyeChunk << " samples per chunk)\n";
     if (!e.memoryProblems.empty()) o << "  does NOT fit this device:\n" << e.memoryProblems;
     o << "  host:   " << mib(double(e.hostBytes))
       << (e.calibrated ? " (the calibration's peak RSS " + mib(double(e.calibrationRssBytes)) +
-                             " + 80 bytes per further pixel: sums and pass film; on a CPU device + the larger eye chunk)"
+                             " + 80 bytes per further pixel: sums and pass film" +
+                             (path ? std::string(")") : std::string("; on a CPU device + the larger eye chunk)"))
                        : " (estimate: 80 bytes per pixel, the photon maps read back, 200 MiB runtime)")
       << "\n";
-    if (e.calibrated) {
+    if (e.calibrated && path) {
+        char line[256];
+        std::snprintf(line, sizeof line,
+                      "time per pass (1 sample per pixel): %.2fs (one warm pass at %dx%d on the host, scaled by pixels)\n",
+                      e.secondsPerPass, e.calibrationWidth, e.calibrationHeight);
+        o << line;
+    } else if (e.calibrated) {
         char line[256];
         std::snprintf(line, sizeof line,
                       "time per pass: %.2fs = photon pass + maps %.2fs + eye stages %.2fs (one warm pass at %dx%d on "

@@ -45,8 +45,14 @@ struct BatchPlanEstimate {
     std::vector<ShardEstimate> shards;
 };
 
-// Memory from the plan; with `calibrateOn` also time (renders two one-pass calibrations).
-BatchPlanEstimate estimateBatch(const BatchScene& scene, const DeviceInfo& info, Device* calibrateOn);
+// Memory from the plan; with `calibrate` also time (renders two one-pass calibrations on
+// `device`, or on the host for the path tracer, whose device may be null and info empty).
+BatchPlanEstimate estimateBatch(const BatchScene& scene, const DeviceInfo& info, Device* device, bool calibrate,
+                                int threads = 0);
+// The same, calibrated on `calibrateOn` when it is not null (as before method path existed).
+inline BatchPlanEstimate estimateBatch(const BatchScene& scene, const DeviceInfo& info, Device* calibrateOn) {
+    return estimateBatch(scene, info, calibrateOn, calibrateOn != nullptr);
+}
 
 // The table `batch plan` prints.
 std::string formatBatchPlan(const BatchScene& scene, const BatchPlanEstimate& e);

@@ -80,24 +80,32 @@ struct BatchOptions {
     bool all = false, force = false, quiet = false, noCalibrate = false, allowPartial = false, noPng = false;
 };
 
-Device openDevice(const BatchOptions& o, const BatchJob& job) {
+// The OpenCL device of a photon-mapping job; none for the path tracer (the CPU reference),
+// which accepts only --device ref, cpu or auto, as `render --method path` does.
+std::unique_ptr<Device> openDevice(const BatchOptions& o, const BatchJob& job) {
     std::string spec = o.device.empty() ? job.device : o.device;
+    if (job.method == "path") {
+        if (spec != "ref" && spec != "cpu" && spec != "auto")
+            throw InputError("batch: method path runs on the CPU reference (--device ref); got --device " + spec);
+        return nullptr;
+    }
     if (spec == "ref")
-        throw InputError("batch: --device ref (the CPU twins) renders only --method path, which batch jobs do not support");
-    Device device = Device::open(spec);
-    applyBufferCap(device, job.maxBufferMib);
+        throw InputError("batch: --device ref (the CPU reference) renders only method path; the job's method is " +
+                         job.method);
+    auto device = std::make_unique<Device>(Device::open(spec));
+    applyBufferCap(*device, job.maxBufferMib);
     return device;
 }
 
 int runPlan(const BatchOptions& o) {
     BatchJob job = loadBatchJob(o.job);
     BatchScene scene = loadBatchScene(job);
-    std::unique_ptr<Device> device;
+    std::unique_ptr<Device> device = openDevice(o, job);
     DeviceInfo info;
-    device = std::make_unique<Device>(openDevice(o, job));
-    info = device->info();
+    if (device) info = device->info();
+    else info.name = kPathTracerDevice;
     if (!o.noCalibrate && !o.quiet) std::fprintf(stderr, "calibrating: one pass of the job, twice, on %s ...\n", info.name.c_str());
-    BatchPlanEstimate e = estimateBatch(scene, info, o.noCalibrate ? nullptr : device.get());
+    BatchPlanEstimate e = estimateBatch(scene, info, device.get(), !o.noCalibrate, job.threads);
     std::fputs(formatBatchPlan(scene, e).c_str(), stdout);
     return e.memoryProblems.empty() ? kExitOk : kExitBadInput;
 }
@@ -121,7 +129,7 @@ std::string checkExisting(const std::string& path, const BatchScene& bs, uint32_
 }
 
 // Renders shard i (resuming a partial one); false if interrupted.
-bool renderOne(Device& device, const BatchScene& bs, uint32_t i, bool force, bool quiet, double& loadSeconds) {
+bool renderOne(Device* device, const BatchScene& bs, uint32_t i, bool force, bool quiet, double& loadSeconds) {
     const BatchJob& job = bs.job;
     const std::string path = shardPath(job, i);
     const PassRange range = shardPasses(job, i);
@@ -145,11 +153,12 @@ bool renderOne(Device& device, const BatchScene& bs, uint32_t i, bool force, boo
     }
     if (!quiet)
         std::fprintf(stderr, "shard %u/%u: passes [%u, %u) on %s\n", i, job.shards, range.first, range.end,
-                     device.info().name.c_str());
+                     device ? device->info().name.c_str() : kPathTracerDevice);
     auto start = std::chrono::steady_clock::now();
     ShardRunOptions ro;
     ro.stop = &gStop;
     ro.loadSeconds = loadSeconds;  // counted once, for the first shard this process renders
+    ro.threads = job.threads;
     loadSeconds = 0;
     ro.onPass = [&](uint32_t done, uint32_t total) {
         if (!quiet) {
@@ -190,10 +199,10 @@ int runRun(const BatchOptions& o) {
     }
     auto loadStart = std::chrono::steady_clock::now();
     BatchScene scene = loadBatchScene(job);
-    Device device = openDevice(o, job);
+    std::unique_ptr<Device> device = openDevice(o, job);
     double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
     for (uint32_t i : todo) {
-        if (!renderOne(device, scene, i, o.force, o.quiet, loadSeconds)) {
+        if (!renderOne(device.get(), scene, i, o.force, o.quiet, loadSeconds)) {
             std::fprintf(stderr, "interrupted: shard %u written with the passes done%s\n", i,
                          o.all && i + 1 < job.shards ? "; the shards after it were not started" : "");
             return kExitInterrupted;

@@ -1,6 +1,7 @@
 // Batch merges on the device (issue 8 parts 2-3): the shards of a job, rendered separately and
 // written to shard files, merge into exactly the bits of one renderPhotonMapped run of the same
-// passes (N = 1, 2, 3, 7; fg and progressive, whose r_0 every shard computes from pass 0); a
+// passes (N = 1, 2, 3, 7; fg and progressive, whose r_0 every shard computes from pass 0; the
+// path tracer's shards merge exactly among themselves); a
 // shard resumed after an interruption gives the same bits; mismatched, duplicated, overlapping,
 // missing, incomplete and corrupt shards are refused; shards labelled with different devices
 // merge, and merges of independently seeded shards pass the per-pixel Z-test against the
@@ -8,7 +9,9 @@
 // floating point, see the test).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -24,6 +27,7 @@
 #include "core/error.h"
 #include "device_fixture.h"
 #include "image/metrics.h"
+#include "reference/path_tracer.h"
 
 namespace fs = std::filesystem;
 
@@ -57,7 +61,7 @@ std::vector<std::string> renderShards(BatchScene& bs, uint32_t shards) {
     fs::create_directories(shardFolder(bs.job));
     std::vector<std::string> files;
     for (uint32_t i = 0; i < shards; ++i) {
-        ShardData s = renderShard(test::testDevice(), bs, i, shardPasses(bs.job, i), nullptr, {});
+        ShardData s = renderShard(&test::testDevice(), bs, i, shardPasses(bs.job, i), nullptr, {});
         files.push_back(shardPath(bs.job, i));
         writeShardFile(files.back(), s);
     }
@@ -107,19 +111,45 @@ TEST_F(BatchMergeTest, ShardsOfAnyCountMergeToTheBitsOfOneRun) {
     }
 }
 
+// The path tracer in a batch: pass p is sample p of every pixel, rounded to fixed point on its
+// own, so any split merges to the bits of one shard of all the passes; `render --method path`
+// sums its samples in doubles, so it agrees to rounding (1e-6 relative), not bit for bit.
+TEST_F(BatchMergeTest, PathTracedShardsMergeExactlyAndAgreeWithThePathTracer) {
+    BatchScene bs = smallJob(dir.path(), "path", 7, 3);
+    std::vector<std::string> one = renderShards(bs, 1);
+    const MergedShards whole = mergeShardFiles(one, expectationOf(bs), {});
+    EXPECT_EQ(whole.shards.front().device, kPathTracerDevice);
+    for (uint32_t shards : {2u, 3u, 7u}) {
+        MergedShards m = mergeShardFiles(renderShards(bs, shards), expectationOf(bs), {});
+        const bool same = m.film.sums() == whole.film.sums() && sameBits(m.film.resolve(), whole.film.resolve());
+        std::printf("[figure] path, 7 samples in %u shard(s) merged vs 1 shard: %s\n", shards, same ? "bit-identical" : "DIFFER");
+        EXPECT_TRUE(same) << shards;
+    }
+    PathTracerSettings pt;
+    pt.seed = 3;
+    pt.samplesPerPixel = 7;
+    const Image direct = PathTracer(bs.scene, bs.geometry, pt).render().resolve();
+    const Image merged = whole.film.resolve();
+    double worst = 0;
+    for (size_t i = 0; i < direct.rgb.size(); ++i)
+        worst = std::max(worst, std::fabs(double(direct.rgb[i]) - merged.rgb[i]) / std::max(1.0, double(std::fabs(direct.rgb[i]))));
+    std::printf("[figure] path: merged shards vs render's path tracer (doubles), worst relative difference %.3g\n", worst);
+    EXPECT_LE(worst, 1e-6);
+}
+
 TEST_F(BatchMergeTest, AShardResumedAfterAnInterruptionHasTheSameBits) {
     BatchScene bs = smallJob(dir.path(), "progressive", 6, 5);
     bs.job.shards = 2;
     const PassRange range = shardPasses(bs.job, 1);  // [3, 6)
-    ShardData whole = renderShard(test::testDevice(), bs, 1, range, nullptr, {});
+    ShardData whole = renderShard(&test::testDevice(), bs, 1, range, nullptr, {});
     std::atomic<bool> stop{false};
     ShardRunOptions ro;
     ro.stop = &stop;
     ro.onPass = [&](uint32_t, uint32_t) { stop = true; };  // Ctrl-C during the first pass
-    ShardData partial = renderShard(test::testDevice(), bs, 1, range, nullptr, ro);
+    ShardData partial = renderShard(&test::testDevice(), bs, 1, range, nullptr, ro);
     EXPECT_EQ(partial.passesDone, 1u);
     EXPECT_FALSE(partial.complete());
-    ShardData resumed = renderShard(test::testDevice(), bs, 1, range, &partial, {});
+    ShardData resumed = renderShard(&test::testDevice(), bs, 1, range, &partial, {});
     EXPECT_TRUE(resumed.complete());
     EXPECT_EQ(resumed.film.sums(), whole.film.sums());
     EXPECT_EQ(resumed.film.weights(), whole.film.weights());

@@ -76,6 +76,8 @@ TEST_F(BatchJobTest, LeftOutSettingsTakeTheRenderDefaults) {
     BatchJob half = loadBatchJob(write(R"({"scene": ")" + scene() + R"(", "output": "x.exr", "shards": 1, "width": 128})"));
     EXPECT_EQ(half.height, 128);
     EXPECT_EQ(half.passes, defaultPasses(RenderMethod::FinalGather, 128, 128));
+    BatchJob path = loadBatchJob(write(R"({"scene": ")" + scene() + R"(", "output": "x.exr", "shards": 4, "method": "path"})"));
+    EXPECT_EQ(path.passes, 64u);  // render --method path's 64 samples per pixel
 }
 
 TEST_F(BatchJobTest, BadJobsNameTheKeyAndWhatWasExpected) {
@@ -84,8 +86,8 @@ TEST_F(BatchJobTest, BadJobsNameTheKeyAndWhatWasExpected) {
     EXPECT_NE(e.find("photons"), std::string::npos) << e;
     EXPECT_NE(e.find("unknown key"), std::string::npos) << e;
     EXPECT_NE(e.find("globalPhotons"), std::string::npos) << e;  // the allowed keys are listed
-    e = error(head + R"("shards": 2, "passes": 4, "method": "path"})");
-    EXPECT_NE(e.find("path tracer is not supported"), std::string::npos) << e;
+    e = error(head + R"("shards": 2, "passes": 4, "method": "pt"})");
+    EXPECT_NE(e.find("\"path\""), std::string::npos) << e;  // the methods are listed
     e = error(head + R"("shards": 0, "passes": 4})");
     EXPECT_NE(e.find("shards"), std::string::npos) << e;
     e = error(head + R"("shards": 5, "passes": 4})");
