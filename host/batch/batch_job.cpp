@@ -42,12 +42,13 @@ struct Reader {
     uint64_t integer(const char* key, uint64_t lo, uint64_t hi, uint64_t fallback) const {
         const json* v = find(key);
         if (!v) return fallback;
-        std::string expected = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
-        if (!v->is_number_integer() && !(v->is_number_float() && std::floor(v->get<double>()) == v->get<double>()))
-            failInput(file, key, expected, showJson(*v));
-        if (v->is_number_integer() && v->is_number_unsigned() == false && v->get<int64_t>() < 0)
-            failInput(file, key, expected, showJson(*v));
-        double d = v->get<double>();
+        const std::string expected = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+        // Unsigned integers exactly (seeds use all 64 bits); a whole float (4.0) is accepted.
+        const bool whole = v->is_number_unsigned() ||
+                           (v->is_number_float() && std::isfinite(v->get<double>()) &&
+                            std::floor(v->get<double>()) == v->get<double>() && v->get<double>() >= 0);
+        if (!whole) failInput(file, key, expected, showJson(*v));
+        const double d = v->get<double>();
         if (d < double(lo) || d > double(hi)) failInput(file, key, expected, showJson(*v));
         return v->is_number_unsigned() ? v->get<uint64_t>() : uint64_t(d);
     }
