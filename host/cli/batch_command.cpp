@@ -212,6 +212,15 @@ int runRun(const BatchOptions& o) {
             return kExitInterrupted;
         }
     }
+    // Temporaries of killed runs are never read; they are not deleted here, as another machine's
+    // run may be writing one right now (shared folders), but the user is told.
+    size_t stale = 0;
+    std::error_code ec;
+    for (fs::directory_iterator it(shardFolder(job), ec), end; !ec && it != end; it.increment(ec))
+        stale += it->path().filename().string().rfind(".shard-", 0) == 0;
+    if (stale && !o.quiet)
+        std::fprintf(stderr, "note: %zu hidden temporary file(s) .shard-*.tmp-* in %s, left by killed runs, are never read; "
+                             "delete them when no batch run is writing there\n", stale, shardFolder(job).c_str());
     return kExitOk;
 }
 
