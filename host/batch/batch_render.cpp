@@ -191,8 +191,8 @@ ShardData renderShard(Device* device, const BatchScene& bs, uint32_t index, Pass
     nlohmann::json runs = nlohmann::json::array();
     if (resumeFrom) {
         // A partial shard of the same range: its passes stay, the rest are rendered and added
-        // (fixed point: the sum is the same bits as rendering the range at once).
-        out.film = resumeFrom->film;
+        // (fixed point: the sum is the same bits as rendering the range at once). Its film is
+        // added after the render, not copied now: no third copy of the sums while rendering.
         out.passesDone = resumeFrom->passesDone;
         out.globalEmitted = resumeFrom->globalEmitted;
         out.causticEmitted = resumeFrom->causticEmitted;
@@ -255,8 +255,8 @@ ShardData renderShard(Device* device, const BatchScene& bs, uint32_t index, Pass
             if (device) device->setAllocationObserver(nullptr);
             throw;
         }
-        if (resumeFrom) out.film.add(r.sums);
-        else out.film = std::move(r.sums);  // (no second copy: a 4K film is 265 MB)
+        out.film = std::move(r.sums);  // (no second copy: a 4K film of 128-bit sums is 531 MB)
+        if (resumeFrom) out.film.add(resumeFrom->film);  // integer addition: either order, same bits
         r.film = Film();
         out.passesDone += r.passes;
         out.globalEmitted += r.globalEmitted;
@@ -267,7 +267,8 @@ ShardData renderShard(Device* device, const BatchScene& bs, uint32_t index, Pass
         out.nonFiniteSamples += r.nonFiniteSamples;
     }
     if (device) device->setAllocationObserver(nullptr);
-    if (out.film.width() == 0) out.film = FixedPointFilm(job.width, job.height);  // nothing rendered
+    if (out.film.width() == 0)  // nothing rendered
+        out.film = resumeFrom ? resumeFrom->film : FixedPointFilm(job.width, job.height);
 
     nlohmann::json run;
     run["started"] = started;

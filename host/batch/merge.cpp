@@ -49,8 +49,9 @@ MergedShards mergeShardFiles(const std::vector<std::string>& files, const MergeE
     };
     std::vector<Entry> shards;
     // Each file's sums are added as soon as it is read and checked, and its film dropped, so a
-    // merge holds one shard at a time (a 4K shard is 265 MB). Integer sums: the order of the
-    // additions cannot change the result; any problem found later still refuses the merge.
+    // merge holds the sum and one shard's film (a 4K film of 128-bit sums is 531 MB). Integer
+    // sums: the order of the additions cannot change the result; any problem found later still
+    // refuses the merge.
     FixedPointFilm sum;
     int sumWidth = expectIn.width, sumHeight = expectIn.height;
     for (const std::string& f : files) {

@@ -26,7 +26,15 @@ namespace {
 static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "shard files are little-endian; add byte swaps here");
 
 constexpr char kMagic[8] = {'P', 'C', 'L', 'S', 'H', 'A', 'R', 'D'};
-constexpr uint32_t kFormatVersion = 1;
+// Version 2: 128-bit sums (version 1 held 64-bit ones, range ±2^31; refused, not converted:
+// render such a shard again).
+constexpr uint32_t kFormatVersion = 2;
+using Fixed = FixedPointFilm::Fixed;
+// Each value is 16 bytes: its low 64 bits then its high 64 bits, each little-endian, two's
+// complement: on a little-endian machine that is __int128's memory, written and read as is.
+constexpr size_t kValueBytes = 16;
+static_assert(sizeof(Fixed) == kValueBytes, "__int128 is 16 bytes");
+constexpr size_t kPixelBytes = 4 * kValueBytes;  // 3 sums and 1 weight
 constexpr size_t kPrefixBytes = 8 + 4 + 4 + 8 + 8;
 
 [[noreturn]] void fail(const std::string& path, const std::string& reason) {
@@ -107,6 +115,7 @@ json shardHeaderJson(const ShardData& s) {
     h["platform"] = s.platform;
     h["host"] = s.host;
     h["fixedPointFractionBits"] = FixedPointFilm::kFractionBits;
+    h["fixedPointBits"] = int(8 * sizeof(FixedPointFilm::Fixed));  // (informative: the format version decides)
     h["globalPhotonsEmitted"] = s.globalEmitted;
     h["causticPhotonsEmitted"] = s.causticEmitted;
     h["globalPhotonsStored"] = s.globalStored;
@@ -124,7 +133,7 @@ void writeShardFile(const std::string& path, const ShardData& s) {
                          ", header says " + std::to_string(s.width) + "x" + std::to_string(s.height));
     const std::string header = shardHeaderJson(s).dump(1);
     const uint64_t headerBytes = header.size();
-    const uint64_t payloadBytes = (film.sums().size() + film.weights().size()) * sizeof(int64_t);
+    const uint64_t payloadBytes = (film.sums().size() + film.weights().size()) * kValueBytes;
 
     const std::string tmp = temporaryPathFor(path);
     int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
@@ -141,14 +150,14 @@ void writeShardFile(const std::string& path, const ShardData& s) {
               writeAll(fd, &headerBytes, 8, hash) && writeAll(fd, &payloadBytes, 8, hash) &&
               writeAll(fd, header.data(), header.size(), hash);
     if (!ok) failWrite("header");
-    const size_t sumBytes = film.sums().size() * sizeof(int64_t);
+    const size_t sumBytes = film.sums().size() * kValueBytes;
     // The sums in two halves, so the mid-write pause lies inside the payload.
     ok = writeAll(fd, film.sums().data(), sumBytes / 2, hash);
     if (!ok) failWrite("sums");
     if (::fsync(fd) != 0) failWrite("fsync");
     pauseIfAsked("mid-write", tmp);
     ok = writeAll(fd, reinterpret_cast<const char*>(film.sums().data()) + sumBytes / 2, sumBytes - sumBytes / 2, hash) &&
-         writeAll(fd, film.weights().data(), film.weights().size() * sizeof(int64_t), hash);
+         writeAll(fd, film.weights().data(), film.weights().size() * kValueBytes, hash);
     if (!ok) failWrite("sums");
     const uint64_t checksum = hash.h;
     Fnv1a ignored;
@@ -182,23 +191,32 @@ ShardData readShardFile(const std::string& path) {
     std::memcpy(&headerBytes, prefix + 16, 8);
     std::memcpy(&payloadBytes, prefix + 24, 8);
     if (version != kFormatVersion)
-        fail(path, "shard format version " + std::to_string(version) + ", this photoncl reads version " +
-                       std::to_string(kFormatVersion));
+        fail(path, "shard format version " + std::to_string(version) + ", expected version " +
+                       std::to_string(kFormatVersion) +
+                       (version == 1 ? " (version 1 held 64-bit sums; this photoncl sums in 128 bits)" : "") +
+                       ": render this shard again with this photoncl");
     if (headerBytes > size || payloadBytes > size || kPrefixBytes + headerBytes + payloadBytes + 8 != size)
         fail(path, "truncated or padded: " + std::to_string(size) + " bytes, the header announces " +
                        std::to_string(kPrefixBytes + headerBytes + payloadBytes + 8));
     std::string header(headerBytes, '\0');
     in.read(header.data(), std::streamsize(headerBytes));
-    if (payloadBytes % 8) fail(path, "payload of " + std::to_string(payloadBytes) + " bytes is not whole int64 values");
-    std::vector<int64_t> payload(payloadBytes / 8);
-    in.read(reinterpret_cast<char*>(payload.data()), std::streamsize(payloadBytes));
+    if (payloadBytes % kPixelBytes)
+        fail(path, "payload of " + std::to_string(payloadBytes) + " bytes is not whole pixels (" +
+                       std::to_string(kPixelBytes) + " bytes each: 3 sums and a weight, 128-bit)");
+    // Read straight into the film's two arrays (no second copy of the payload: a 4K shard's is
+    // 531 MB): the sums of every pixel, then the weights.
+    const size_t payloadPixels = payloadBytes / kPixelBytes;
+    std::vector<Fixed> sums(3 * payloadPixels), weights(payloadPixels);
+    in.read(reinterpret_cast<char*>(sums.data()), std::streamsize(sums.size() * kValueBytes));
+    in.read(reinterpret_cast<char*>(weights.data()), std::streamsize(weights.size() * kValueBytes));
     uint64_t stored = 0;
     in.read(reinterpret_cast<char*>(&stored), 8);
     if (!in) fail(path, "cannot be read to the end");
     Fnv1a hash;
     hash.add(prefix, kPrefixBytes);
     hash.add(header);
-    hash.add(payload.data(), payloadBytes);
+    hash.add(sums.data(), sums.size() * kValueBytes);
+    hash.add(weights.data(), weights.size() * kValueBytes);
     if (hash.h != stored)
         fail(path, "checksum mismatch (stored " + hex64(stored) + ", computed " + hex64(hash.h) +
                        "): the file is damaged; render this shard again");
@@ -245,12 +263,10 @@ ShardData readShardFile(const std::string& path) {
     if (s.width <= 0 || s.height <= 0 || s.width > 65536 || s.height > 65536)
         fail(path, "inconsistent header: size " + std::to_string(s.width) + "x" + std::to_string(s.height));
     const size_t pixels = size_t(s.width) * s.height;
-    if (payload.size() != 4 * pixels)
-        fail(path, "payload holds " + std::to_string(payload.size()) + " values, a " + std::to_string(s.width) + "x" +
-                       std::to_string(s.height) + " shard holds " + std::to_string(4 * pixels));
-    std::vector<int64_t> weights(payload.begin() + std::ptrdiff_t(3 * pixels), payload.end());
-    payload.resize(3 * pixels);
-    s.film = FixedPointFilm(s.width, s.height, std::move(payload), std::move(weights));
+    if (payloadPixels != pixels)
+        fail(path, "payload holds " + std::to_string(payloadPixels) + " pixels, a " + std::to_string(s.width) + "x" +
+                       std::to_string(s.height) + " shard holds " + std::to_string(pixels));
+    s.film = FixedPointFilm(s.width, s.height, std::move(sums), std::move(weights));
     return s;
 }
 

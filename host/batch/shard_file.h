@@ -2,13 +2,15 @@
 // can check and merge. Layout (little-endian):
 //
 //   "PCLSHARD"               8 bytes, magic
-//   u32 format version (1), u32 0
+//   u32 format version (2), u32 0
 //   u64 H, u64 B             header and payload lengths
 //   H bytes                  header: JSON (job, shard i of N, passes [first, end) and passes done,
 //                            size, seed, scene and settings hashes, settings, program version,
 //                            device, photons emitted/stored, seconds by stage, memory)
-//   B bytes                  payload: the FixedPointFilm's int64 sums (3 per pixel, rows from the
-//                            top) then its int64 weights (1 per pixel): unnormalised, exact
+//   B bytes                  payload: the FixedPointFilm's 128-bit sums (3 per pixel, rows from
+//                            the top) then its 128-bit weights (1 per pixel): unnormalised, exact;
+//                            each value 16 bytes, its low then its high 64 bits (two's complement)
+//                            (version 1 held int64 values; it is refused with both versions named)
 //   u64                      FNV-1a 64 of every byte before it
 //
 // A file is written to a hidden temporary name in the same folder, fsynced, renamed onto its

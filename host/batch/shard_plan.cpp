@@ -12,11 +12,11 @@
 namespace pcl {
 namespace {
 
-// Host bytes per pixel while a shard renders: the render's FixedPointFilm sums (4 × int64) and
-// the pass's Film (4 doubles) live together (at the end the pass film is freed before the sums
-// are copied to doubles), plus 16 of slack (allocator, chunk read-backs). Measured: a 4K direct
-// shard peaked at 892 MiB against 973 MiB predicted.
-constexpr double kHostBytesPerPixel = 32 + 32 + 16;
+// Host bytes per pixel while a shard renders: the render's FixedPointFilm sums (4 × __int128,
+// 64) and the pass's Film (4 doubles, 32) live together (at the end the pass film is freed
+// before the sums are copied to doubles), plus 16 of slack (allocator, chunk read-backs). With
+// 64-bit sums (80 bytes per pixel) a 4K direct shard peaked at 892 MiB against 973 predicted.
+constexpr double kHostBytesPerPixel = 64 + 32 + 16;
 
 std::string mib(double bytes) {
     char b[32];
@@ -179,9 +179,9 @@ std::string formatBatchPlan(const BatchScene& bs, const BatchPlanEstimate& e) {
     if (!e.memoryProblems.empty()) o << "  does NOT fit this device:\n" << e.memoryProblems;
     o << "  host:   " << mib(double(e.hostBytes))
       << (e.calibrated ? " (the calibration's peak RSS " + mib(double(e.calibrationRssBytes)) +
-                             " + 80 bytes per further pixel: sums and pass film" +
+                             " + 112 bytes per further pixel: sums and pass film" +
                              (path ? std::string(")") : std::string("; on a CPU device + the larger eye chunk)"))
-                       : " (estimate: 80 bytes per pixel, the photon maps read back, 200 MiB runtime)")
+                       : " (estimate: 112 bytes per pixel, the photon maps read back, 200 MiB runtime)")
       << "\n";
     if (e.calibrated && path) {
         char line[256];

@@ -5,8 +5,8 @@
 //     buffers per chunk of samples (camera rays, eye hits, radiance parts, estimate queries,
 //     kNN results, and per gather ray 84 bytes: query, gathered ray, lookup, chosen point), all
 //     counted as live together (an upper bound);
-//   host memory: measured when calibrated (the calibration's peak RSS, plus 80 bytes per extra
-//     pixel: the render's fixed-point sums 32, the pass's film 32, 16 slack;
+//   host memory: measured when calibrated (the calibration's peak RSS, plus 112 bytes per extra
+//     pixel: the render's 128-bit fixed-point sums 64, the pass's film 32, 16 slack;
 //     on a CPU device, whose buffers are host memory, plus the eye buffers of the larger chunk);
 //     otherwise the same per-pixel bytes plus the photon maps held on the host;
 //   time: calibrated by rendering one pass of the job (its photons, a smaller image: at most

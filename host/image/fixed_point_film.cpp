@@ -1,6 +1,7 @@
 #include "image/fixed_point_film.h"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <utility>
 
@@ -9,23 +10,28 @@
 namespace pcl {
 namespace {
 
+using Fixed = FixedPointFilm::Fixed;
+
 [[noreturn]] void overflow(int width, size_t pixel, double value) {
+    char range[32];
+    std::snprintf(range, sizeof range, "%.3g", FixedPointFilm::kMaxValue);
+    char sum[32];
+    std::snprintf(sum, sizeof sum, "%.6g", value);
     throw InputError("fixed-point film: pixel (" + std::to_string(pixel % width) + ", " + std::to_string(pixel / width) +
-                     ") sums to " + std::to_string(value) + ", beyond the film's range ±" +
-                     std::to_string(FixedPointFilm::kMaxValue) +
-                     " (64-bit fixed point with 32 fraction bits); render fewer passes per image or scale the "
+                     ") sums to " + sum + ", beyond the film's range ±" + range +
+                     " (2^95: 128-bit fixed point with 32 fraction bits); render fewer passes per image or scale the "
                      "scene's light down");
 }
 
-// Rounds v · 2^32 to the nearest integer (ties away from zero: std::llround, the same on every
-// machine). |v| ≤ kMaxValue keeps the result inside int64.
-int64_t quantise(double v, int width, size_t pixel) {
-    if (!(std::fabs(v) <= FixedPointFilm::kMaxValue)) overflow(width, pixel, v);
-    return std::llround(v * FixedPointFilm::kScale);
+// Rounds v · 2^32 to the nearest integer, ties away from zero (std::round: the same on every
+// machine; exact, as v · 2^32 is exact). |v| < 2^95 keeps the result below 2^127.
+Fixed quantise(double v, int width, size_t pixel) {
+    if (!(std::fabs(v) < FixedPointFilm::kMaxValue)) overflow(width, pixel, v);
+    return Fixed(std::round(v * FixedPointFilm::kScale));
 }
 
-int64_t addChecked(int64_t a, int64_t b, int width, size_t pixel) {
-    int64_t out;
+Fixed addChecked(Fixed a, Fixed b, int width, size_t pixel) {
+    Fixed out;
     if (__builtin_add_overflow(a, b, &out)) overflow(width, pixel, (double(a) + double(b)) / FixedPointFilm::kScale);
     return out;
 }
@@ -40,7 +46,7 @@ FixedPointFilm::FixedPointFilm(int width, int height) : width_(width), height_(h
     weight_.assign(size_t(width) * height, 0);
 }
 
-FixedPointFilm::FixedPointFilm(int width, int height, std::vector<int64_t> sums, std::vector<int64_t> weights)
+FixedPointFilm::FixedPointFilm(int width, int height, std::vector<Fixed> sums, std::vector<Fixed> weights)
     : width_(width), height_(height), sum_(std::move(sums)), weight_(std::move(weights)) {
     const size_t pixels = width > 0 && height > 0 ? size_t(width) * height : 0;
     if (!pixels || sum_.size() != 3 * pixels || weight_.size() != pixels)

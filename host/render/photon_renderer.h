@@ -100,7 +100,7 @@ struct RenderAovs {
 
 struct PhotonRenderResult {
     // Each pass is rendered into a Film of doubles and its per-pixel sums are rounded once to
-    // 64-bit fixed point and added (image/fixed_point_film.h): integer sums do not depend on how
+    // 128-bit fixed point and added (image/fixed_point_film.h): integer sums do not depend on how
     // passes are grouped, so the same passes rendered in one run or as batch shards and merged
     // give the same bits. `film` is `sums` as doubles (for callers that merge or resolve films).
     FixedPointFilm sums;

@@ -117,7 +117,7 @@ TEST(FixedPointFilm, AnyGroupingOfPassesGivesTheSameBits) {
                 seq.sums().size());
 }
 
-TEST(FixedPointFilm, ResolvesWithinItsStepOfTheDoubleFilmAndRefusesOverflow) {
+TEST(FixedPointFilm, ResolvesWithinItsStepOfTheDoubleFilmAndRefusesNaN) {
     const int w = 8, h = 6;
     Film pass = randomPass(w, h, 7);
     FixedPointFilm fixed(w, h);
@@ -128,22 +128,62 @@ TEST(FixedPointFilm, ResolvesWithinItsStepOfTheDoubleFilmAndRefusesOverflow) {
     std::printf("[figure] fixed-point rounding: worst absolute error %.3g (bound 2^-33 = %.3g)\n", worst, 0.5 / FixedPointFilm::kScale);
     EXPECT_LE(worst, 0.5 / FixedPointFilm::kScale * 1.0001);
 
-    Film huge(1, 1);
-    huge.add(0, 0, {3e9f, 0, 0});
-    FixedPointFilm f(1, 1);
-    EXPECT_THROW(f.addPass(huge), InputError);
-    Film big(1, 1);
-    big.add(0, 0, {2e9f, 0, 0});
-    f.addPass(big);
-    try {
-        f.addPass(big);  // 4e9 in total: beyond 2^31
-        ADD_FAILURE() << "overflow accepted";
-    } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("pixel (0, 0)"), std::string::npos) << e.what();
-    }
     Film nan(1, 1);
     nan.add(0, 0, {std::nanf(""), 0, 0});
     EXPECT_THROW(FixedPointFilm(1, 1).addPass(nan), InputError);
+}
+
+// 128-bit sums: range ±2^95 ≈ 4.0e28 per pixel, still 2^-32 steps at every magnitude.
+TEST(FixedPointFilm, HoldsSunlitSumsAndRefusesOverflowNamingThePixel) {
+    auto pass = [](int w, int x, float v) {
+        Film f(w, 1);
+        f.add(x, 0, {v, v, v});
+        return f;
+    };
+    // The sun seen directly in SI units (~2e7 W/(m² sr)) over 1000 one-sample passes: 2e10, ten
+    // times the 64-bit film's range (2^31 ≈ 2.1e9); exact, as 2e7 is a whole number.
+    FixedPointFilm sun(1, 1);
+    for (int p = 0; p < 1000; ++p) sun.addPass(pass(1, 0, 2e7f));
+    EXPECT_EQ(sun.toFilm().sums()[0], 2e10);
+    EXPECT_EQ(sun.resolve().rgb[0], 2e7f);
+    // Small fractions survive next to huge values: 1e20 + 0.5 − 1e20 is 0.5 exactly (doubles: 0).
+    FixedPointFilm fine(1, 1);
+    for (float v : {1e20f, 0.5f, -1e20f}) fine.addPass(pass(1, 0, v));
+    EXPECT_EQ(fine.toFilm().sums()[0], 0.5);
+    std::printf("[figure] fixed-point range: ±%.4g per pixel (2^95); 1000 passes of 2e7 sum to %.6g exactly; "
+                "1e20 + 0.5 - 1e20 = %.3g\n", FixedPointFilm::kMaxValue, sun.toFilm().sums()[0], fine.toFilm().sums()[0]);
+
+    auto refusal = [](auto&& what) -> std::string {
+        try {
+            what();
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "(accepted)";
+    };
+    // One pass beyond the range: refused before rounding (1e30 > 2^95).
+    FixedPointFilm f(3, 1);
+    std::string why = refusal([&] { f.addPass(pass(3, 2, 1e30f)); });
+    EXPECT_NE(why.find("pixel (2, 0)"), std::string::npos) << why;
+    EXPECT_NE(why.find("±3.96e+28"), std::string::npos) << why;  // names the range
+    // Totals: 3e28 twice is 6e28 > 2^95, either sign; refused, never wrapped.
+    for (float v : {3e28f, -3e28f}) {
+        FixedPointFilm g(3, 1);
+        g.addPass(pass(3, 1, v));
+        why = refusal([&] { g.addPass(pass(3, 1, v)); });
+        EXPECT_NE(why.find("pixel (1, 0)"), std::string::npos) << v << ": " << why;
+        EXPECT_EQ(g.toFilm().sums()[3], double(v)) << "the refused pass left the sum as it was";
+    }
+    // Two films near the limit (as shards merging): 2.5e28 + 2.5e28 overflows; 2.5e28 − 2.5e28 is 0.
+    FixedPointFilm a(3, 1), b(3, 1), c(3, 1);
+    a.addPass(pass(3, 0, 2.5e28f));
+    b.addPass(pass(3, 0, 2.5e28f));
+    c.addPass(pass(3, 0, -2.5e28f));
+    why = refusal([&] { a.add(b); });
+    std::printf("[figure] overflow refused: %s\n", why.c_str());
+    EXPECT_NE(why.find("pixel (0, 0)"), std::string::npos) << why;
+    b.add(c);
+    EXPECT_EQ(b.toFilm().sums()[0], 0.0);
 }
 
 TEST_F(ShardFileTest, RoundTripsExactlyAndLeavesNoTemporary) {
@@ -166,6 +206,32 @@ TEST_F(ShardFileTest, RoundTripsExactlyAndLeavesNoTemporary) {
     EXPECT_EQ(r.globalEmitted, 123456u);
     EXPECT_DOUBLE_EQ(r.accounting["seconds"]["total"].get<double>(), 1.5);
     EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);  // no temporary left
+    // 128-bit values near the range, both signs, round-trip; each stored as its low then its high
+    // 64 bits, little-endian (the first sum is the payload's first 16 bytes).
+    ShardData big = sampleShard(2, 1);
+    Film extreme(2, 1);
+    extreme.add(0, 0, {3e28f, -1e25f, 0.25f});
+    extreme.add(1, 0, {-3e28f, 7.0f, 1e-9f});
+    big.film = FixedPointFilm(2, 1);
+    big.film.addPass(extreme);
+    std::string bigPath = (dir / "big.pcls").string();
+    writeShardFile(bigPath, big);
+    ShardData bigBack = readShardFile(bigPath);
+    EXPECT_EQ(bigBack.film.sums(), big.film.sums());
+    EXPECT_EQ(bigBack.film.weights(), big.film.weights());
+    {
+        std::ifstream in(bigPath, std::ios::binary);
+        std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        uint64_t headerBytes = 0, lo = 0, hi = 0;
+        std::memcpy(&headerBytes, bytes.data() + 16, 8);
+        std::memcpy(&lo, bytes.data() + 32 + headerBytes, 8);
+        std::memcpy(&hi, bytes.data() + 32 + headerBytes + 8, 8);
+        const FixedPointFilm::Fixed v = big.film.sums()[0];
+        EXPECT_EQ(lo, uint64_t(v));
+        EXPECT_EQ(hi, uint64_t(v >> 64));
+        EXPECT_GT(hi, 0u);  // 3e28 · 2^32 needs the high half
+    }
+    fs::remove(bigPath);
     // Overwriting goes through a temporary too: the old file is replaced whole.
     s.passesDone = 2;
     writeShardFile(path, s);
@@ -209,6 +275,14 @@ TEST_F(ShardFileTest, TruncatedDamagedOrForeignFilesAreRefusedWithNameAndReason)
         EXPECT_NE(why, "(accepted)") << "flip at byte " << at;
     }
     EXPECT_NE(refusal(put("foreign.pcls", "P6\n1 1\n255\nabc")).find("not"), std::string::npos);
+    // A shard of format version 1 (64-bit sums, before 128-bit fixed point): refused, both named.
+    std::string v1 = bytes;
+    v1[8] = 1;
+    std::string old = put("v1.pcls", v1);
+    std::string whyOld = refusal(old);
+    std::printf("[figure] old shard refused: %s\n", whyOld.c_str());
+    EXPECT_EQ(whyOld.find(old), 0u) << whyOld;
+    EXPECT_NE(whyOld.find("version 1, expected version 2"), std::string::npos) << whyOld;
     EXPECT_NE(refusal((dir / "absent.pcls").string()).find("cannot be read"), std::string::npos);
     std::printf("[figure] damaged shard files refused with their name: %d of %d (7 truncations, 40 bit flips)\n", refused, cases);
     EXPECT_EQ(refused, cases);
