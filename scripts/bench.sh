@@ -32,7 +32,11 @@ cat "$out/bench.md"
 cmake --build build -j "$jobs" --target photoncl >&2
 echo "bench: running photoncl sweep --quick" >&2
 build/photoncl sweep scenes/cornell-box.json --reference tests/data/ref-cornell-box.exr --quick -o "$out" >&2
-if python3 -c 'import matplotlib' 2>/dev/null; then
-  python3 scripts/chart.py "$out/sweep-cornell-box.csv" -o "$out" >&2
-  cat "$out/winners.md"
-fi
+# A pyenv python3 first on PATH may lack matplotlib: Debian's has it (setup.sh).
+for py in python3 /usr/bin/python3; do
+  if "$py" -c 'import matplotlib' 2>/dev/null; then
+    "$py" scripts/chart.py "$out/sweep-cornell-box.csv" -o "$out" >&2
+    cat "$out/winners.md"
+    break
+  fi
+done
