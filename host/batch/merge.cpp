@@ -4,6 +4,7 @@
 #include <ctime>
 #include <map>
 #include <sstream>
+#include <utility>
 
 #include "batch/hash.h"
 #include "core/error.h"
@@ -59,8 +60,8 @@ MergedShards mergeShardFiles(const std::vector<std::string>& files, const MergeE
             Entry e{f, readShardFile(f)};
             if (!sumWidth) sumWidth = e.shard.width, sumHeight = e.shard.height;
             if (e.shard.width == sumWidth && e.shard.height == sumHeight) {
-                if (sum.width() == 0) sum = FixedPointFilm(sumWidth, sumHeight);
-                sum.add(e.shard.film);
+                if (sum.width() == 0) sum = std::move(e.shard.film);  // 0 + x is x: no zero film to add to
+                else sum.add(e.shard.film);
             }
             e.shard.film = FixedPointFilm();
             shards.push_back(std::move(e));

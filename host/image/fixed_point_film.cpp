@@ -81,4 +81,15 @@ Film FixedPointFilm::toFilm() const {
     return Film(width_, height_, std::move(s), std::move(w));
 }
 
+Image FixedPointFilm::resolve() const {
+    if (width_ == 0) return Image();
+    Image image(width_, height_);
+    for (size_t i = 0; i < weight_.size(); ++i) {
+        const double w = double(weight_[i]) / kScale;  // as toFilm() then Film::resolve()
+        for (int c = 0; c < 3; ++c)
+            image.rgb[3 * i + c] = w > 0.0 ? static_cast<float>(double(sum_[3 * i + c]) / kScale / w) : 0.0f;
+    }
+    return image;
+}
+
 }  // namespace pcl

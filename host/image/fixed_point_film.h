@@ -45,8 +45,9 @@ public:
     // The sums as a Film of doubles (fixed · 2^-32, exact where |fixed| < 2^53, else rounded to
     // the nearest double).
     Film toFilm() const;
-    // sum / weight per pixel (black where no sample landed); equals toFilm().resolve().
-    Image resolve() const { return toFilm().resolve(); }
+    // sum / weight per pixel (black where no sample landed): the same bits as
+    // toFilm().resolve(), without the film of doubles (a merge's peak: 265 MB at 4K).
+    Image resolve() const;
 
     const std::vector<Fixed>& sums() const { return sum_; }
     const std::vector<Fixed>& weights() const { return weight_; }

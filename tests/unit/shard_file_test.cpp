@@ -103,8 +103,9 @@ TEST(FixedPointFilm, AnyGroupingOfPassesGivesTheSameBits) {
         for (int i = shards - 1; i >= 0; --i) merged.add(parts[size_t(i)]);
         EXPECT_EQ(merged.sums(), all.sums()) << shards;
         EXPECT_EQ(merged.weights(), all.weights()) << shards;
-        Image a = merged.resolve(), b = all.resolve();
+        Image a = merged.resolve(), b = all.resolve(), viaDoubles = merged.toFilm().resolve();
         EXPECT_EQ(0, std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float))) << shards;
+        EXPECT_EQ(0, std::memcmp(a.rgb.data(), viaDoubles.rgb.data(), a.rgb.size() * sizeof(float))) << shards;
     }
     // The doubles, by contrast, depend on the grouping: the reason for fixed point.
     Film seq(w, h), grouped(w, h), tail(w, h);
