@@ -272,12 +272,8 @@ double glassCausticPowerMonteCarlo(int paths, uint32_t seed) {
     return power * landed / paths;
 }
 
-}  // namespace
-
-// The photon pass's side of the glass caustic on its own: the caustic map's stored power on the
-// floor (Σ decoded photon power) against the host Monte Carlo above (2M paths: ±0.3 %): within
-// 3 %. This isolates the photon pass from the image comparison with the path tracer.
-TEST(Caustics, GlassCausticMapPowerMatchesIndependentMonteCarlo) {
+// The stage with a glass ball (η 1.5, radius 0.35 at height 0.5: glassCausticPowerMonteCarlo's).
+Scene glassBallStage() {
     Scene s = causticStage(
         [](Scene& sc, int m) {
             Sphere ball;
@@ -289,6 +285,16 @@ TEST(Caustics, GlassCausticMapPowerMatchesIndependentMonteCarlo) {
         false);
     s.materials.back().specular = SpecularKind::Dielectric;
     s.materials.back().ior = 1.5f;
+    return s;
+}
+
+}  // namespace
+
+// The photon pass's side of the glass caustic on its own: the caustic map's stored power on the
+// floor (Σ decoded photon power) against the host Monte Carlo above (2M paths: ±0.3 %): within
+// 3 %. This isolates the photon pass from the image comparison with the path tracer.
+TEST(Caustics, GlassCausticMapPowerMatchesIndependentMonteCarlo) {
+    Scene s = glassBallStage();
     auto p = prepare(s);
     PhotonPassOptions po;
     po.globalPhotons = 1000;
@@ -311,17 +317,7 @@ TEST(Caustics, GlassCausticMapPowerMatchesIndependentMonteCarlo) {
 // light reflected off the ball). The k-nearest estimate neither loses nor makes this caustic's
 // power beyond the 3 %.
 TEST(Caustics, GlassCausticEstimateIntegratesToMapPower) {
-    Scene s = causticStage(
-        [](Scene& sc, int m) {
-            Sphere ball;
-            ball.centre = Vec3(0.0f, 0.5f, 0.0f);
-            ball.radius = 0.35f;
-            ball.material = m;
-            sc.spheres.push_back(ball);
-        },
-        false);
-    s.materials.back().specular = SpecularKind::Dielectric;
-    s.materials.back().ior = 1.5f;
+    Scene s = glassBallStage();
     auto p = prepare(s);
     PhotonPassOptions po;
     po.globalPhotons = 1000;
