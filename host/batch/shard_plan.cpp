@@ -121,6 +121,9 @@ BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, De
     // pass holds).
     e.hostBytes = uint64_t(kHostBytesPerPixel * pixels) +
                   2ull * 24 * (2ull * pass.globalPhotons + pass.causticPhotons) + (200ull << 20);
+    // A CPU device's buffers are host memory (PoCL): they add to the process's RSS.
+    e.cpuDevice = (info.type & CL_DEVICE_TYPE_CPU) != 0;
+    if (e.cpuDevice) e.hostBytes += e.deviceBytes;
 
     if (calibrate && device) {
         // One pass at no more than 65 536 pixels (same aspect), rendered twice: the first warms
@@ -181,7 +184,9 @@ std::string formatBatchPlan(const BatchScene& bs, const BatchPlanEstimate& e) {
       << (e.calibrated ? " (the calibration's peak RSS " + mib(double(e.calibrationRssBytes)) +
                              " + 112 bytes per further pixel: sums and pass film" +
                              (path ? std::string(")") : std::string("; on a CPU device + the larger eye chunk)"))
-                       : " (estimate: 112 bytes per pixel, the photon maps read back, 200 MiB runtime)")
+                       : std::string(" (estimate: 112 bytes per pixel, the photon maps read back, 200 MiB runtime") +
+                             (!path && e.cpuDevice ? ", + the device's buffers: a CPU device's are host memory)"
+                                                                           : ")"))
       << "\n";
     if (e.calibrated && path) {
         char line[256];

@@ -33,6 +33,7 @@ struct BatchPlanEstimate {
     uint64_t devicePhotonPassBytes = 0;  // memory plan peak: photon pass, maps, searches
     uint64_t deviceEyeBytes = 0;         // eye buffers of one chunk
     uint64_t deviceBytes = 0;            // the sum: expected device peak per shard
+    bool cpuDevice = false;              // its buffers are host memory (counted in hostBytes)
     uint64_t hostBytes = 0;              // expected host peak RSS per shard
     std::string memoryProblems;          // the memory plan's, when it does not fit ("" fits)
     bool calibrated = false;
