@@ -16,8 +16,6 @@
 #include <thread>
 #include <vector>
 
-#include <pthread.h>
-#include <signal.h>
 
 #include "batch/batch_job.h"
 #include "batch/batch_render.h"
@@ -28,6 +26,7 @@
 #include "cli/memory_option.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "device/device.h"
 #include "image/image_io.h"
 
@@ -40,29 +39,9 @@ namespace {
 // shell reports it, so a scheduler does not take the shard for done.
 constexpr int kExitInterrupted = 130;
 
-// Ctrl-C as in `render`: SIGINT blocked in every thread and taken by a sigwait thread (PoCL's
-// forked kernel linkers are then not killed halfway); the first sets the stop flag (the shard
-// finishes its pass and is written as a partial shard), a second one a second later quits.
-std::atomic<bool> gStop{false};
-void watchInterrupts() {
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGINT);
-    sigaddset(&set, SIGTERM);  // a scheduler's cancel (Slurm sends SIGTERM): the same as Ctrl-C
-    pthread_sigmask(SIG_BLOCK, &set, nullptr);
-    std::thread([set] {
-        std::chrono::steady_clock::time_point first;
-        for (bool pressed = false;;) {
-            int sig = 0;
-            if (sigwait(&set, &sig) != 0) continue;
-            const auto now = std::chrono::steady_clock::now();
-            if (pressed && now - first > std::chrono::seconds(1)) std::_Exit(128 + sig);
-            if (!pressed) first = now;
-            pressed = true;
-            gStop.store(true);
-        }
-    }).detach();
-}
+// Ctrl-C (or a scheduler's SIGTERM; core/interrupt.h): the shard finishes its pass and is
+// written as a partial shard; a second signal a second later quits.
+const std::atomic<bool>* gStop = nullptr;
 
 // PHOTONCL_BATCH_TEST_PAUSE=after-pass (tests only): after each pass, say so and wait (up to 60 s)
 // for a stop request, so a test can Ctrl-C a real process between passes deterministically.
@@ -71,7 +50,7 @@ void pauseAfterPassIfAsked(uint32_t shard, uint32_t done) {
     if (!v || std::strcmp(v, "after-pass") != 0) return;
     std::fprintf(stderr, "[batch-test] paused after-pass: shard %u, %u pass(es) done\n", shard, done);
     std::fflush(stderr);
-    for (int i = 0; i < 6000 && !gStop.load(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    for (int i = 0; i < 6000 && !gStop->load(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
 
 struct BatchOptions {
@@ -156,7 +135,7 @@ bool renderOne(Device* device, const BatchScene& bs, uint32_t i, bool force, boo
                      device ? device->info().name.c_str() : kPathTracerDevice);
     auto start = std::chrono::steady_clock::now();
     ShardRunOptions ro;
-    ro.stop = &gStop;
+    ro.stop = gStop;
     ro.loadSeconds = loadSeconds;  // counted once, for the first shard this process renders
     ro.threads = job.threads;
     loadSeconds = 0;
@@ -180,8 +159,7 @@ bool renderOne(Device* device, const BatchScene& bs, uint32_t i, bool force, boo
 }
 
 int runRun(const BatchOptions& o) {
-    gStop.store(false);
-    watchInterrupts();  // before PoCL starts threads (they inherit the blocked mask)
+    gStop = &watchInterrupts(true);  // before PoCL starts threads (they inherit the blocked mask)
     BatchJob job = loadBatchJob(o.job);
     std::vector<uint32_t> todo;
     if (o.all) {
@@ -207,7 +185,7 @@ int runRun(const BatchOptions& o) {
                          o.all && i + 1 < job.shards ? "; the shards after it were not started" : "");
             return kExitInterrupted;
         }
-        if (gStop.load() && i != todo.back()) {
+        if (gStop->load() && i != todo.back()) {
             std::fprintf(stderr, "interrupted after shard %u; the shards after it were not started\n", i);
             return kExitInterrupted;
         }

@@ -6,21 +6,18 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <sstream>
 #include <string>
-#include <thread>
 
-#include <pthread.h>
-#include <signal.h>
 
 #include "cli/command.h"
 #include "cli/memory_option.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
@@ -59,35 +56,9 @@ std::string defaultOutput(const std::string& scenePath) {
     return std::filesystem::path(scenePath).stem().string() + ".exr";
 }
 
-// Ctrl-C: the render finishes the pass it is in and writes the passes done; a second Ctrl-C
-// (a second or more later) quits at once. SIGINT is blocked in every thread (PoCL's threads
-// are created after this, and inherit the mask) and taken by one sigwait thread instead of a
-// handler: a terminal's Ctrl-C
-// goes to the whole process group, and PoCL links kernels in forked linker processes, which
-// inherit the blocked mask across exec and so are not killed halfway (that aborted PoCL).
-std::atomic<bool> gStop{false};
-// graceful false (the path tracer, which cannot stop between passes): the first Ctrl-C quits.
-void watchInterrupts(bool graceful) {
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGINT);
-    pthread_sigmask(SIG_BLOCK, &set, nullptr);
-    std::thread([set, graceful] {
-        // One interrupt can arrive twice: timeout(1) signals the process and then its group.
-        // Signals within a second of the first count as one.
-        std::chrono::steady_clock::time_point first;
-        for (bool pressed = false;;) {
-            int sig = 0;
-            if (sigwait(&set, &sig) != 0) continue;
-            const auto now = std::chrono::steady_clock::now();
-            if (!graceful || (pressed && now - first > std::chrono::seconds(1)))
-                std::_Exit(130);  // 128 + SIGINT, as the default action reports
-            if (!pressed) first = now;
-            pressed = true;
-            gStop.store(true);
-        }
-    }).detach();
-}
+// Ctrl-C (or SIGTERM): the render finishes the pass it is in and writes the passes done
+// (core/interrupt.h); the path tracer, which cannot stop between passes, quits at once.
+const std::atomic<bool>* gStop = nullptr;
 
 // Part 7 of issue 6: what a render with no options uses, and why. Measured on the 2-core PoCL
 // machine (README, "Rendering"): cornell-spheres at 256×256 renders in under a minute with these.
@@ -235,7 +206,7 @@ int runPhotonRender(const RenderOptions& o, Scene& scene, const SceneGeometry& g
     s.initialRadius = o.radius;
     s.maxRadius = o.maxRadius;
     s.aovs = !aovs.empty();
-    s.stop = &gStop;
+    s.stop = gStop;
     std::string chosen;
     chooseDefaults(o, scene, plan, s, chosen);
 
@@ -324,8 +295,7 @@ int runRender(const RenderOptions& o) {
     const bool path = o.method == "path";
     // First, before PoCL or the path tracer start threads (they inherit the blocked mask): a
     // Ctrl-C from here on stops a photon render after the current pass, kernel builds included.
-    gStop.store(false);
-    watchInterrupts(!path);
+    gStop = &watchInterrupts(!path);
     if (path && o.device != "cpu" && o.device != "ref" && o.device != "auto")
         throw InputError("render: --method path runs on the CPU reference (--device ref); got --device " + o.device);
     std::string output = o.output.empty() ? defaultOutput(o.scene) : o.output;
