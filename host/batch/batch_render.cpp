@@ -70,8 +70,8 @@ BatchScene loadBatchScene(const BatchJob& job) {
     buildProjectionMaps(b.scene, b.geometry, b.buffers);
     b.plan = makePlan(b.scene, classifyLightPaths(b.scene, b.geometry, b.buffers));
 
-    // The settings exactly as `photoncl render` resolves them (render_command's chooseDefaults):
-    // the render defaults for the method, then every value the job gives.
+    // The settings exactly as `photoncl render` resolves them: the render defaults for the
+    // method, then every value the job gives (applyRenderDefaults with overrides).
     PhotonRenderSettings& s = b.settings;
     s.method = parseRenderMethod(job.method);
     s.seed = job.seed;
@@ -83,14 +83,9 @@ BatchScene loadBatchScene(const BatchJob& job) {
     s.initialRadius = job.radius;
     s.maxRadius = job.maxRadius;
     s.structure = job.structure == "hash-grid" ? KnnStructure::HashGrid : KnnStructure::KdTree;
-    applyRenderDefaults(s, b.plan);
-    if (job.globalPhotons) s.globalPhotons = job.globalPhotons;
-    if (job.causticPhotons) s.causticPhotons = job.causticPhotons;
-    if (job.k) s.globalK = job.k;
-    if (job.causticK) s.causticK = job.causticK;
-    if (job.lightSamples) s.lightSamples = job.lightSamples;
-    if (job.strata) s.strata = job.strata;
-    if (job.gatherRays && s.method == RenderMethod::FinalGather) s.gatherRays = job.gatherRays;
+    applyRenderDefaults(s, b.plan,
+                        {job.globalPhotons, job.causticPhotons, job.k, job.causticK, job.lightSamples, job.strata,
+                         job.gatherRays});
     s.passes = job.passes;
 
     // Every setting that changes a pixel, at its exact value; the photon batch and the buffer

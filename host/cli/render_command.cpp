@@ -68,14 +68,8 @@ void chooseDefaults(const RenderOptions& o, const Scene& scene, const RenderPlan
     auto note = [&](const std::string& what, bool chosen, const std::string& reason) {
         why << "  " << what << (chosen ? "  (default: " + reason + ")" : "  (given)") << "\n";
     };
-    applyRenderDefaults(s, plan);
-    if (o.globalPhotons) s.globalPhotons = o.globalPhotons;
-    if (o.causticPhotons) s.causticPhotons = o.causticPhotons;
-    if (o.k) s.globalK = o.k;
-    if (o.causticK) s.causticK = o.causticK;
-    if (o.lightSamples) s.lightSamples = o.lightSamples;
-    if (o.strata && s.method != RenderMethod::PathTracing) s.strata = o.strata;
-    if (o.gatherRays && s.method == RenderMethod::FinalGather) s.gatherRays = o.gatherRays;
+    applyRenderDefaults(s, plan,
+                        {o.globalPhotons, o.causticPhotons, o.k, o.causticK, o.lightSamples, o.strata, o.gatherRays});
     if (s.method != RenderMethod::PathTracing)
         s.passes = o.passes ? o.passes : (o.seconds > 0 ? 0 : defaultPasses(s.method, scene.camera.width, scene.camera.height));
     const bool distributed = plan.lensSampling || plan.timeSampling || plan.glossySampling;

@@ -147,6 +147,17 @@ void applyRenderDefaults(PhotonRenderSettings& s, const RenderPlan& plan) {
     }
 }
 
+void applyRenderDefaults(PhotonRenderSettings& s, const RenderPlan& plan, const RenderOverrides& given) {
+    applyRenderDefaults(s, plan);
+    if (given.globalPhotons) s.globalPhotons = given.globalPhotons;
+    if (given.causticPhotons) s.causticPhotons = given.causticPhotons;
+    if (given.k) s.globalK = given.k;
+    if (given.causticK) s.causticK = given.causticK;
+    if (given.lightSamples) s.lightSamples = given.lightSamples;
+    if (given.strata && s.method != RenderMethod::PathTracing) s.strata = given.strata;
+    if (given.gatherRays && s.method == RenderMethod::FinalGather) s.gatherRays = given.gatherRays;
+}
+
 uint32_t defaultPasses(RenderMethod method, int width, int height) {
     const double megapixels = double(width) * height / 1e6;
     switch (method) {

@@ -128,6 +128,15 @@ RenderMaps mapsFor(RenderMethod method, const RenderPlan& plan);
 // the eye strata and gather rays (2×2 samples and a quarter of the gather rays when the plan
 // samples a lens, a shutter or glossy lobes). Passes are left alone: defaultPasses.
 void applyRenderDefaults(PhotonRenderSettings& s, const RenderPlan& plan);
+// The counts a user sets (`render`'s options, a batch job's keys); 0: keep the default.
+struct RenderOverrides {
+    uint32_t globalPhotons = 0, causticPhotons = 0, k = 0, causticK = 0, lightSamples = 0, strata = 0,
+             gatherRays = 0;
+};
+// applyRenderDefaults, then every override given (strata not for the path tracer, which has
+// none; gather rays only for fg, the one method that gathers), so `render` and `batch` resolve
+// a job's settings alike.
+void applyRenderDefaults(PhotonRenderSettings& s, const RenderPlan& plan, const RenderOverrides& given);
 // Passes of `render` with no --passes or --time: fg 10 at 256×256 scaled by pixel count (1..64),
 // direct 4, progressive 32.
 uint32_t defaultPasses(RenderMethod method, int width, int height);
