@@ -1,7 +1,5 @@
 // photoncl: the command line. Each subcommand lives in host/cli/<name>_command.cpp; this file
-// parses, dispatches, and maps errors onto the exit statuses of DESIGN.md.
-#include <CL/opencl.hpp>
-
+// parses, dispatches, and maps errors onto the exit statuses (core/error.h).
 #include <cstdio>
 #include <utility>
 #include <vector>

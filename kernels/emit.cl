@@ -2,9 +2,9 @@
  *
  * in:  params                  PclPhotonParams: pass seed, firstPhoton, batchSize, lightCount,
  *                              pass (PCL_PASS_GLOBAL / PCL_PASS_CAUSTIC), hasMotion, rayEpsilon
- *      lights[lightCount]      PclLight, powers exact (pipeline/scene_buffers)
+ *      lights[lightCount]      PclLight, powers exact (prep/scene_buffers)
  *      lightFirst[lightCount+1] photons of light l are [lightFirst[l], lightFirst[l+1]) of this
- *                              pass (largest-remainder allocation, pipeline/photon_allocation)
+ *                              pass (largest-remainder allocation, prep/photon_allocation)
  *      projCells[]             marked projection-map cells, light l's at [projFirst, +projCount)
  * out: rays[i], i < batchSize  PclPhotonRay of photon j = firstPhoton + i: origin, time, unit
  *                              direction, light index, flux Φ_l / n_l (caustic: Φ_l f_l / n_l)

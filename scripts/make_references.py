@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Converged references of the shipped scenes (issue 6 part 6), made with the reference path
+"""Converged references of the shipped scenes, made with the reference path
 tracer (`photoncl render --method path`) and kept in tests/data/ as small half-float EXRs.
 
 Each reference is the average of two independent half renders (seeds 1 and 2, N/2 samples per

@@ -1,8 +1,8 @@
-// A batch job (issue 8): one render split into shards of passes that any machine can render
+// A batch job: one render split into shards of passes that any machine can render
 // independently (`photoncl batch run JOB --shard I/N`) and that merge into exactly the image one
 // run of all the passes gives (`photoncl batch merge JOB`). The job file is JSON (README, "Batch
 // renders"); every key is checked, paths are relative to the job file, and settings left out take
-// the defaults `photoncl render` uses (applyRenderDefaults, defaultPasses), so a job renders what
+// the defaults `photoncl render` uses (resolveRenderSettings, defaultPasses), so a job renders what
 // `render` renders.
 //
 // Files of a job with output "out/cornell.exr":
@@ -32,7 +32,7 @@ struct BatchJob {
                               // path: samples per pixel, one per pass
     uint64_t seed = 0;
     int width = 0, height = 0;  // resolved: the scene camera's when left out (one alone keeps the aspect)
-    // Settings; 0 / empty: the render default for the method (applyRenderDefaults).
+    // Settings; 0 / empty: the render default for the method (resolveRenderSettings).
     uint32_t globalPhotons = 0, causticPhotons = 0, strata = 0, gatherRays = 0, k = 0, causticK = 0,
              lightSamples = 0, gatherImportance = 0;
     float radius = 0.0f, alpha = 2.0f / 3.0f, maxRadius = 0.0f;

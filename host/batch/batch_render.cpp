@@ -4,20 +4,16 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
-#include <sstream>
 
+#include "core/clock.h"
 #include "core/error.h"
 #include "pipeline/camera_rays.h"
-#include "pipeline/estimate.h"
-#include "pipeline/eye_paths.h"
-#include "pipeline/memory_plan.h"
-#include "pipeline/photon_pass.h"
-#include "pipeline/projection_map.h"
-#include "reference/path_tracer.h"
+#include "prep/prepared_scene.h"
+#include "render/path_render.h"
+#include "render/render_settings.h"
 #include "scene/json_parse.h"
 #include "scene/load_scene.h"
 
@@ -44,13 +40,6 @@ std::string hostName() {
     return buf;
 }
 
-// %a: the exact bits of a float, so two settings texts are equal exactly when the values are.
-std::string exact(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%a", v);
-    return buf;
-}
-
 }  // namespace
 
 uint64_t hostMaxRssBytes() {
@@ -65,51 +54,38 @@ BatchScene loadBatchScene(const BatchJob& job) {
     b.scene = loadScene(job.scene);
     b.scene.camera.width = job.width;
     b.scene.camera.height = job.height;
-    b.geometry = SceneGeometry::build(b.scene);
-    b.buffers = buildSceneBuffers(b.scene, b.geometry);
-    buildProjectionMaps(b.scene, b.geometry, b.buffers);
-    b.plan = makePlan(b.scene, classifyLightPaths(b.scene, b.geometry, b.buffers));
+    PreparedScene prepared = prepareScene(b.scene);
+    b.geometry = std::move(prepared.geometry);
+    b.buffers = std::move(prepared.buffers);
+    b.plan = std::move(prepared.plan);
 
-    // The settings exactly as `photoncl render` resolves them: the render defaults for the
-    // method, then every value the job gives (applyRenderDefaults with overrides).
-    PhotonRenderSettings& s = b.settings;
-    s.method = parseRenderMethod(job.method);
-    s.seed = job.seed;
-    s.filter = parseEstimateFilter(job.filter);
-    s.visibility = job.visibility;
-    s.gatherSource = job.gatherSource == "estimate" ? GatherSource::Estimate : GatherSource::Precomputed;
-    s.alpha = job.alpha;
-    s.histogramCells = job.gatherImportance;
-    s.initialRadius = job.radius;
-    s.maxRadius = job.maxRadius;
-    s.structure = job.structure == "hash-grid" ? KnnStructure::HashGrid : KnnStructure::KdTree;
-    applyRenderDefaults(s, b.plan,
-                        {job.globalPhotons, job.causticPhotons, job.k, job.causticK, job.lightSamples, job.strata,
-                         job.gatherRays});
-    s.passes = job.passes;
-
-    // Every setting that changes a pixel, at its exact value; the photon batch and the buffer
-    // cap are left out (they change launch counts, not results: DESIGN.md, Memory), and so is
-    // the shard count (a pass is the same pass in any shard).
-    const RenderMaps maps = mapsFor(s.method, b.plan);
-    std::ostringstream t;
-    if (s.method == RenderMethod::PathTracing)  // (its own settings are fixed: depth, roulette, MIS)
-        t << "method=path;width=" << job.width << ";height=" << job.height << ";passes=" << job.passes
-          << ";seed=" << s.seed << ";samplesPerPass=1;fixedPointBits=" << FixedPointFilm::kFractionBits;
-    else
-    t << "method=" << renderMethodName(s.method) << ";width=" << job.width << ";height=" << job.height
-      << ";passes=" << job.passes << ";seed=" << s.seed << ";strata=" << s.strata
-      << ";globalPhotons=" << (maps.global ? s.globalPhotons : 0u) << ";causticPhotons=" << (maps.caustic ? s.causticPhotons : 0u)
-      << ";k=" << s.globalK << ";causticK=" << s.causticK << ";gatherRays=" << s.gatherRays
-      << ";lightSamples=" << s.lightSamples << ";eyeDepth=" << (s.eyeDepth ? s.eyeDepth : kDefaultEyeDepth)
-      << ";maxRadius=" << exact(s.maxRadius) << ";filter=" << job.filter << ";visibility=" << s.visibility
-      << ";gatherSource=" << job.gatherSource << ";structure=" << job.structure << ";gatherImportance=" << s.histogramCells << ";alpha=" << exact(s.alpha)
-      << ";progressiveK0=" << exact(s.progressiveK0) << ";radius=" << exact(s.initialRadius)
-      << ";fixedPointBits=" << FixedPointFilm::kFractionBits;
-    b.settingsText = t.str();
-    Fnv1a sh;
-    sh.add(b.settingsText);
-    b.settingsHash = sh.h;
+    // The settings exactly as `photoncl render` resolves them (render_settings.h): the render
+    // defaults for the method, then every value the job gives; its passes are resolved already.
+    RenderRequest q;
+    q.method = job.method;
+    q.seed = job.seed;
+    q.filter = job.filter;
+    q.visibility = job.visibility;
+    q.gatherSource = job.gatherSource;
+    q.structure = job.structure;
+    q.alpha = job.alpha;
+    q.gatherImportance = job.gatherImportance;
+    q.radius = job.radius;
+    q.maxRadius = job.maxRadius;
+    q.passes = job.passes;
+    q.globalPhotons = job.globalPhotons;
+    q.causticPhotons = job.causticPhotons;
+    q.k = job.k;
+    q.causticK = job.causticK;
+    q.lightSamples = job.lightSamples;
+    q.strata = job.strata;
+    q.gatherRays = job.gatherRays;
+    b.settings = resolveRenderSettings(q, b.plan, job.width, job.height).settings;
+    b.settings.passes = job.passes;
+    // The one serialisation of every setting that changes a pixel (the photon batch, the buffer
+    // cap and the shard count are left out: they change launch counts, not results).
+    b.settingsText = settingsText(b.settings, b.plan, job.width, job.height, job.passes);
+    b.settingsHash = settingsHash(b.settingsText);
 
     Fnv1a h;
     h.add(readTextFile(job.scene));
@@ -130,30 +106,26 @@ BatchScene loadBatchScene(const BatchJob& job) {
 
 namespace {
 
-// The path tracer's passes [first, first + count): one sample per pixel each, on the host.
+// The path tracer's passes [first, first + count): one sample per pixel each, on the host, each
+// rounded to fixed point on its own (render/path_render.h).
 PhotonRenderResult renderPathPasses(const BatchScene& bs, uint32_t first, uint32_t count, int threads,
                                     const std::atomic<bool>* stop, const std::function<void(uint32_t, double)>& onPass) {
-    auto start = std::chrono::steady_clock::now();
-    PhotonRenderResult r;
-    r.sums = FixedPointFilm(bs.job.width, bs.job.height);
-    PathTracerSettings pt;
+    PathRenderSettings pt;
     pt.seed = bs.settings.seed;
-    pt.samplesPerPixel = 1;
     pt.threads = threads;
-    for (uint32_t done = 0; done < count; ++done) {
-        if (done > 0 && stop && stop->load()) {
-            r.stopped = true;
-            break;
-        }
-        pt.firstSample = static_cast<int>(first + done);
-        PathTracerStats stats;
-        r.sums.addPass(PathTracer(bs.scene, bs.geometry, pt).render(&stats));
-        r.samples += stats.samples;
-        r.nonFiniteSamples += stats.discardedSamples;
-        r.passes = done + 1;
-        if (onPass) onPass(r.passes, double(r.passes) / count);
-    }
-    r.times.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    pt.firstSample = first;
+    pt.samples = count;
+    pt.fixedPoint = true;
+    pt.stop = stop;
+    pt.progress = onPass;
+    PathRenderResult p = renderPathTraced(bs.scene, bs.geometry, pt);
+    PhotonRenderResult r;
+    r.sums = std::move(p.sums);
+    r.samples = p.paths;
+    r.nonFiniteSamples = p.discarded;
+    r.passes = p.samples;
+    r.stopped = p.stopped;
+    r.times.total = p.seconds;
     return r;
 }
 
@@ -163,7 +135,6 @@ ShardData renderShard(Device* device, const BatchScene& bs, uint32_t index, Pass
                       const ShardData* resumeFrom, const ShardRunOptions& options) {
     const bool path = bs.settings.method == RenderMethod::PathTracing;
     if (!path && !device) throw InputError("batch: method " + bs.job.method + " needs an OpenCL device");
-    using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     const BatchJob& job = bs.job;
     ShardData out;
@@ -210,16 +181,9 @@ ShardData renderShard(Device* device, const BatchScene& bs, uint32_t index, Pass
     };
 
     // The memory plan of one photon pass (as render does): fails before any work, with advice.
-    const RenderMaps maps = mapsFor(s.method, bs.plan);
-    PhotonPassOptions pass;
-    pass.buildGlobal = maps.global;
-    pass.buildCaustic = maps.caustic;
-    pass.globalPhotons = maps.global ? s.globalPhotons : 0;
-    pass.causticPhotons = maps.caustic ? s.causticPhotons : 0;
     MemoryPlan memory;
     if (!path) {
-        memory = planMemory(photonPassMemoryRequest(bs.geometry, bs.buffers, pass), memoryLimits(device->info()));
-        requireMemoryFits(memory);
+        memory = planRenderMemory(device->info(), bs.geometry, bs.buffers, s, bs.plan);
         s.photonBatch = memory.photonBatch;
     }
 
@@ -241,7 +205,7 @@ ShardData renderShard(Device* device, const BatchScene& bs, uint32_t index, Pass
 
     const std::string started = utcNow();
     PhotonRenderResult r;
-    const double setup = std::chrono::duration<double>(Clock::now() - start).count();
+    const double setup = since(start);
     if (s.passes > 0) {
         try {
             r = path ? renderPathPasses(bs, first, s.passes, options.threads, s.stop, s.onPass)
@@ -285,7 +249,7 @@ ShardData renderShard(Device* device, const BatchScene& bs, uint32_t index, Pass
     sec["accumulate"] = r.times.accumulate;
     if (path) sec["pathTrace"] = r.times.total;
     sec["render"] = r.times.total;
-    sec["total"] = std::chrono::duration<double>(Clock::now() - start).count() + options.loadSeconds;
+    sec["total"] = since(start) + options.loadSeconds;
     run["seconds"] = sec;
     nlohmann::json mem;
     mem["devicePlannedPhotonPassPeakBytes"] = memory.peakBytes();

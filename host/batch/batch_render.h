@@ -1,5 +1,5 @@
 // Rendering one shard of a batch job: the job's scene loaded and turned into buffers and a plan
-// once, the settings resolved exactly as `photoncl render` resolves them (applyRenderDefaults,
+// once, the settings resolved exactly as `photoncl render` resolves them (resolveRenderSettings,
 // then the job's values), and passes [first, end) rendered by renderPhotonMapped with the global
 // pass index in every seed, so shards are independent and their fixed-point sums add up to the
 // bits of one run (image/fixed_point_film.h).
@@ -10,12 +10,12 @@
 #include <string>
 
 #include "batch/batch_job.h"
-#include "batch/hash.h"
+#include "core/hash.h"
 #include "batch/shard_file.h"
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
-#include "pipeline/plan.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/plan.h"
+#include "prep/scene_buffers.h"
 #include "render/photon_renderer.h"
 #include "scene/scene.h"
 

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <utility>
 
-#include "batch/hash.h"
+#include "core/hash.h"
 #include "core/error.h"
 
 namespace pcl {

@@ -1,4 +1,4 @@
-// Merging shards (issue 8 part 3): every shard file checked (checksum, scene and settings hashes,
+// Merging shards: every shard file checked (checksum, scene and settings hashes,
 // program version, size, pass ranges), the mismatched, duplicated, overlapping, missing,
 // incomplete and corrupt ones refused with one message naming each file and why, then the
 // fixed-point sums added in order of their first pass (integer sums: any order gives the same

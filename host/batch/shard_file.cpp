@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "batch/hash.h"
+#include "core/hash.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 

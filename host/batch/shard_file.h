@@ -1,4 +1,4 @@
-// Shard files (issue 8 part 2): what one `batch run --shard I/N` rendered, in a form any machine
+// Shard files: what one `batch run --shard I/N` rendered, in a form any machine
 // can check and merge. Layout (little-endian):
 //
 //   "PCLSHARD"               8 bytes, magic

@@ -1,4 +1,4 @@
-// `photoncl batch plan` (issue 8 parts 1 and 6): the shards' pass ranges and what each is
+// `photoncl batch plan`: the shards' pass ranges and what each is
 // expected to cost, so a user can size a farm before rendering.
 //   device memory: the memory plan's peak for one photon pass with its maps and searches
 //     (pipeline/memory_plan.h, the same formulas the stages allocate by) plus the renderer's eye

@@ -1,4 +1,4 @@
-// Slurm scripts for a batch job (issue 8): the shards as one job array, one shard per array task
+// Slurm scripts for a batch job: the shards as one job array, one shard per array task
 // (`photoncl batch run JOB --shard $SLURM_ARRAY_TASK_ID/N`), and the merge as a second job that
 // Slurm starts only after every task of the array succeeded (`--dependency=afterok:<array id>`).
 // Pure functions of their inputs: `photoncl batch slurm` writes the scripts, submits them with

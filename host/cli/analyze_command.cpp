@@ -6,11 +6,8 @@
 #include "cli/memory_option.h"
 #include "core/error.h"
 #include "device/device.h"
-#include "geometry/scene_geometry.h"
 #include "pipeline/memory_plan.h"
-#include "pipeline/plan.h"
-#include "pipeline/projection_map.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/prepared_scene.h"
 #include "scene/load_scene.h"
 
 namespace pcl::cli {
@@ -35,20 +32,17 @@ Run addAnalyzeCommand(CLI::App& app) {
                           "Also print the memory plan (every device buffer, batches) for this per-buffer cap");
     return [o] {
         Scene scene = loadScene(o->scene);
-        SceneAnalysis a = analyzeScene(scene, o->settings);
+        const PreparedScene a = prepareScene(scene, o->settings);
         std::fputs(formatPlan(scene, a.paths, a.plan).c_str(), stdout);
         if (o->maxBufferMib) {
             // The memory plan for the default device under the cap (the cap alone without one):
             // the plan's maps, a kd-tree each, one k = 50 search per pixel.
-            SceneGeometry geometry = SceneGeometry::build(scene);
-            SceneBuffers buffers = buildSceneBuffers(scene, geometry);
-            buildProjectionMaps(scene, geometry, buffers);
             PhotonPassOptions pass;
             pass.buildGlobal = a.plan.globalMap;
             pass.buildCaustic = a.plan.causticMap;
             pass.globalPhotons = a.plan.globalPhotons;
             pass.causticPhotons = a.plan.causticPhotons;
-            MemoryRequest request = photonPassMemoryRequest(geometry, buffers, pass);
+            MemoryRequest request = photonPassMemoryRequest(a.geometry, a.buffers, pass);
             request.kdTree = true;
             request.queries = size_t(scene.camera.width) * size_t(scene.camera.height);
             request.k = 50;

@@ -1,4 +1,4 @@
-// `photoncl batch plan|run|merge JOB` (issue 8): one render split into shards of passes that any
+// `photoncl batch plan|run|merge JOB`: one render split into shards of passes that any
 // machine renders independently and that merge into exactly the image one run of all the passes
 // gives on that device (README, "Batch renders"; host/batch/).
 //   plan   the shards' pass ranges and the memory and time each is expected to take
@@ -25,6 +25,7 @@
 #include "cli/command.h"
 #include "cli/memory_option.h"
 #include "core/atomic_file.h"
+#include "core/clock.h"
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "device/device.h"
@@ -141,7 +142,7 @@ bool renderOne(Device* device, const BatchScene& bs, uint32_t i, bool force, boo
     loadSeconds = 0;
     ro.onPass = [&](uint32_t done, uint32_t total) {
         if (!quiet) {
-            double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            double s = since(start);
             std::fprintf(stderr, "shard %u/%u: %u of %u passes, %.1fs\n", i, job.shards, done, total, s);
         }
         pauseAfterPassIfAsked(i, done);
@@ -178,7 +179,7 @@ int runRun(const BatchOptions& o) {
     auto loadStart = std::chrono::steady_clock::now();
     BatchScene scene = loadBatchScene(job);
     std::unique_ptr<Device> device = openDevice(o, job);
-    double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
+    double loadSeconds = since(loadStart);
     for (uint32_t i : todo) {
         if (!renderOne(device.get(), scene, i, o.force, o.quiet, loadSeconds)) {
             std::fprintf(stderr, "interrupted: shard %u written with the passes done%s\n", i,
@@ -282,7 +283,7 @@ int runMerge(const BatchOptions& o) {
         png = fs::path(written).replace_extension(".png").string();
         if (!writeSrgbPng(png, image)) png.clear();
     }
-    const double mergeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double mergeSeconds = since(start);
     const std::string manifest = fs::path(output).replace_extension(".manifest.json").string();
     writeFileAtomically(manifest, mergeManifest(m, jobPath, scene, written, mergeSeconds).dump(2) + "\n");
     std::fprintf(stderr, "merged %zu shard(s), %u of %u passes%s, on %s: wrote %s%s%s and %s\n", m.shards.size(), m.passesDone,

@@ -1,4 +1,4 @@
-// --max-buffer-mib N (issue 5 part 7): a per-buffer cap on the OpenCL device, so a run on a big
+// --max-buffer-mib N: a per-buffer cap on the OpenCL device, so a run on a big
 // device behaves as it would on one whose CL_DEVICE_MAX_MEM_ALLOC_SIZE is N MiB: work splits into
 // more batches (same results), and a buffer that cannot split fails before work with a message
 // naming it (pipeline/memory_plan.h). Shared by photons, check, render and analyze.

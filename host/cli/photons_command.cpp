@@ -9,13 +9,10 @@
 #include "cli/memory_option.h"
 #include "core/error.h"
 #include "device/device.h"
-#include "geometry/scene_geometry.h"
 #include "pipeline/memory_plan.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/photon_ply.h"
-#include "pipeline/plan.h"
-#include "pipeline/projection_map.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/prepared_scene.h"
 #include "scene/load_scene.h"
 
 namespace pcl::cli {
@@ -37,11 +34,10 @@ int runPhotons(const PhotonsOptions& o) {
         throw InputError(o.output + ": output folder " + outDir.string() + " does not exist");
 
     Scene scene = loadScene(o.scene);
-    SceneGeometry geometry = SceneGeometry::build(scene);
-    SceneBuffers buffers = buildSceneBuffers(scene, geometry);
-    buildProjectionMaps(scene, geometry, buffers);
-    LightPaths paths = classifyLightPaths(scene, geometry, buffers);
-    RenderPlan plan = makePlan(scene, paths, o.settings);
+    const PreparedScene prepared = prepareScene(scene, o.settings);
+    const SceneGeometry& geometry = prepared.geometry;
+    const SceneBuffers& buffers = prepared.buffers;
+    const RenderPlan& plan = prepared.plan;
 
     // The plan decides which maps the scene needs; --map narrows that choice.
     const bool wantGlobal = o.map != "caustic", wantCaustic = o.map != "global";

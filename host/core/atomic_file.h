@@ -1,4 +1,4 @@
-// Output files appear whole or not at all (DESIGN.md): a writer writes a temporary file in the
+// Output files appear whole or not at all: a writer writes a temporary file in the
 // destination folder, so the rename onto the final name is atomic, and removes it on failure.
 #pragma once
 #include <functional>

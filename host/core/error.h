@@ -1,4 +1,4 @@
-// Error types that map onto the command line's exit statuses (DESIGN.md: 1 check failed,
+// Error types that map onto the command line's exit statuses (README.md, "Commands": 1 check failed,
 // 2 bad input or options, 3 device failure).
 #pragma once
 #include <stdexcept>

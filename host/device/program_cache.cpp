@@ -14,6 +14,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "core/clock.h"
 #include "device/embedded_kernels.h"
 
 namespace fs = std::filesystem;
@@ -97,22 +98,7 @@ uint64_t hashField(uint64_t h, const std::string& s) {
     return fnv1a64(s.data(), s.size(), h);
 }
 
-std::string hex64(uint64_t v) {
-    char buf[17];
-    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-    return buf;
-}
-
 }  // namespace
-
-uint64_t fnv1a64(const void* data, size_t size, uint64_t hash) {
-    const auto* p = static_cast<const uint8_t*>(data);
-    for (size_t i = 0; i < size; ++i) {
-        hash ^= p[i];
-        hash *= 0x100000001b3ull;
-    }
-    return hash;
-}
 
 fs::path cacheDirectory() {
     std::string dir = env("PHOTONCL_CACHE_DIR");
@@ -270,7 +256,7 @@ void ProgramCache::prune(const std::string& stage, const fs::path& keep) {
 cl::Program ProgramCache::build(const std::string& stage, const std::string& options) {
     const auto start = std::chrono::steady_clock::now();
     auto finish = [&] {
-        stats_.lastSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        stats_.lastSeconds = since(start);
     };
     const std::string source = kernelSource(stage, kernelDir_);
     const std::string opts = fullOptions(options);

@@ -5,7 +5,7 @@
 // (with #line markers, so a build log points at the real file and line).
 //
 // Binaries live in cacheDirectory() as <stage>-<key>.bin, where key is the FNV-1a 64-bit hash
-// (http://www.isthe.com/chongo/tech/comp/fnv/) of the length-prefixed fields (expanded source,
+// (core/hash.h) of the length-prefixed fields (expanded source,
 // build options, platform version, device name, driver version). FNV-1a is no cryptographic
 // hash, but the cache only has to tell our own builds apart, and a collision still has to pass
 // the device's own binary check. Each file is a 24-byte header {magic "PCLBIN01", binary
@@ -23,6 +23,7 @@
 #include <optional>
 #include <string>
 
+#include "core/hash.h"
 #include "device/device.h"
 
 namespace pcl {
@@ -30,9 +31,6 @@ namespace pcl {
 // No fast-math options by default: the kernels are cross-checked against CPU twins, and
 // -cl-mad-enable / -cl-fast-relaxed-math would change results bit for bit.
 inline constexpr const char* kDefaultBuildOptions = "-cl-std=CL1.2";
-
-// FNV-1a 64 of `size` bytes, continuing from `hash` (the offset basis by default).
-uint64_t fnv1a64(const void* data, size_t size, uint64_t hash = 0xcbf29ce484222325ull);
 
 // $PHOTONCL_CACHE_DIR, else $XDG_CACHE_HOME/photoncl, else $HOME/.cache/photoncl.
 std::filesystem::path cacheDirectory();

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/clock.h"
 #include "core/error.h"
 #include "geometry/bvh_build.h"
 #include "geometry/bvh_collapse.h"
@@ -116,7 +117,7 @@ SceneGeometry SceneGeometry::build(const Scene& scene, const BvhBuildOptions& op
     collapseBvh(bvh, src, g.nodes, g.packets, g.spheres, g.stats_);
     g.stats_.binaryDepth = bvh.depth;
     g.stats_.buildSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        since(start);
     return g;
 }
 

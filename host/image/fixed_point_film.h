@@ -2,7 +2,7 @@
 // adding passes (or shards of passes) gives the same bits whatever the grouping: integer
 // addition is associative, floating-point addition is not. Each pass is rendered into a Film
 // (doubles, samples added in a fixed order), then its per-pixel sums are rounded to fixed point
-// once and added (issue 8: the merge of N shards is bit-identical to one run of the same passes).
+// once and added (so the merge of N batch shards is bit-identical to one run of the same passes).
 //
 // Scale: 2^32 (kFractionBits). A value's step is 2^-32 ≈ 2.3e-10 (one rounding per pixel and
 // pass, far below a float's resolution of any value above ~1e-2 once divided by the samples),

@@ -1,7 +1,7 @@
 // Image files: linear OpenEXR with the render's metadata, an sRGB 8-bit PNG for viewing, and
 // PFM (raw float) where OpenImageIO is absent (the lent GPU machine). Every writer writes a
 // temporary file in the destination folder and renames it, so the final name holds either
-// nothing or a complete file (DESIGN.md: no partial file in place of a good one).
+// nothing or a complete file (no partial file in place of a good one: core/atomic_file.h).
 #pragma once
 #include <cstdint>
 #include <string>

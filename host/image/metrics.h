@@ -24,7 +24,7 @@ constexpr double kRelMseEpsilon = 1e-2;
 // mean(b) == 0 gives meanRatio 1 if mean(a) is 0 too, otherwise +inf.
 ImageErrors compare(const Image& a, const Image& b, double relMseEpsilon = kRelMseEpsilon);
 
-// Per-pixel Z-test of K independent renders against a reference (issue 6 part 6): is what
+// Per-pixel Z-test of K independent renders against a reference: is what
 // differs from the reference only the renders' own noise? Per pixel, the value is the channel
 // sum R+G+B; with m and s² the mean and (unbiased) variance of the K renders' values and r the
 // reference's, z = (m − r) / sqrt(s²/K + v_ref), v_ref the reference's own variance if known

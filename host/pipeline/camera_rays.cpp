@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/math.h"
 #include "pipeline/device_scene.h"
-#include "reference/sampling.h"
 
 namespace pcl {
 
@@ -54,10 +54,6 @@ PclCameraParams cameraParams(const Camera& camera, bool lensSampling, bool timeS
 
 PclCameraParams cameraParams(const Camera& camera, const RenderPlan& plan, uint64_t passSeed, uint32_t strata) {
     return cameraParams(camera, plan.lensSampling, plan.timeSampling, passSeed, strata);
-}
-
-size_t cameraPassSamples(const PclCameraParams& p) {
-    return size_t(p.width) * p.height * p.strata * p.strata;
 }
 
 cl::Event generateCameraRays(Device& device, const PclCameraParams& params, cl::Buffer& rays) {

@@ -3,7 +3,7 @@
 // (k mod n, k div n), jittered inside it; thin lens when the plan samples the lens, shutter
 // time when it samples time. Random numbers: stream CAMERA, key = the pass seed, path = pixel,
 // bounce = k, dimensions 0..4 (film x, film y, lens u, lens v, time) — the reference path
-// tracer's Sampler layout, so a pass is reproducible on its own (issue 8 shards by pass).
+// tracer's Sampler layout, so a pass is reproducible on its own (batch shards split a render by pass).
 // The twin is host/reference/camera_rays.h.
 //
 //   PclCameraParams cp = cameraParams(scene.camera, plan, eyePassSeed(seed, pass), n);
@@ -14,14 +14,14 @@
 #include <vector>
 
 #include "device/device.h"
-#include "pipeline/plan.h"
+#include "prep/plan.h"
 #include "scene/scene.h"
 #include "shared/types.h"
 
 namespace pcl {
 
 // The seed of eye pass `pass`: seed + pass · 0x9E3779B97F4A7C15 (64-bit wrap), the photon
-// pass's rule (pipeline/photon_allocation.h); the streams keep the two apart.
+// pass's rule (prep/photon_allocation.h); the streams keep the two apart.
 uint64_t eyePassSeed(uint64_t seed, uint32_t pass);
 
 // Parameters for the whole pass (firstSample 0, sampleCount = width · height · n²): the camera
@@ -31,9 +31,6 @@ uint64_t eyePassSeed(uint64_t seed, uint32_t pass);
 PclCameraParams cameraParams(const Camera& camera, bool lensSampling, bool timeSampling, uint64_t passSeed,
                              uint32_t strata);
 PclCameraParams cameraParams(const Camera& camera, const RenderPlan& plan, uint64_t passSeed, uint32_t strata);
-
-// Samples in one pass: width · height · strata².
-size_t cameraPassSamples(const PclCameraParams& params);
 
 // Enqueues camera_rays over params.sampleCount samples starting at params.firstSample: rays
 // (PclRay[sampleCount], caller-allocated) out. Unit directions, tmin 0, tmax +inf.

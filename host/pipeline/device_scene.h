@@ -3,7 +3,7 @@
 #pragma once
 #include "device/device.h"
 #include "pipeline/intersect.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/scene_buffers.h"
 
 namespace pcl {
 

@@ -12,21 +12,10 @@
 
 #include "device/device.h"
 #include "pipeline/device_scene.h"
+#include "prep/area_light_table.h"
 #include "shared/types.h"
 
 namespace pcl {
-
-// The triangle lights as one discrete distribution: cdf[l] = Σ_{j ≤ l} s_j / S over the light
-// list (s_j = (Φr + Φg + Φb)/3 of triangle lights, 0 for the others; float, the last triangle
-// light's entry exactly 1), S = total (float); lightOfPrim[prim] = the light index of an
-// emitting triangle, PCL_NO_HIT otherwise.
-struct AreaLightTable {
-    std::vector<float> cdf;
-    std::vector<uint32_t> lightOfPrim;
-    float total = 0.0f;
-    uint32_t areaLights = 0;
-};
-AreaLightTable buildAreaLightTable(const SceneBuffers& buffers, size_t primitiveCount);
 
 // The table on the device, uploaded once.
 struct DeviceAreaLights {
@@ -35,11 +24,6 @@ struct DeviceAreaLights {
     float total = 0.0f;
     uint32_t areaLights = 0;
 };
-
-// The power heuristic with counts (Veach 1997): nL samples of density pL against nB of pB.
-//   w_light = (nL pL)² / ((nL pL)² + (nB pB)²),  w_bsdf = 1 − w_light (0/0 → the other is 0).
-// (Also in kernels/shared/eye.h, eye_mis_weight, the same float expression.)
-float misWeight(uint32_t nThis, float pThis, uint32_t nOther, float pOther);
 
 // Parameters for records [0, sampleCount) of a pass (seed and samples per pixel from the eye
 // parameters). lightSamples: M; gatherRays: the N of final_gather (0: light sampling alone).

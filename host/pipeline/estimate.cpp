@@ -5,23 +5,12 @@
 #include <cmath>
 #include <limits>
 
+#include "core/clock.h"
 #include "core/error.h"
-#include "reference/estimate.h"
+#include "device/work_group.h"
 
 namespace pcl {
 namespace {
-
-// Work-group size of the estimate launches (fixed: PoCL compiles a kernel per size).
-constexpr size_t kEstimateGroup = 64;
-cl::NDRange estimateGlobalRange(size_t n) {
-    return cl::NDRange((n + kEstimateGroup - 1) / kEstimateGroup * kEstimateGroup);
-}
-
-constexpr float kLiftFraction = 0.25f;
-
-double seconds(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // cos θ, sin θ, cos φ, sin φ at the centres of the direction bytes' cells (kernels/README.md,
 // "estimate"): θ = (b + 0.5)·π/256, φ = (b as a signed byte + 0.5)·π/128, in float.
@@ -50,82 +39,6 @@ float largestRadius(const std::vector<PclEstimateQuery>& queries) {
 
 }  // namespace
 
-const char* estimateFilterName(EstimateFilter f) {
-    switch (f) {
-        case EstimateFilter::Box: return "box";
-        case EstimateFilter::Cone: return "cone";
-        case EstimateFilter::Epanechnikov: return "epanechnikov";
-        case EstimateFilter::Gaussian: return "gaussian";
-    }
-    return "?";
-}
-
-const std::vector<EstimateFilter>& allEstimateFilters() {
-    static const std::vector<EstimateFilter> all = {EstimateFilter::Box, EstimateFilter::Cone,
-                                                    EstimateFilter::Epanechnikov, EstimateFilter::Gaussian};
-    return all;
-}
-
-EstimateFilter parseEstimateFilter(const std::string& name) {
-    for (EstimateFilter f : allEstimateFilters())
-        if (name == estimateFilterName(f)) return f;
-    throw InputError("estimate: unknown filter \"" + name + "\", expected one of box|cone|epanechnikov|gaussian");
-}
-
-uint32_t estimateFilterCode(EstimateFilter f) {
-    switch (f) {
-        case EstimateFilter::Box: return PCL_FILTER_BOX;
-        case EstimateFilter::Cone: return PCL_FILTER_CONE;
-        case EstimateFilter::Epanechnikov: return PCL_FILTER_EPANECHNIKOV;
-        case EstimateFilter::Gaussian: return PCL_FILTER_GAUSSIAN;
-    }
-    return PCL_FILTER_BOX;
-}
-
-void validateEstimateSettings(const EstimateSettings& s) {
-    if (!(s.coneK >= 1.0f) || !std::isfinite(s.coneK))
-        throw InputError("estimate: cone filter k = " + std::to_string(s.coneK) + ", expected a finite k ≥ 1");
-    if (std::isnan(s.minNormalCos))
-        throw InputError("estimate: minNormalCos is NaN, expected a cosine in [-1, 1]");
-    if (!(s.rayEpsilon >= 0.0f) || !std::isfinite(s.rayEpsilon))
-        throw InputError("estimate: rayEpsilon = " + std::to_string(s.rayEpsilon) + ", expected a finite value ≥ 0");
-}
-
-PclEstimateParams estimateParams(const EstimateSettings& s, uint32_t firstQuery, uint32_t queryCount,
-                                 uint32_t stride) {
-    PclEstimateParams p{};
-    p.filter = estimateFilterCode(s.filter);
-    p.coneK = s.coneK;
-    p.norm = float(estimateFilterNorm(s.filter, s.coneK));
-    p.gaussianScale = float(estimateGaussianScale());
-    p.minNormalCos = s.minNormalCos;
-    p.visibility = s.visibility ? 1u : 0u;
-    p.rayEpsilon = s.rayEpsilon;
-    p.liftFraction = kLiftFraction;
-    p.firstQuery = firstQuery;
-    p.queryCount = queryCount;
-    p.stride = stride;
-    p.maxSearchRadius2 = std::numeric_limits<float>::infinity();
-    return p;
-}
-
-uint32_t estimateMaxK(const std::vector<PclEstimateQuery>& queries) {
-    uint32_t maxK = 1;
-    for (size_t i = 0; i < queries.size(); ++i) {
-        const PclEstimateQuery& q = queries[i];
-        if (q.k == 0 || q.k > PCL_KNN_MAX_K)
-            throw InputError("estimate: query " + std::to_string(i) + " asks k = " + std::to_string(q.k) +
-                             ", expected 1.." + std::to_string(PCL_KNN_MAX_K));
-        if (!(q.maxRadius2 >= 0.0f))
-            throw InputError("estimate: query " + std::to_string(i) + " has maxRadius2 = " +
-                             std::to_string(q.maxRadius2) + ", expected ≥ 0");
-        if (!std::isfinite(q.nx) || !std::isfinite(q.ny) || !std::isfinite(q.nz))
-            throw InputError("estimate: query " + std::to_string(i) + " has a non-finite normal, expected a unit vector");
-        maxK = std::max(maxK, q.k);
-    }
-    return maxK;
-}
-
 // ---- PhotonMapOnDevice -------------------------------------------------------------------
 
 PhotonMapOnDevice::PhotonMapOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStructure structure,
@@ -144,7 +57,7 @@ PhotonMapOnDevice::PhotonMapOnDevice(Device& device, const std::vector<PclPhoton
     photons_ = device.upload(map, CL_MEM_READ_ONLY, "estimate: photon map");
     build(device, lo);
     device.finish();
-    buildSeconds_ = seconds(t0);
+    buildSeconds_ = since(t0);
 }
 
 PhotonMapOnDevice::PhotonMapOnDevice(Device& device, const cl::Buffer& photons, size_t count,
@@ -153,7 +66,7 @@ PhotonMapOnDevice::PhotonMapOnDevice(Device& device, const cl::Buffer& photons, 
     const auto t0 = std::chrono::steady_clock::now();
     build(device, lo);
     device.finish();
-    buildSeconds_ = seconds(t0);
+    buildSeconds_ = since(t0);
 }
 
 void PhotonMapOnDevice::build(Device& device, const float lo[3]) {
@@ -227,11 +140,11 @@ EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, con
         const size_t n = std::min(batch, queryCount - first);
         PclEstimateParams params = estimateParams(settings, uint32_t(first), uint32_t(n), maxK);
         params.maxSearchRadius2 = searchRadius2;
-        cl::Event c = device.launchLocal("estimate", convert, estimateGlobalRange(n), cl::NDRange(kEstimateGroup),
+        cl::Event c = device.launchLocal("estimate", convert, wholeWorkGroups(n), workGroup(),
                                          params, cl_float(searchRadius2), queries, knnQueries);
         DeviceKnnOutput knn;
         timing.knnSeconds += map.search(device, knnQueries, n, maxK, knn);
-        cl::Event e = device.launchLocal("estimate", estimate, estimateGlobalRange(n), cl::NDRange(kEstimateGroup),
+        cl::Event e = device.launchLocal("estimate", estimate, wholeWorkGroups(n), workGroup(),
                                          params, queries, map.photons(), knn.counts, knn.indices, knn.dist2,
                                          knn.radius2, nodes, packets, spheres, dirTable, results);
         e.wait();

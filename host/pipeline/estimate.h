@@ -22,36 +22,10 @@
 #include "pipeline/device_scene.h"
 #include "pipeline/hashgrid.h"
 #include "pipeline/knn.h"
+#include "prep/estimate_settings.h"
 #include "shared/types.h"
 
 namespace pcl {
-
-enum class EstimateFilter { Box, Cone, Epanechnikov, Gaussian };
-
-const char* estimateFilterName(EstimateFilter f);  // "box", "cone", "epanechnikov", "gaussian"
-// The filter named `name` (one of the above); InputError listing the valid names otherwise.
-EstimateFilter parseEstimateFilter(const std::string& name);
-// Every filter, in enum order.
-const std::vector<EstimateFilter>& allEstimateFilters();
-uint32_t estimateFilterCode(EstimateFilter f);    // PCL_FILTER_*
-
-struct EstimateSettings {
-    EstimateFilter filter = EstimateFilter::Cone;
-    float coneK = 1.1f;              // cone: k_c ≥ 1 (w = 1 − d/(k_c r))
-    float minNormalCos = 0.9f;       // a photon counts when n_p·n_q ≥ this
-    bool visibility = false;         // reject photons whose lifted segment to the query is occluded
-                                     // (needs the scene: DeviceScene / SceneGeometry)
-    float rayEpsilon = 1e-6f;        // visibility lift h = rayEpsilon + 0.25 r: SceneBuffers::rayEpsilon
-    KnnStructure structure = KnnStructure::KdTree;  // estimateOnDevice's map structure
-};
-
-// InputError when coneK < 1 or not finite, minNormalCos is NaN or rayEpsilon is negative/NaN.
-void validateEstimateSettings(const EstimateSettings& s);
-
-// The kernel's parameters for a batch (norm and gaussianScale from reference/estimate.h's
-// estimateFilterNorm / estimateGaussianScale, rounded to float).
-PclEstimateParams estimateParams(const EstimateSettings& s, uint32_t firstQuery, uint32_t queryCount,
-                                 uint32_t stride);
 
 // A photon map on the device (records in map order: kNN indices refer to them) with its search
 // structure, built once and searched by any number of estimate batches.
@@ -129,8 +103,5 @@ EstimateResult estimateOnDevice(Device& device, const std::vector<PclPhoton>& ma
                                 const std::vector<PclEstimateQuery>& queries, const EstimateSettings& settings,
                                 const DeviceScene* sceneForVisibility);
 
-// Largest k over the queries; InputError when a k is outside 1..PCL_KNN_MAX_K, a radius is
-// negative or NaN, or a normal is not finite.
-uint32_t estimateMaxK(const std::vector<PclEstimateQuery>& queries);
 
 }  // namespace pcl

@@ -32,10 +32,6 @@ inline double causticRadiance(Device& device, const PclEyeEstimateParams& params
                               IrradianceSource& causticMap, cl::Buffer& radiance) {
     return estimateAtEyeHits(device, params, hits, causticMap, radiance);
 }
-inline double directVisualisation(Device& device, const PclEyeEstimateParams& params, const cl::Buffer& hits,
-                                  IrradianceSource& globalMap, cl::Buffer& radiance) {
-    return estimateAtEyeHits(device, params, hits, globalMap, radiance);
-}
 
 // For tests: upload the hits, run, download queries and radiance.
 struct EyeEstimateResult {

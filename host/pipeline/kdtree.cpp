@@ -4,14 +4,11 @@
 #include <string>
 
 #include "core/error.h"
+#include "device/work_group.h"
 #include "pipeline/sort.h"
 
 namespace pcl {
 namespace {
-
-constexpr size_t kGroup = 64;
-
-cl::NDRange range(size_t n) { return cl::NDRange((n + kGroup - 1) / kGroup * kGroup); }
 
 // Photons in the subtree of heap node h of a complete tree of n nodes.
 uint64_t subtreeSize(uint64_t h, uint64_t n) {
@@ -98,43 +95,43 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     SortWorkspace workspace[2];
 
     std::vector<cl::Event> events;
-    const cl::NDRange group(kGroup);
+    const cl::NDRange group = workGroup();
     const cl_uint N = cl_uint(n);
-    events.push_back(device.launchLocal(stage, init, range(n), group, N, sub));
-    events.push_back(device.launchLocal(stage, boundsInit, range(1), group, boxes, cl_uint(0), cl_uint(1)));
-    events.push_back(device.launchLocal(stage, bounds, range(n), group, photons, sub, N, boxes));
+    events.push_back(device.launchLocal(stage, init, wholeWorkGroups(n), group, N, sub));
+    events.push_back(device.launchLocal(stage, boundsInit, wholeWorkGroups(1), group, boxes, cl_uint(0), cl_uint(1)));
+    events.push_back(device.launchLocal(stage, bounds, wholeWorkGroups(n), group, photons, sub, N, boxes));
 
     double sortSeconds = 0.0;
     const int rankBits = bitLength(n - 1);
     for (cl_uint axis = 0; axis < 3; ++axis) {  // (n = 1 too: its one rank, 0, must be written)
-        events.push_back(device.launchLocal(stage, rankKeys, range(n), group, photons, N, axis, keys, values));
+        events.push_back(device.launchLocal(stage, rankKeys, wholeWorkGroups(n), group, photons, N, axis, keys, values));
         sortPairsOnDevice(device, keys, values, n, 32, 0, &sortSeconds, &workspace[0]);
-        events.push_back(device.launchLocal(stage, rankScatter, range(n), group, values, N, axis, ranks));
+        events.push_back(device.launchLocal(stage, rankScatter, wholeWorkGroups(n), group, values, N, axis, ranks));
     }
     for (uint64_t first = 0; first < n; first = 2 * first + 1) {
         const uint64_t count = std::min<uint64_t>(first + 1, n - first);  // nodes on this level
         const int keyBits = rankBits + bitLength(count);
         const int w = keyBits > 32 ? 1 : 0;
-        events.push_back(device.launchLocal(stage, keysK[w], range(n), group, ranks, sub, N, boxes, cl_uint(first),
+        events.push_back(device.launchLocal(stage, keysK[w], wholeWorkGroups(n), group, ranks, sub, N, boxes, cl_uint(first),
                                             cl_uint(count), cl_uint(rankBits), keys, values));
         sortPairsOnDevice(device, keys, values, n, w ? 64 : 32, keyBits, &sortSeconds, &workspace[w]);
-        events.push_back(device.launchLocal(stage, segments[w], range(n), group, keys, N, cl_uint(count),
+        events.push_back(device.launchLocal(stage, segments[w], wholeWorkGroups(n), group, keys, N, cl_uint(count),
                                             cl_uint(rankBits), segStart, segEnd));
         ++tree.sortedLevels;
         if (subtreeSize(first, n) <= uint64_t(finishSize)) {  // the leftmost subtree is the level's largest
-            events.push_back(device.launchLocal(stage, finish, range(count), group, photons, values, segStart, segEnd,
+            events.push_back(device.launchLocal(stage, finish, wholeWorkGroups(count), group, photons, values, segStart, segEnd,
                                                 cl_uint(first), cl_uint(count), tree.photons, tree.index));
             break;
         }
-        events.push_back(device.launchLocal(stage, assign[w], range(n), group, photons, keys, values, N,
+        events.push_back(device.launchLocal(stage, assign[w], wholeWorkGroups(n), group, photons, keys, values, N,
                                             cl_uint(first), cl_uint(count), cl_uint(rankBits), segStart, segEnd, boxes,
                                             sub, tree.photons, tree.index));
         const uint64_t childFirst = 2 * first + 1;
         if (childFirst >= n) continue;
         const uint64_t childCount = std::min<uint64_t>(2 * count, n - childFirst);
-        events.push_back(device.launchLocal(stage, boundsInit, range(childCount), group, boxes, cl_uint(childFirst),
+        events.push_back(device.launchLocal(stage, boundsInit, wholeWorkGroups(childCount), group, boxes, cl_uint(childFirst),
                                             cl_uint(childCount)));
-        events.push_back(device.launchLocal(stage, bounds, range(n), group, photons, sub, N, boxes));
+        events.push_back(device.launchLocal(stage, bounds, wholeWorkGroups(n), group, photons, sub, N, boxes));
     }
     device.finish();
     tree.levels = uint32_t(bitLength(n));  // ⌊log2 n⌋ + 1

@@ -5,14 +5,14 @@
 #include <cmath>
 #include <string>
 
+#include "core/clock.h"
 #include "core/error.h"
+#include "device/work_group.h"
 
 namespace pcl {
 namespace {
 
 // Work-group size of the search launches: fixed, as PoCL compiles a kernel per work-group size.
-constexpr size_t kKnnGroup = 64;
-cl::NDRange knnGlobalRange(size_t n) { return cl::NDRange((n + kKnnGroup - 1) / kKnnGroup * kKnnGroup); }
 
 std::string capOption(uint32_t maxK) { return "-DPCL_KNN_CAP=" + std::to_string(knnHeapCapacity(maxK)); }
 
@@ -28,9 +28,6 @@ DeviceKnnOutput allocateOutput(Device& device, size_t queryCount, uint32_t maxK)
     return out;
 }
 
-double seconds(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The common tail of the *OnDevice calls, once the structure is built: in batches of
 // knnQueryBatch queries (so no output buffer passes the device's max allocation, capped or
@@ -77,21 +74,9 @@ size_t knnQueryBatch(size_t maxAlloc, size_t globalMem, uint32_t maxK) {
     const size_t widest = std::max<size_t>(k * sizeof(uint32_t), sizeof(PclKnnQuery));  // bytes per query, largest buffer
     const size_t perQuery = sizeof(PclKnnQuery) + 2 * sizeof(uint32_t) + 2 * k * sizeof(uint32_t);
     size_t batch = std::min(maxAlloc / widest, globalMem / 4 / perQuery);
-    batch = batch >= kKnnGroup ? batch / kKnnGroup * kKnnGroup : std::max<size_t>(batch, 1);
+    batch = batch >= kWorkGroupSize ? batch / kWorkGroupSize * kWorkGroupSize : std::max<size_t>(batch, 1);
     return batch;
 }
-
-KnnResult downloadKnn(Device& device, const DeviceKnnOutput& out) {
-    KnnResult r;
-    r.stride = out.stride;
-    r.counts = device.download<uint32_t>(out.counts, out.queries);
-    r.indices = device.download<uint32_t>(out.indices, out.queries * out.stride);
-    r.dist2 = device.download<float>(out.dist2, out.queries * out.stride);
-    r.radius2 = device.download<float>(out.radius2, out.queries);
-    return r;
-}
-
-const char* knnStructureName(KnnStructure s) { return s == KnnStructure::KdTree ? "kd-tree" : "hash grid"; }
 
 uint32_t knnHeapCapacity(uint32_t maxK) {
     if (maxK == 0 || maxK > PCL_KNN_MAX_K)
@@ -124,7 +109,7 @@ KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree) {
     packed.nodes = device.allocate<cl_float4>(tree.count, CL_MEM_READ_WRITE, "knn: packed kd-tree");
     // Any specialisation holds the packing kernel: the smallest one.
     auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>("knn", "knn_pack_kdtree", capOption(1));
-    device.launchLocal("knn", k, knnGlobalRange(tree.count), cl::NDRange(kKnnGroup), tree.photons, tree.index,
+    device.launchLocal("knn", k, wholeWorkGroups(tree.count), workGroup(), tree.photons, tree.index,
                        cl_uint(tree.count), packed.nodes);
     return packed;
 }
@@ -135,7 +120,7 @@ double knnSearchKdTree(Device& device, const KnnKdTree& tree, const cl::Buffer& 
     if (queryCount == 0) return 0.0;
     auto k = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer,
                            cl::Buffer>("knn", "knn_kdtree", capOption(maxK));
-    cl::Event e = device.launchLocal("knn", k, knnGlobalRange(queryCount), cl::NDRange(kKnnGroup), tree.nodes,
+    cl::Event e = device.launchLocal("knn", k, wholeWorkGroups(queryCount), workGroup(), tree.nodes,
                                      cl_uint(tree.count), queries, cl_uint(queryCount), cl_uint(maxK), out.counts,
                                      out.indices, out.dist2, out.radius2);
     e.wait();
@@ -148,7 +133,7 @@ double knnSearchHashGrid(Device& device, const DeviceHashGrid& grid, const cl::B
     if (queryCount == 0) return 0.0;
     auto k = device.kernel<PclGridParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer,
                            cl::Buffer, cl::Buffer, cl::Buffer>("knn", "knn_hashgrid", capOption(maxK));
-    cl::Event e = device.launchLocal("knn", k, knnGlobalRange(queryCount), cl::NDRange(kKnnGroup), grid.params,
+    cl::Event e = device.launchLocal("knn", k, wholeWorkGroups(queryCount), workGroup(), grid.params,
                                      grid.points, grid.cellStart, grid.cellEnd, queries, cl_uint(queryCount),
                                      cl_uint(maxK), out.counts, out.indices, out.dist2, out.radius2);
     e.wait();
@@ -182,7 +167,7 @@ KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNo
     built.count = heapNodes.size();
     const KnnKdTree tree = packKdTree(device, built);
     device.finish();
-    return searchAndDownload(device, queries, maxK, seconds(t0),
+    return searchAndDownload(device, queries, maxK, since(t0),
                              [&](const cl::Buffer& q, size_t count, DeviceKnnOutput& out) {
                                  return knnSearchKdTree(device, tree, q, count, maxK, out);
                              });
@@ -201,7 +186,7 @@ KnnResult knnHashGridOnDevice(Device& device, const std::vector<PclPhoton>& map,
     cl::Buffer photons = device.upload(map, CL_MEM_READ_ONLY, "hash grid: photons");
     DeviceHashGrid grid = buildHashGrid(device, photons, map.size(), params);
     device.finish();
-    return searchAndDownload(device, queries, maxK, seconds(t0),
+    return searchAndDownload(device, queries, maxK, since(t0),
                              [&](const cl::Buffer& q, size_t count, DeviceKnnOutput& out) {
                                  return knnSearchHashGrid(device, grid, q, count, maxK, out);
                              });
@@ -215,7 +200,7 @@ KnnResult knnOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStru
     cl::Buffer photons = device.upload(map, CL_MEM_READ_ONLY, "kd-tree: photons");
     const KnnKdTree tree = packKdTree(device, buildKdTree(device, photons, map.size()));
     device.finish();
-    return searchAndDownload(device, queries, maxK, seconds(t0),
+    return searchAndDownload(device, queries, maxK, since(t0),
                              [&](const cl::Buffer& q, size_t count, DeviceKnnOutput& out) {
                                  return knnSearchKdTree(device, tree, q, count, maxK, out);
                              });

@@ -16,12 +16,10 @@
 #include "device/device.h"
 #include "pipeline/hashgrid.h"
 #include "pipeline/kdtree.h"
+#include "prep/knn_structure.h"
 #include "shared/types.h"
 
 namespace pcl {
-
-enum class KnnStructure { KdTree, HashGrid };
-const char* knnStructureName(KnnStructure s);  // "kd-tree", "hash grid"
 
 struct KnnResult {
     uint32_t stride = 0;              // slots per query: the largest k of the queries
@@ -75,9 +73,6 @@ double knnSearchHashGrid(Device& device, const DeviceHashGrid& grid, const cl::B
 // needs every radius ≤ cellSize / 2 (the caller checks).
 KnnResult knnSearchOnDevice(Device& device, const KnnKdTree& tree, const std::vector<PclKnnQuery>& queries);
 KnnResult knnSearchOnDevice(Device& device, const DeviceHashGrid& grid, const std::vector<PclKnnQuery>& queries);
-
-// The outputs downloaded (searchSeconds and buildSeconds left 0).
-KnnResult downloadKnn(Device& device, const DeviceKnnOutput& out);
 
 // Host-side conveniences: upload, search, download.
 KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNodes,

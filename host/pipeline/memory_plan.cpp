@@ -7,10 +7,11 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "device/work_group.h"
 #include "pipeline/deposit.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
-#include "pipeline/photon_allocation.h"
+#include "prep/photon_allocation.h"
 #include "pipeline/sort.h"
 #include "pipeline/trace_photons.h"
 
@@ -19,7 +20,7 @@ namespace {
 
 constexpr size_t kMiB = size_t(1) << 20;
 constexpr size_t kScanGroup = 256;  // deposit_scan's work-group (pipeline/deposit.cpp)
-constexpr size_t kMinBatch = 64;    // one work-group: the smallest batch the plan shrinks to
+constexpr size_t kMinBatch = kWorkGroupSize;  // one work-group: the smallest batch the plan shrinks to
 
 size_t ceilDiv(size_t a, size_t b) { return (a + b - 1) / b; }
 

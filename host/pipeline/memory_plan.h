@@ -1,4 +1,4 @@
-// The memory plan (issue 5 part 7): before anything is allocated, the bytes of every device
+// The memory plan: before anything is allocated, the bytes of every device
 // buffer the pipeline will ask for, predicted from the plan's counts with the same formulas
 // the stages use; the batch sizes of the divisible work (photon paths per launch, kNN queries
 // per launch) chosen so that every buffer fits under the device's max allocation and every
@@ -24,7 +24,7 @@
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
 #include "pipeline/photon_pass.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/scene_buffers.h"
 
 namespace pcl {
 

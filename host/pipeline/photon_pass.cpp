@@ -5,11 +5,12 @@
 #include <cstdio>
 #include <string>
 
+#include "core/clock.h"
 #include "core/error.h"
 #include "pipeline/deposit.h"
 #include "pipeline/device_scene.h"
 #include "pipeline/emit.h"
-#include "pipeline/photon_allocation.h"
+#include "prep/photon_allocation.h"
 #include "pipeline/trace_photons.h"
 
 namespace pcl {
@@ -112,7 +113,7 @@ PhotonMaps runPhotonPass(Device& device, const SceneGeometry& geometry, const Sc
     if (options.buildCaustic && options.causticPhotons > 0)
         maps.caustic = buildMap(device, scene, geometry, buffers, options, PCL_PASS_CAUSTIC, options.causticPhotons,
                                 maps.stats, maps.stats.caustic);
-    maps.stats.wallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    maps.stats.wallSeconds = since(start);
     return maps;
 }
 

@@ -1,4 +1,4 @@
-// The photon pass (Jensen 2001, ch. 5; DESIGN.md stages 1-3): for each pass kind the scene
+// The photon pass (Jensen 2001, ch. 5; stages emit, trace_photons and deposit of kernels/README.md): for each pass kind the scene
 // needs (global, caustic) and each batch of photons: emit → trace → deposit, on the device.
 // Returns the two maps and what happened on the way.
 #pragma once
@@ -8,7 +8,7 @@
 
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/scene_buffers.h"
 #include "pipeline/trace_photons.h"
 #include "shared/types.h"
 
@@ -45,7 +45,7 @@ struct PhotonPassStats {
     double emitSeconds = 0, traceSeconds = 0, depositSeconds = 0;  // device time (event profiling)
     double wallSeconds = 0;
     // The longest single launch (emit, trace, or a batch's deposit launches together): batches
-    // are sized so it stays far below a GPU watchdog's limit (issue 4: < 0.5 s at 10M photons).
+    // are sized so it stays far below a GPU watchdog's limit (< 0.5 s a launch at 10M photons).
     double longestLaunchSeconds = 0;
     std::string summary() const;  // a few lines for logs
 };

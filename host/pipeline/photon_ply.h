@@ -1,4 +1,4 @@
-// Photon maps as PLY (`photoncl photons`, issue 5 part 6): one vertex per stored photon with its
+// Photon maps as PLY (`photoncl photons`): one vertex per stored photon with its
 // position, decoded power (W), decoded direction and surface normal (unit), map (0 global, 1 caustic) and bounce,
 // for viewing in a point-cloud tool and diffing between devices. Binary little-endian by
 // default, ASCII on request; the file is written to a temporary name in the destination folder

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <string>
 
+#include "core/clock.h"
 #include "core/error.h"
+#include "device/work_group.h"
 #include "pipeline/kdtree.h"
 
 namespace pcl {
@@ -13,31 +15,8 @@ namespace {
 
 const char* const kStage = "precomputed_irradiance";
 
-// Fixed work-group size: PoCL compiles a kernel per work-group size.
-constexpr size_t kGroup = 64;
-cl::NDRange range(size_t n) { return cl::NDRange((n + kGroup - 1) / kGroup * kGroup); }
-
-double since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 }  // namespace
-
-void validatePrecomputedIrradianceOptions(const PrecomputedIrradianceOptions& o) {
-    if (o.every < 2)  // the estimates search the photons not selected: there must be some
-        throw InputError("precomputed irradiance: every = " + std::to_string(o.every) +
-                         ", expected a photon step ≥ 2");
-    if (!(o.coverFactor > 0.0f))
-        throw InputError("precomputed irradiance: coverFactor = " + std::to_string(o.coverFactor) +
-                         ", expected a positive factor (or infinity)");
-    if (o.k == 0 || o.k > PCL_KNN_MAX_K)
-        throw InputError("precomputed irradiance: k = " + std::to_string(o.k) + ", expected 1.." +
-                         std::to_string(PCL_KNN_MAX_K));
-    if (!(o.maxRadius > 0.0f) || !std::isfinite(o.maxRadius))
-        throw InputError("precomputed irradiance: maxRadius = " + std::to_string(o.maxRadius) +
-                         ", expected a positive finite radius");
-    validateEstimateSettings(o.estimate);
-}
 
 std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, uint32_t every, size_t lookupQueries) {
     const size_t count = records == 0 || every == 0 ? 0 : (records - 1) / every + 1;
@@ -78,10 +57,10 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
     auto unselected =
         device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_unselected");
     const cl::Event selected =
-        device.launchLocal(kStage, select, range(count), cl::NDRange(kGroup), photons, cl_uint(n),
+        device.launchLocal(kStage, select, wholeWorkGroups(count), workGroup(), photons, cl_uint(n),
                            cl_uint(options.every), cl_float(options.maxRadius * options.maxRadius),
                            cl_uint(options.k), points, queries);
-    const cl::Event split = device.launchLocal(kStage, unselected, range(n), cl::NDRange(kGroup), photons, cl_uint(n),
+    const cl::Event split = device.launchLocal(kStage, unselected, wholeWorkGroups(n), workGroup(), photons, cl_uint(n),
                                                cl_uint(options.every), otherPhotons);
     device.finish();
     IrradianceTiming timing;
@@ -99,7 +78,7 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
         const float coverScale2 = options.coverFactor * options.coverFactor;
         auto store = device.kernel<cl::Buffer, cl_float, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
             kStage, "precomputed_irradiance_store");
-        device.launchLocal(kStage, store, range(count), cl::NDRange(kGroup), estimates, cl_float(scale),
+        device.launchLocal(kStage, store, wholeWorkGroups(count), workGroup(), estimates, cl_float(scale),
                            cl_float(coverScale2), cl_uint(count), points, cover);
     }
     DeviceIrradianceMap map = buildIrradianceTree(device, points, cover, count, options.estimate.minNormalCos);
@@ -138,11 +117,11 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
         cl::Buffer asPhotons = device.allocate<PclPhoton>(count, CL_MEM_READ_WRITE, "precomputed irradiance: tree input");
         auto toPhotons =
             device.kernel<cl::Buffer, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_as_photons");
-        device.launchLocal(kStage, toPhotons, range(count), cl::NDRange(kGroup), points, cl_uint(count), asPhotons);
+        device.launchLocal(kStage, toPhotons, wholeWorkGroups(count), workGroup(), points, cl_uint(count), asPhotons);
         const DeviceKdTree tree = buildKdTree(device, asPhotons, count);
         auto pack = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>(
             kStage, "precomputed_irradiance_pack");
-        device.launchLocal(kStage, pack, range(count), cl::NDRange(kGroup), tree.photons, tree.index, points, cover,
+        device.launchLocal(kStage, pack, wholeWorkGroups(count), workGroup(), tree.photons, tree.index, points, cover,
                            cl_uint(count), map.nodes, map.nodeCover);
         device.finish();
     }
@@ -165,10 +144,6 @@ std::vector<PclIrradiancePoint> downloadIrradiancePoints(Device& device, const D
     return device.download<PclIrradiancePoint>(map.points, map.count);
 }
 
-std::vector<PclIrradiancePoint> downloadIrradianceNodes(Device& device, const DeviceIrradianceMap& map) {
-    return device.download<PclIrradiancePoint>(map.nodes, map.count);
-}
-
 std::vector<float> downloadIrradianceCover(Device& device, const DeviceIrradianceMap& map) {
     return device.download<float>(map.cover, map.count);
 }
@@ -183,7 +158,7 @@ double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl
     if (queryCount == 0) return 0.0;
     auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_float, cl::Buffer, cl::Buffer>(
         kStage, "precomputed_irradiance_lookup");
-    cl::Event e = device.launchLocal(kStage, k, range(queryCount), cl::NDRange(kGroup), map.nodes, map.nodeCover,
+    cl::Event e = device.launchLocal(kStage, k, wholeWorkGroups(queryCount), workGroup(), map.nodes, map.nodeCover,
                                      cl_uint(map.count), queries, cl_uint(queryCount), cl_float(map.minNormalCos),
                                      out.irradiance, out.chosen);
     e.wait();

@@ -33,22 +33,10 @@
 #include "device/device.h"
 #include "pipeline/device_scene.h"
 #include "pipeline/estimate.h"
+#include "prep/irradiance_settings.h"
 #include "shared/types.h"
 
 namespace pcl {
-
-struct PrecomputedIrradianceOptions {
-    uint32_t every = 4;           // m ≥ 2: photons 0, m, 2m, … of the global map get a stored point
-    uint32_t k = 50;              // photons per estimate at a stored point (from the other photons)
-    float maxRadius = 0.0f;       // those estimates' r_max
-    float coverFactor = 2.0f;     // f: a point answers queries within f × its estimate's radius (∞: any)
-    EstimateSettings estimate;    // filter, normal test, visibility, structure of the others' map;
-                                  // estimate.minNormalCos is also the lookup's normal threshold
-};
-
-// InputError when every < 2, coverFactor is not positive (or NaN), k is outside 1..PCL_KNN_MAX_K, maxRadius is not positive and
-// finite, or the estimate settings are invalid.
-void validatePrecomputedIrradianceOptions(const PrecomputedIrradianceOptions& o);
 
 struct IrradianceTiming {
     double selectSeconds = 0.0;   // device: selection, the estimate queries, the others' map
@@ -107,7 +95,6 @@ DeviceIrradianceMap uploadIrradiancePoints(Device& device, const std::vector<Pcl
 
 // The points in selection order, and the tree nodes in heap order, downloaded.
 std::vector<PclIrradiancePoint> downloadIrradiancePoints(Device& device, const DeviceIrradianceMap& map);
-std::vector<PclIrradiancePoint> downloadIrradianceNodes(Device& device, const DeviceIrradianceMap& map);
 std::vector<float> downloadIrradianceCover(Device& device, const DeviceIrradianceMap& map);  // selection order
 
 // (d) lookups on the device.

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "device/work_group.h"
 
 namespace pcl {
 namespace {
@@ -145,7 +146,7 @@ void floatSortKeysOnDevice(Device& device, const std::vector<float>& x, std::vec
     cl::Buffer in = device.upload(x);
     cl::Buffer k = device.allocate<uint32_t>(n), v = device.allocate<uint32_t>(n);
     auto flip = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>("sort", "sort_float_keys");
-    device.launchLocal("sort", flip, cl::NDRange((n + 63) / 64 * 64), cl::NDRange(64), in, cl_uint(n), k, v);
+    device.launchLocal("sort", flip, wholeWorkGroups(n), workGroup(), in, cl_uint(n), k, v);
     keys = device.download<uint32_t>(k, n);
     values = device.download<uint32_t>(v, n);
 }

@@ -1,5 +1,5 @@
 #include "reference/emit.h"
-#include "pipeline/photon_allocation.h"
+#include "prep/photon_allocation.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "pipeline/scene_buffers.h"
+#include "prep/scene_buffers.h"
 #include "shared/types.h"
 
 namespace pcl {

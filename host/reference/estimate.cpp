@@ -56,21 +56,6 @@ void decodeRgbe(uint32_t rgbe, float c[3]) {
 
 }  // namespace
 
-double estimateFilterNorm(EstimateFilter f, float coneK) {
-    switch (f) {
-        case EstimateFilter::Box: return 1.0;
-        case EstimateFilter::Cone: return 1.0 - 2.0 / (3.0 * double(coneK));
-        case EstimateFilter::Epanechnikov: return 0.5;
-        case EstimateFilter::Gaussian: {
-            const double beta = double(PCL_GAUSSIAN_BETA);
-            return 1.0 - (1.0 - (2.0 / beta) * (1.0 - std::exp(-beta / 2.0))) / (1.0 - std::exp(-beta));
-        }
-    }
-    return 1.0;
-}
-
-double estimateGaussianScale() { return 1.0 / (1.0 - std::exp(-double(PCL_GAUSSIAN_BETA))); }
-
 float referenceFilterWeight(const PclEstimateParams& p, float u2) {
     switch (p.filter) {
         case PCL_FILTER_CONE: return 1.0f - std::sqrt(u2) / p.coneK;

@@ -9,17 +9,12 @@
 #include <vector>
 
 #include "geometry/scene_geometry.h"
-#include "pipeline/estimate.h"
+#include "prep/estimate_settings.h"
 #include "reference/knn.h"
 #include "shared/types.h"
 
 namespace pcl {
 
-// The filter's normalisation: the mean of w over the unit disc, 2∫₀¹ w(u) u du (double):
-// box 1; cone 1 − 2/(3 k_c); Epanechnikov 1/2; Gaussian 1 − [1 − (2/β)(1 − e^{−β/2})]/(1 − e^{−β}).
-double estimateFilterNorm(EstimateFilter f, float coneK);
-// 1 / (1 − e^{−β}), β = PCL_GAUSSIAN_BETA (double).
-double estimateGaussianScale();
 // The filter weight at u² = d²/r² in float, as the kernel computes it (u = √u² where needed).
 float referenceFilterWeight(const PclEstimateParams& p, float u2);
 

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "geometry/scene_geometry.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/scene_buffers.h"
 #include "shared/types.h"
 
 namespace pcl {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "pipeline/scene_buffers.h"
+#include "prep/scene_buffers.h"
 #include "reference/bsdf.h"
 #include "reference/sampling.h"
 #include "shared/types.h"

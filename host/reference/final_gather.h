@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "geometry/scene_geometry.h"
-#include "pipeline/direct_light.h"
-#include "pipeline/estimate.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/area_light_table.h"
+#include "prep/estimate_settings.h"
+#include "prep/scene_buffers.h"
 #include "shared/types.h"
 
 namespace pcl {

@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/clock.h"
 #include "reference/bsdf.h"
 #include "reference/sampling.h"
 #include "reference/surface.h"
@@ -137,16 +138,12 @@ Film PathTracer::render(PathTracerStats* stats) const {
     for (auto& t : pool) t.join();
 
     if (stats) {
-        stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        stats->seconds = since(start);
         stats->samples = static_cast<uint64_t>(width) * height * static_cast<uint64_t>(std::max(0, settings_.samplesPerPixel));
         stats->discardedSamples = discarded.load();
     }
     return film;
 }
 
-Film renderPathTraced(const Scene& scene, const PathTracerSettings& settings, PathTracerStats* stats) {
-    SceneGeometry geometry = SceneGeometry::build(scene);
-    return PathTracer(scene, geometry, settings).render(stats);
-}
 
 }  // namespace pcl

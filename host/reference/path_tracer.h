@@ -62,7 +62,4 @@ private:
     LightSampler lights_;
 };
 
-// Convenience for the command line: builds the BVH and renders.
-Film renderPathTraced(const Scene& scene, const PathTracerSettings& settings, PathTracerStats* stats = nullptr);
-
 }  // namespace pcl

@@ -1,5 +1,5 @@
 #include "reference/photon_pass.h"
-#include "pipeline/photon_allocation.h"
+#include "prep/photon_allocation.h"
 
 #include <algorithm>
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "geometry/scene_geometry.h"
-#include "pipeline/precomputed_irradiance.h"
+#include "prep/irradiance_settings.h"
 #include "shared/types.h"
 
 namespace pcl {

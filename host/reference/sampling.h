@@ -4,11 +4,11 @@
 #pragma once
 #include <cmath>
 
+#include "core/math.h"
 #include "core/vec3.h"
 
 namespace pcl {
 
-constexpr float kPi = 3.14159265358979323846f;
 constexpr float kInvPi = 1.0f / kPi;
 
 // Shirley–Chiu concentric map of the square onto the unit disk (area-preserving, low distortion).

@@ -7,7 +7,7 @@
 
 #include "core/vec3.h"
 #include "geometry/scene_geometry.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/scene_buffers.h"
 #include "shared/types.h"
 
 namespace pcl {

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "core/clock.h"
 #include "core/error.h"
 #include "pipeline/camera_rays.h"
 #include "pipeline/device_scene.h"
@@ -19,43 +20,6 @@
 #include "render/fixed_radius_source.h"
 
 namespace pcl {
-
-const char* renderMethodName(RenderMethod m) {
-    switch (m) {
-        case RenderMethod::FinalGather: return "fg";
-        case RenderMethod::DirectVisualisation: return "direct";
-        case RenderMethod::Progressive: return "progressive";
-        case RenderMethod::PathTracing: return "path";
-    }
-    return "?";
-}
-
-RenderMethod parseRenderMethod(const std::string& name) {
-    for (RenderMethod m : {RenderMethod::FinalGather, RenderMethod::DirectVisualisation, RenderMethod::Progressive,
-                           RenderMethod::PathTracing})
-        if (name == renderMethodName(m)) return m;
-    throw InputError("render method '" + name + "': expected fg, direct, progressive or path");
-}
-
-RenderMaps mapsFor(RenderMethod method, const RenderPlan& plan) {
-    RenderMaps maps;
-    switch (method) {
-        case RenderMethod::FinalGather:
-            maps.global = plan.globalMap && plan.finalGather;
-            maps.gather = maps.global;
-            maps.caustic = plan.causticMap;
-            break;
-        case RenderMethod::DirectVisualisation:
-            maps.global = true;  // the preview reads every kind of light from the global map
-            break;
-        case RenderMethod::Progressive:
-            maps.global = plan.globalMap;
-            maps.caustic = plan.causticMap;
-            break;
-        case RenderMethod::PathTracing: break;
-    }
-    return maps;
-}
 
 double sceneSurfaceArea(const Scene& scene) {
     double area = 0.0;
@@ -91,10 +55,28 @@ std::string StageTimes::table() const {
     return out + line;
 }
 
-namespace {
+PhotonPassOptions photonPassOptions(const PhotonRenderSettings& s, const RenderPlan& plan, uint32_t pass) {
+    const RenderMaps maps = mapsFor(s.method, plan);
+    PhotonPassOptions po;
+    po.buildGlobal = maps.global;
+    po.buildCaustic = maps.caustic;
+    po.globalPhotons = maps.global ? s.globalPhotons : 0;
+    po.causticPhotons = maps.caustic ? s.causticPhotons : 0;
+    po.seed = s.seed;
+    po.pass = pass;
+    po.batchSize = s.photonBatch;
+    return po;
+}
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+MemoryPlan planRenderMemory(const DeviceInfo& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                            const PhotonRenderSettings& s, const RenderPlan& plan) {
+    const MemoryPlan memory =
+        planMemory(photonPassMemoryRequest(geometry, buffers, photonPassOptions(s, plan)), memoryLimits(device));
+    requireMemoryFits(memory);
+    return memory;
+}
+
+namespace {
 
 // Runs f, waits for the device, adds the wall time to `slot`.
 template <class F>
@@ -118,332 +100,380 @@ std::vector<PclPhoton> indirectPhotons(const std::vector<PclPhoton>& global) {
 
 bool finite(const PclRadiance& r) { return std::isfinite(r.r) && std::isfinite(r.g) && std::isfinite(r.b); }
 
-}  // namespace
-
-void applyRenderDefaults(PhotonRenderSettings& s, const RenderPlan& plan) {
-    s.globalPhotons = plan.globalPhotons ? plan.globalPhotons : 200000;
-    s.causticPhotons = plan.causticPhotons ? plan.causticPhotons : 100000;
-    s.globalK = 50;
-    s.causticK = 50;
-    s.lightSamples = 16;
-    const bool distributed = plan.lensSampling || plan.timeSampling || plan.glossySampling;
-    switch (s.method) {
-        case RenderMethod::FinalGather:
-            // Gather rays carry the noise of the indirect part; strata × passes antialias and
-            // add fresh photons. Lens, shutter and glossy lobes are sampled by the eye samples:
-            // scenes that need them get 2×2 per pass and a quarter of the gather rays.
-            s.strata = distributed ? 2 : 1;
-            s.gatherRays = distributed ? 16 : 64;
-            break;
-        case RenderMethod::DirectVisualisation:
-            s.gatherRays = 1;
-            s.strata = 2;
-            break;
-        case RenderMethod::Progressive:
-            s.gatherRays = 1;
-            s.strata = 1;
-            break;
-        case RenderMethod::PathTracing: break;
+// One render: the scene's device buffers and the eye buffers live for the whole render; each
+// pass traces fresh photons, builds the maps it needs and runs the eye pass in chunks.
+class PhotonRenderer {
+public:
+    PhotonRenderer(Device& device, const Scene& scene, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                   const RenderPlan& plan, const PhotonRenderSettings& s)
+        : start_(Clock::now()), device_(device), scene_(scene), geometry_(geometry), buffers_(buffers), plan_(plan), s_(s),
+          maps_(mapsFor(s.method, plan)), width_(scene.camera.width), height_(scene.camera.height),
+          spp_(s.strata * s.strata), passSamples_(size_t(width_) * height_ * spp_),
+          eyeDepth_(s.eyeDepth ? s.eyeDepth : kDefaultEyeDepth),
+          maxRadius_(s.maxRadius > 0 ? s.maxRadius : 0.05f * length(geometry.bounds().extent())),
+          area_(sceneSurfaceArea(scene)), dscene_(device, geometry, buffers),
+          table_(buildAreaLightTable(buffers, geometry.primitiveCount())), lights_(device, table_) {
+        // Chunks of eye samples: the gather's per-ray buffers (32 bytes each, N per sample) and
+        // the estimate's results within a quarter of the max allocation, at most 2^18 samples.
+        const size_t perSample = 32u * (s.method == RenderMethod::FinalGather ? s.gatherRays : 1u);
+        chunk_ = s.chunkSamples ? s.chunkSamples
+                                : std::clamp<size_t>(device.info().maxAlloc / 4 / perSample, 256, size_t(1) << 18);
+        chunk_ = std::min(chunk_, passSamples_);
+        rays_ = device.allocate<PclRay>(chunk_, CL_MEM_READ_WRITE, "render: camera rays");
+        hits_ = device.allocate<PclEyeHit>(chunk_, CL_MEM_READ_WRITE, "render: eye hits");
+        directRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: direct radiance");
+        causticRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: caustic radiance");
+        indirectRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: indirect radiance");
+        est_.filter = s.method == RenderMethod::Progressive ? EstimateFilter::Box : s.filter;
+        est_.rayEpsilon = buffers.rayEpsilon;
+        est_.visibility = s.visibility;
+        r0Squared_ = s.initialRadius > 0 ? double(s.initialRadius) * s.initialRadius : 0.0;
     }
-}
 
-void applyRenderDefaults(PhotonRenderSettings& s, const RenderPlan& plan, const RenderOverrides& given) {
-    applyRenderDefaults(s, plan);
-    if (given.globalPhotons) s.globalPhotons = given.globalPhotons;
-    if (given.causticPhotons) s.causticPhotons = given.causticPhotons;
-    if (given.k) s.globalK = given.k;
-    if (given.causticK) s.causticK = given.causticK;
-    if (given.lightSamples) s.lightSamples = given.lightSamples;
-    if (given.strata && s.method != RenderMethod::PathTracing) s.strata = given.strata;
-    if (given.gatherRays && s.method == RenderMethod::FinalGather) s.gatherRays = given.gatherRays;
-}
+    PhotonRenderResult run();
 
-uint32_t defaultPasses(RenderMethod method, int width, int height) {
-    const double megapixels = double(width) * height / 1e6;
-    switch (method) {
-        // One 256² pass with 64 gather rays takes ~2-6 s under PoCL on 2 cores.
-        case RenderMethod::FinalGather: return uint32_t(std::clamp(int(10 * 0.065536 / std::max(megapixels, 1e-6) + 0.5), 1, 64));
-        case RenderMethod::DirectVisualisation: return 4;  // a preview: seconds
-        case RenderMethod::Progressive: return 32;
-        case RenderMethod::PathTracing: break;
-    }
-    return 0;
-}
-
-PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const SceneGeometry& geometry,
-                                      const SceneBuffers& buffers, const RenderPlan& plan,
-                                      const PhotonRenderSettings& s) {
-    if (s.method == RenderMethod::PathTracing)
-        throw InputError("renderPhotonMapped: the path tracer is reference/path_tracer.h, not a photon method");
-    if (s.strata < 1 || s.strata > 16) throw InputError("render: strata must be 1..16, got " + std::to_string(s.strata));
-    if (s.gatherRays < 1) throw InputError("render: gather rays must be at least 1");
-    if (s.globalK < 1 || s.globalK > PCL_KNN_MAX_K || s.causticK < 1 || s.causticK > PCL_KNN_MAX_K)
-        throw InputError("render: k must be 1.." + std::to_string(PCL_KNN_MAX_K));
-    if (!(s.alpha > 0.0f && s.alpha < 1.0f)) throw InputError("render: alpha must be in (0, 1)");
-    if (s.passes == 0 && !(s.seconds > 0.0)) throw InputError("render: give a pass count or a time budget");
-
-    auto start = Clock::now();
-    const RenderMaps maps = mapsFor(s.method, plan);
-    const int width = scene.camera.width, height = scene.camera.height;
-    const uint32_t spp = s.strata * s.strata;
-    const size_t passSamples = size_t(width) * height * spp;
-    const uint32_t eyeDepth = s.eyeDepth ? s.eyeDepth : kDefaultEyeDepth;
-    const bool fg = s.method == RenderMethod::FinalGather, progressive = s.method == RenderMethod::Progressive;
-    const bool directVis = s.method == RenderMethod::DirectVisualisation;
-    const Vec3 diag = geometry.bounds().extent();
-    const float maxRadius = s.maxRadius > 0 ? s.maxRadius : 0.05f * length(diag);
-    const uint32_t maxSpecularGather = kDefaultGatherSpecular;
-
-    PhotonRenderResult result;
-    result.sums = FixedPointFilm(width, height);
-    if (s.aovs)
-        result.aovs = {Film(width, height), Film(width, height), Film(width, height),
-                       Film(width, height), Film(width, height), Film(width, height)};
-
-    // Chunks of eye samples: the gather's per-ray buffers (32 bytes each, N per sample) and the
-    // estimate's results within a quarter of the max allocation, at most 2^18 samples.
-    size_t perSample = 32u * (fg ? s.gatherRays : 1u);
-    size_t chunk = s.chunkSamples ? s.chunkSamples
-                                  : std::clamp<size_t>(device.info().maxAlloc / 4 / perSample, 256, size_t(1) << 18);
-    chunk = std::min(chunk, passSamples);
-    result.chunkSamples = chunk;
-
-    DeviceScene dscene(device, geometry, buffers);
-    AreaLightTable table = buildAreaLightTable(buffers, geometry.primitiveCount());
-    DeviceAreaLights lights(device, table);
-    cl::Buffer rays = device.allocate<PclRay>(chunk, CL_MEM_READ_WRITE, "render: camera rays");
-    cl::Buffer hits = device.allocate<PclEyeHit>(chunk, CL_MEM_READ_WRITE, "render: eye hits");
-    cl::Buffer directRad = device.allocate<PclRadiance>(chunk, CL_MEM_READ_WRITE, "render: direct radiance");
-    cl::Buffer causticRad = device.allocate<PclRadiance>(chunk, CL_MEM_READ_WRITE, "render: caustic radiance");
-    cl::Buffer indirectRad = device.allocate<PclRadiance>(chunk, CL_MEM_READ_WRITE, "render: indirect radiance");
-
-    EstimateSettings est;
-    est.filter = progressive ? EstimateFilter::Box : s.filter;
-    est.rayEpsilon = buffers.rayEpsilon;
-    est.visibility = s.visibility;
-    const double area = sceneSurfaceArea(scene);
-    double r0Squared = s.initialRadius > 0 ? double(s.initialRadius) * s.initialRadius : 0.0;
-    auto photonPass = [&](uint32_t pass) {
-        PhotonPassOptions po;
-        po.globalPhotons = s.globalPhotons;
-        po.causticPhotons = s.causticPhotons;
-        po.seed = s.seed;
-        po.pass = pass;
-        po.batchSize = s.photonBatch;
-        po.buildGlobal = maps.global;
-        po.buildCaustic = maps.caustic;
-        return runPhotonPass(device, geometry, buffers, po);
+private:
+    // The maps of one pass and the irradiance sources that read them.
+    struct PassMaps {
+        std::unique_ptr<PhotonMapOnDevice> global, caustic, histogram;
+        std::unique_ptr<DeviceIrradianceMap> irradiance;
+        std::shared_ptr<IrradianceSource> globalSource, causticSource;
+        float radius2 = 0.0f;  // the search radius² of the pass (progressive: the schedule's)
     };
-    // Progressive r_0: about progressiveK0 photons in the first disc at the mean density of
-    // pass 0's stored global photons (caustic-only scenes: the caustic map's). A render that
-    // starts later (a batch shard, firstPass > 0) traces pass 0's photons once to get the same
-    // r_0, so r_0 never depends on which passes a shard holds.
-    auto firstRadius2 = [&](const PhotonMaps& pass0) {
-        double stored = maps.global ? pass0.global.size() : pass0.caustic.size();
-        double lambda = std::max(stored, 1.0) / std::max(area, 1e-12);
-        return std::min(double(maxRadius) * maxRadius, s.progressiveK0 / (M_PI * lambda));
+    // Which parts a chunk's eye samples got (the others are 0).
+    struct ChunkParts {
+        bool direct = false, caustic = false, indirect = false;
     };
-    if (progressive && r0Squared == 0.0 && s.firstPass > 0 && (maps.global || maps.caustic)) {
-        timed(device, result.times.photons, [&] { r0Squared = firstRadius2(photonPass(0)); });
-        result.firstRadius = static_cast<float>(std::sqrt(r0Squared));
-    }
 
-    {
-        char line[512];
-        std::snprintf(line, sizeof line,
-                      "method %s, %u pass(es)%s, %u spp/pass, global %s, caustic %s, k %u/%u, %s%u gather rays%s, "
-                      "%u light samples, r_max %.4g, %s%s, seed %llu",
-                      renderMethodName(s.method), s.passes, s.seconds > 0 ? " or time budget" : "", spp,
-                      maps.global ? std::to_string(s.globalPhotons).c_str() : "none",
-                      maps.caustic ? std::to_string(s.causticPhotons).c_str() : "none", s.globalK, s.causticK,
-                      fg ? (s.gatherSource == GatherSource::Precomputed && !s.visibility ? "precomputed irradiance, " : "full estimate, ")
-                         : "",
-                      fg ? s.gatherRays : 0u,
-                      fg && s.histogramCells ? (" (importance " + std::to_string(s.histogramCells) + "x" +
-                                                std::to_string(s.histogramCells) + ")").c_str()
-                                             : "",
-                      s.lightSamples, maxRadius, knnStructureName(s.structure), s.visibility ? ", visibility test" : "",
-                      static_cast<unsigned long long>(s.seed));
-        result.summary = line;
+    PhotonMaps tracePhotons(uint32_t pass);
+    double firstRadius2(const PhotonMaps& pass0) const;
+    PassMaps buildMaps(const PhotonMaps& photons, float radius2);
+    void eyePass(uint32_t pass, const PassMaps& maps, Film& passFilm);
+    ChunkParts shadeFinalGather(const PassMaps& maps, const PclEyeParams& ep, uint32_t count);
+    ChunkParts shadeDirectVisualisation(const PassMaps& maps, uint32_t count);
+    ChunkParts shadeProgressive(const PassMaps& maps, const PclEyeParams& ep, uint32_t count);
+    void accumulate(size_t first, uint32_t count, ChunkParts parts, Film& passFilm);
+    std::string summary() const;
+
+    const Clock::time_point start_;  // the render's start: its time budget and total count from here
+    Device& device_;
+    const Scene& scene_;
+    const SceneGeometry& geometry_;
+    const SceneBuffers& buffers_;
+    const RenderPlan& plan_;
+    const PhotonRenderSettings& s_;
+    const RenderMaps maps_;
+    const int width_, height_;
+    const uint32_t spp_;
+    const size_t passSamples_;
+    const uint32_t eyeDepth_;
+    const float maxRadius_;
+    const double area_;
+    DeviceScene dscene_;
+    AreaLightTable table_;
+    DeviceAreaLights lights_;
+    size_t chunk_ = 0;
+    cl::Buffer rays_, hits_, directRad_, causticRad_, indirectRad_;
+    EstimateSettings est_;
+    double r0Squared_ = 0.0;
+    PhotonRenderResult result_;
+};
+
+// 1. Photons: a fresh pass, the pass index in its seed.
+PhotonMaps PhotonRenderer::tracePhotons(uint32_t pass) {
+    return runPhotonPass(device_, geometry_, buffers_, photonPassOptions(s_, plan_, pass));
+}
+
+// Progressive r_0: about progressiveK0 photons in the first disc at the mean density of pass 0's
+// stored global photons (caustic-only scenes: the caustic map's).
+double PhotonRenderer::firstRadius2(const PhotonMaps& pass0) const {
+    double stored = maps_.global ? pass0.global.size() : pass0.caustic.size();
+    double lambda = std::max(stored, 1.0) / std::max(area_, 1e-12);
+    return std::min(double(maxRadius_) * maxRadius_, s_.progressiveK0 / (M_PI * lambda));
+}
+
+// 2. The maps the method reads and their irradiance sources.
+PhotonRenderer::PassMaps PhotonRenderer::buildMaps(const PhotonMaps& photons, float radius2) {
+    const bool fg = s_.method == RenderMethod::FinalGather, progressive = s_.method == RenderMethod::Progressive;
+    PassMaps m;
+    m.radius2 = radius2;
+    const float searchRadius = std::sqrt(radius2);
+    if (maps_.global && !photons.global.empty()) {
+        if (progressive) {
+            std::vector<PclPhoton> indirect = indirectPhotons(photons.global);
+            if (!indirect.empty()) {
+                m.global = std::make_unique<PhotonMapOnDevice>(device_, indirect, s_.structure, searchRadius);
+                m.globalSource = fixedRadiusSource(*m.global, PCL_KNN_MAX_K, est_, radius2, &dscene_);
+            }
+        } else if (fg && s_.gatherSource == GatherSource::Precomputed && !s_.visibility) {
+            // (With visibility the full estimate is read instead: a precomputed record is found
+            // by one nearest lookup with no visibility test, so a record across a thin wall would
+            // be read: the stability suite's thin-wall test.)
+            PrecomputedIrradianceOptions po;
+            po.k = s_.globalK;
+            po.maxRadius = maxRadius_;
+            po.estimate = est_;
+            m.irradiance =
+                std::make_unique<DeviceIrradianceMap>(precomputeIrradiance(device_, photons.global, po, &dscene_));
+            m.globalSource = precomputedIrradianceSource(*m.irradiance);
+        } else {
+            m.global = std::make_unique<PhotonMapOnDevice>(device_, photons.global, s_.structure, searchRadius);
+            m.globalSource = estimateIrradianceSource(*m.global, s_.globalK, est_, &dscene_);
+        }
     }
+    if (fg && s_.histogramCells > 0 && m.globalSource) {
+        // The importance histograms read the global map's k nearest photons directly.
+        m.histogram = std::make_unique<PhotonMapOnDevice>(device_, photons.global, s_.structure, searchRadius);
+    }
+    if (maps_.caustic && !photons.caustic.empty()) {
+        m.caustic = std::make_unique<PhotonMapOnDevice>(device_, photons.caustic, s_.structure, searchRadius);
+        m.causticSource = progressive ? fixedRadiusSource(*m.caustic, PCL_KNN_MAX_K, est_, radius2, &dscene_)
+                                      : estimateIrradianceSource(*m.caustic, s_.causticK, est_, &dscene_);
+    }
+    return m;
+}
+
+// 3. fg at the diffuse eye hits: direct light by shadow rays (MIS with the gather rays for area
+// lights), the caustic map, and final gathering into the global map.
+PhotonRenderer::ChunkParts PhotonRenderer::shadeFinalGather(const PassMaps& m, const PclEyeParams& ep,
+                                                            uint32_t count) {
+    ChunkParts parts;
+    StageTimes& t = result_.times;
+    const bool gather = static_cast<bool>(m.globalSource);
+    PclDirectParams dp = directParams(ep, geometry_, buffers_, table_, s_.lightSamples, gather ? s_.gatherRays : 0u);
+    PclGatherParams gp{};
+    cl::Buffer histograms;
+    if (gather) {
+        gp = gatherParams(dp, s_.gatherRays, s_.globalK, maxRadius_ * maxRadius_, kDefaultGatherSpecular);
+        gp.causticMapRead = maps_.caustic ? 1u : 0u;
+        if (m.histogram) {
+            gp.histogramCells = dp.histogramCells = s_.histogramCells;
+            timed(device_, t.indirect, [&] { histograms = buildGatherHistograms(device_, *m.histogram, gp, hits_); });
+        }
+    }
+    timed(device_, t.direct, [&] {
+        if (m.histogram) directLight(device_, dscene_, lights_, dp, hits_, histograms, directRad_);
+        else directLight(device_, dscene_, lights_, dp, hits_, directRad_);
+    });
+    parts.direct = true;
+    if (m.causticSource) {
+        PclEyeEstimateParams cq{count, s_.causticK, m.radius2, 0};
+        timed(device_, t.caustic, [&] { causticRadiance(device_, cq, hits_, *m.causticSource, causticRad_); });
+        parts.caustic = true;
+    }
+    if (gather) {
+        timed(device_, t.indirect, [&] {
+            if (m.histogram) finalGather(device_, dscene_, lights_, gp, hits_, histograms, *m.globalSource, indirectRad_);
+            else finalGather(device_, dscene_, lights_, gp, hits_, *m.globalSource, indirectRad_);
+        });
+        parts.indirect = true;
+    }
+    return parts;
+}
+
+// 3. direct: the global map read at the diffuse eye hits (it holds direct light too).
+PhotonRenderer::ChunkParts PhotonRenderer::shadeDirectVisualisation(const PassMaps& m, uint32_t count) {
+    ChunkParts parts;
+    if (m.causticSource) {
+        PclEyeEstimateParams cq{count, s_.causticK, m.radius2, 0};
+        timed(device_, result_.times.caustic, [&] { causticRadiance(device_, cq, hits_, *m.causticSource, causticRad_); });
+        parts.caustic = true;
+    }
+    if (m.globalSource) {
+        PclEyeEstimateParams gq{count, s_.globalK, m.radius2, 0};
+        timed(device_, result_.times.indirect,
+              [&] { estimateAtEyeHits(device_, gq, hits_, *m.globalSource, indirectRad_); });
+        parts.indirect = true;
+    }
+    return parts;
+}
+
+// 3. progressive: direct light by shadow rays, then the caustic map and the global map's
+// indirect photons with the pass's fixed radius.
+PhotonRenderer::ChunkParts PhotonRenderer::shadeProgressive(const PassMaps& m, const PclEyeParams& ep,
+                                                            uint32_t count) {
+    ChunkParts parts;
+    PclDirectParams dp = directParams(ep, geometry_, buffers_, table_, s_.lightSamples, 0u);
+    timed(device_, result_.times.direct, [&] { directLight(device_, dscene_, lights_, dp, hits_, directRad_); });
+    parts.direct = true;
+    if (m.causticSource) {
+        PclEyeEstimateParams cq{count, PCL_KNN_MAX_K, m.radius2, 0};
+        timed(device_, result_.times.caustic, [&] { causticRadiance(device_, cq, hits_, *m.causticSource, causticRad_); });
+        parts.caustic = true;
+    }
+    if (m.globalSource) {
+        PclEyeEstimateParams gq{count, PCL_KNN_MAX_K, m.radius2, 0};
+        timed(device_, result_.times.indirect,
+              [&] { estimateAtEyeHits(device_, gq, hits_, *m.globalSource, indirectRad_); });
+        parts.indirect = true;
+    }
+    return parts;
+}
+
+// 4. Accumulate: sample s of the pass lies in pixel s / n²; its radiance is emitted + the parts.
+void PhotonRenderer::accumulate(size_t first, uint32_t count, ChunkParts parts, Film& passFilm) {
+    auto t = Clock::now();
+    const PclRadiance zero{0, 0, 0, 0};
+    std::vector<PclEyeHit> eye = device_.download<PclEyeHit>(hits_, count);
+    auto part = [&](bool have, cl::Buffer& b) {
+        return have ? device_.download<PclRadiance>(b, count) : std::vector<PclRadiance>(count, zero);
+    };
+    std::vector<PclRadiance> direct = part(parts.direct, directRad_), caustic = part(parts.caustic, causticRad_),
+                             indirect = part(parts.indirect, indirectRad_);
+    for (uint32_t i = 0; i < count; ++i) {
+        size_t pixel = (first + i) / spp_;
+        int x = static_cast<int>(pixel % width_), y = static_cast<int>(pixel / width_);
+        const PclEyeHit& h = eye[i];
+        PclRadiance em{h.emitted[0], h.emitted[1], h.emitted[2], 0};
+        PclRadiance sum{em.r + direct[i].r + caustic[i].r + indirect[i].r,
+                        em.g + direct[i].g + caustic[i].g + indirect[i].g,
+                        em.b + direct[i].b + caustic[i].b + indirect[i].b, 0};
+        if (!finite(sum)) {
+            ++result_.nonFiniteSamples;
+            sum = zero;  // counted and reported; the pixel keeps its weight
+        }
+        passFilm.add(x, y, {sum.r, sum.g, sum.b});
+        if (s_.aovs) {
+            auto v = [](const PclRadiance& r) { return finite(r) ? Vec3(r.r, r.g, r.b) : Vec3(0.0f); };
+            RenderAovs& a = result_.aovs;
+            a.direct.add(x, y, v(direct[i]));
+            a.caustic.add(x, y, v(caustic[i]));
+            a.indirect.add(x, y, v(indirect[i]));
+            a.emitted.add(x, y, v(em));
+            bool diffuse = h.flags & PCL_EYE_DIFFUSE;
+            a.albedo.add(x, y, diffuse ? Vec3(h.albedo[0], h.albedo[1], h.albedo[2]) : Vec3(0.0f));
+            a.normal.add(x, y, diffuse ? Vec3(h.nx, h.ny, h.nz) : Vec3(0.0f));
+        }
+    }
+    result_.times.accumulate += since(t);
+    result_.samples += count;
+}
+
+// 3. The eye pass, chunk by chunk: camera rays, eye paths to the first diffuse hit, the method's
+// parts there, then into the pass's film.
+void PhotonRenderer::eyePass(uint32_t pass, const PassMaps& maps, Film& passFilm) {
+    const uint64_t passSeed = eyePassSeed(s_.seed, pass);
+    for (size_t first = 0; first < passSamples_; first += chunk_) {
+        const uint32_t count = static_cast<uint32_t>(std::min(chunk_, passSamples_ - first));
+        PclCameraParams cp = cameraParams(scene_.camera, plan_, passSeed, s_.strata);
+        cp.firstSample = static_cast<uint32_t>(first);
+        cp.sampleCount = count;
+        timed(device_, result_.times.camera, [&] { generateCameraRays(device_, cp, rays_); });
+        PclEyeParams ep = eyeParams(cp, geometry_, buffers_, eyeDepth_);
+        timed(device_, result_.times.eyePaths, [&] { traceEyePaths(device_, dscene_, ep, rays_, hits_); });
+        ChunkParts parts;
+        switch (s_.method) {
+            case RenderMethod::FinalGather: parts = shadeFinalGather(maps, ep, count); break;
+            case RenderMethod::DirectVisualisation: parts = shadeDirectVisualisation(maps, count); break;
+            case RenderMethod::Progressive: parts = shadeProgressive(maps, ep, count); break;
+            case RenderMethod::PathTracing: break;
+        }
+        accumulate(first, count, parts, passFilm);
+    }
+}
+
+std::string PhotonRenderer::summary() const {
+    const PhotonRenderSettings& s = s_;
+    const bool fg = s.method == RenderMethod::FinalGather;
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "method %s, %u pass(es)%s, %u spp/pass, global %s, caustic %s, k %u/%u, %s%u gather rays%s, "
+                  "%u light samples, r_max %.4g, %s%s, seed %llu",
+                  renderMethodName(s.method), s.passes, s.seconds > 0 ? " or time budget" : "", spp_,
+                  maps_.global ? std::to_string(s.globalPhotons).c_str() : "none",
+                  maps_.caustic ? std::to_string(s.causticPhotons).c_str() : "none", s.globalK, s.causticK,
+                  fg ? (s.gatherSource == GatherSource::Precomputed && !s.visibility ? "precomputed irradiance, "
+                                                                                     : "full estimate, ")
+                     : "",
+                  fg ? s.gatherRays : 0u,
+                  fg && s.histogramCells ? (" (importance " + std::to_string(s.histogramCells) + "x" +
+                                            std::to_string(s.histogramCells) + ")")
+                                               .c_str()
+                                         : "",
+                  s.lightSamples, maxRadius_, knnStructureName(s.structure), s.visibility ? ", visibility test" : "",
+                  static_cast<unsigned long long>(s.seed));
+    return line;
+}
+
+PhotonRenderResult PhotonRenderer::run() {
+    const Clock::time_point start = start_;
+    const bool progressive = s_.method == RenderMethod::Progressive;
+    result_.sums = FixedPointFilm(width_, height_);
+    if (s_.aovs)
+        result_.aovs = {Film(width_, height_), Film(width_, height_), Film(width_, height_),
+                        Film(width_, height_), Film(width_, height_), Film(width_, height_)};
+    result_.chunkSamples = chunk_;
+    // A render that starts later (a batch shard, firstPass > 0) traces pass 0's photons once to
+    // get the same r_0, so r_0 never depends on which passes a shard holds.
+    if (progressive && r0Squared_ == 0.0 && s_.firstPass > 0 && (maps_.global || maps_.caustic)) {
+        timed(device_, result_.times.photons, [&] { r0Squared_ = firstRadius2(tracePhotons(0)); });
+        result_.firstRadius = static_cast<float>(std::sqrt(r0Squared_));
+    }
+    result_.summary = summary();
 
     Film passFilm;
     for (uint32_t done = 0;; ++done) {
-        if (s.passes && done >= s.passes) break;
-        if (done > 0 && s.seconds > 0 && since(start) >= s.seconds) break;
-        if (done > 0 && s.stop && s.stop->load()) {
-            result.stopped = true;
+        if (s_.passes && done >= s_.passes) break;
+        if (done > 0 && s_.seconds > 0 && since(start) >= s_.seconds) break;
+        if (done > 0 && s_.stop && s_.stop->load()) {
+            result_.stopped = true;
             break;
         }
-        const uint32_t pass = s.firstPass + done;  // the global pass index: in every seed
-        passFilm = Film(width, height);
-        // 1. Photons: a fresh pass (the pass index in its seed).
+        const uint32_t pass = s_.firstPass + done;  // the global pass index: in every seed
+        passFilm = Film(width_, height_);
         PhotonMaps photons;
-        if (maps.global || maps.caustic) {
-            timed(device, result.times.photons, [&] { photons = photonPass(pass); });
-            result.globalEmitted += photons.stats.global.emitted;
-            result.causticEmitted += photons.stats.caustic.emitted;
-            result.globalStored += photons.global.size();
-            result.causticStored += photons.caustic.size();
+        if (maps_.global || maps_.caustic) {
+            timed(device_, result_.times.photons, [&] { photons = tracePhotons(pass); });
+            result_.globalEmitted += photons.stats.global.emitted;
+            result_.causticEmitted += photons.stats.caustic.emitted;
+            result_.globalStored += photons.global.size();
+            result_.causticStored += photons.caustic.size();
         }
-        // 2. Maps and the irradiance sources that read them.
-        std::unique_ptr<PhotonMapOnDevice> globalMap, causticMap, histogramMap;
-        std::unique_ptr<DeviceIrradianceMap> irradiance;
-        std::shared_ptr<IrradianceSource> globalSource, causticSource;
-        float radius2 = maxRadius * maxRadius;
+        float radius2 = maxRadius_ * maxRadius_;
         if (progressive) {
-            if (r0Squared == 0.0) {  // pass 0 (firstPass > 0 computed it above)
-                r0Squared = firstRadius2(photons);
-                result.firstRadius = static_cast<float>(std::sqrt(r0Squared));
+            if (r0Squared_ == 0.0) {  // pass 0 (firstPass > 0 computed it above)
+                r0Squared_ = firstRadius2(photons);
+                result_.firstRadius = static_cast<float>(std::sqrt(r0Squared_));
             }
-            radius2 = static_cast<float>(progressiveRadius2(r0Squared, s.alpha, pass));
-            result.lastRadius = std::sqrt(radius2);
+            radius2 = static_cast<float>(progressiveRadius2(r0Squared_, s_.alpha, pass));
+            result_.lastRadius = std::sqrt(radius2);
         }
-        timed(device, result.times.maps, [&] {
-            float searchRadius = std::sqrt(radius2);
-            if (maps.global && !photons.global.empty()) {
-                if (progressive) {
-                    std::vector<PclPhoton> indirect = indirectPhotons(photons.global);
-                    if (!indirect.empty()) {
-                        globalMap = std::make_unique<PhotonMapOnDevice>(device, indirect, s.structure,
-                                                                        searchRadius);
-                        globalSource = fixedRadiusSource(*globalMap, PCL_KNN_MAX_K, est, radius2, &dscene);
-                    }
-                } else if (fg && s.gatherSource == GatherSource::Precomputed && !s.visibility) {
-                    // (With visibility the full estimate is read instead: a precomputed record is
-                    // found by one nearest lookup with no visibility test, so a record across a
-                    // thin wall would be read: the stability suite's thin-wall test.)
-                    PrecomputedIrradianceOptions po;
-                    po.k = s.globalK;
-                    po.maxRadius = maxRadius;
-                    po.estimate = est;
-                    irradiance = std::make_unique<DeviceIrradianceMap>(
-                        precomputeIrradiance(device, photons.global, po, &dscene));
-                    globalSource = precomputedIrradianceSource(*irradiance);
-                } else {
-                    globalMap = std::make_unique<PhotonMapOnDevice>(device, photons.global, s.structure,
-                                                                    searchRadius);
-                    globalSource = estimateIrradianceSource(*globalMap, s.globalK, est, &dscene);
-                }
-            }
-            if (fg && s.histogramCells > 0 && globalSource) {
-                // The importance histograms read the global map's k nearest photons directly.
-                histogramMap = std::make_unique<PhotonMapOnDevice>(device, photons.global, s.structure,
-                                                                   searchRadius);
-            }
-            if (maps.caustic && !photons.caustic.empty()) {
-                causticMap = std::make_unique<PhotonMapOnDevice>(device, photons.caustic, s.structure,
-                                                                 searchRadius);
-                causticSource = progressive ? fixedRadiusSource(*causticMap, PCL_KNN_MAX_K, est, radius2, &dscene)
-                                            : estimateIrradianceSource(*causticMap, s.causticK, est, &dscene);
-            }
-        });
-        // 3. Eye samples, chunk by chunk.
-        const uint64_t passSeed = eyePassSeed(s.seed, pass);
-        for (size_t first = 0; first < passSamples; first += chunk) {
-            const uint32_t count = static_cast<uint32_t>(std::min(chunk, passSamples - first));
-            PclCameraParams cp = cameraParams(scene.camera, plan, passSeed, s.strata);
-            cp.firstSample = static_cast<uint32_t>(first);
-            cp.sampleCount = count;
-            timed(device, result.times.camera, [&] { generateCameraRays(device, cp, rays); });
-            PclEyeParams ep = eyeParams(cp, geometry, buffers, eyeDepth);
-            timed(device, result.times.eyePaths, [&] { traceEyePaths(device, dscene, ep, rays, hits); });
-            const PclRadiance zero{0, 0, 0, 0};
-            bool haveDirect = false, haveCaustic = false, haveIndirect = false;
-            const bool gather = fg && globalSource;
-            PclDirectParams dp = directParams(ep, geometry, buffers, table, s.lightSamples, gather ? s.gatherRays : 0u);
-            PclGatherParams gp{};
-            cl::Buffer histograms;
-            if (gather) {
-                gp = gatherParams(dp, s.gatherRays, s.globalK, maxRadius * maxRadius, maxSpecularGather);
-                gp.causticMapRead = maps.caustic ? 1u : 0u;
-                if (histogramMap) {
-                    gp.histogramCells = dp.histogramCells = s.histogramCells;
-                    timed(device, result.times.indirect,
-                          [&] { histograms = buildGatherHistograms(device, *histogramMap, gp, hits); });
-                }
-            }
-            if (!directVis) {
-                timed(device, result.times.direct, [&] {
-                    if (histogramMap) directLight(device, dscene, lights, dp, hits, histograms, directRad);
-                    else directLight(device, dscene, lights, dp, hits, directRad);
-                });
-                haveDirect = true;
-            }
-            if (causticSource) {
-                PclEyeEstimateParams cq{count, progressive ? PCL_KNN_MAX_K : s.causticK, radius2, 0};
-                timed(device, result.times.caustic,
-                      [&] { causticRadiance(device, cq, hits, *causticSource, causticRad); });
-                haveCaustic = true;
-            }
-            if (globalSource) {
-                timed(device, result.times.indirect, [&] {
-                    if (fg) {
-                        if (histogramMap) finalGather(device, dscene, lights, gp, hits, histograms, *globalSource, indirectRad);
-                        else finalGather(device, dscene, lights, gp, hits, *globalSource, indirectRad);
-                    } else {
-                        PclEyeEstimateParams gq{count, progressive ? PCL_KNN_MAX_K : s.globalK, radius2, 0};
-                        estimateAtEyeHits(device, gq, hits, *globalSource, indirectRad);
-                    }
-                });
-                haveIndirect = true;
-            }
-            // 4. Accumulate: sample s of the pass lies in pixel s / n².
-            auto t = Clock::now();
-            std::vector<PclEyeHit> eye = device.download<PclEyeHit>(hits, count);
-            auto part = [&](bool have, cl::Buffer& b) {
-                return have ? device.download<PclRadiance>(b, count) : std::vector<PclRadiance>(count, zero);
-            };
-            std::vector<PclRadiance> direct = part(haveDirect, directRad), caustic = part(haveCaustic, causticRad),
-                                     indirect = part(haveIndirect, indirectRad);
-            for (uint32_t i = 0; i < count; ++i) {
-                size_t pixel = (first + i) / spp;
-                int x = static_cast<int>(pixel % width), y = static_cast<int>(pixel / width);
-                const PclEyeHit& h = eye[i];
-                PclRadiance em{h.emitted[0], h.emitted[1], h.emitted[2], 0};
-                PclRadiance sum{em.r + direct[i].r + caustic[i].r + indirect[i].r,
-                                em.g + direct[i].g + caustic[i].g + indirect[i].g,
-                                em.b + direct[i].b + caustic[i].b + indirect[i].b, 0};
-                if (!finite(sum)) {
-                    ++result.nonFiniteSamples;
-                    sum = zero;  // counted and reported; the pixel keeps its weight
-                }
-                passFilm.add(x, y, {sum.r, sum.g, sum.b});
-                if (s.aovs) {
-                    auto v = [](const PclRadiance& r) { return finite(r) ? Vec3(r.r, r.g, r.b) : Vec3(0.0f); };
-                    result.aovs.direct.add(x, y, v(direct[i]));
-                    result.aovs.caustic.add(x, y, v(caustic[i]));
-                    result.aovs.indirect.add(x, y, v(indirect[i]));
-                    result.aovs.emitted.add(x, y, v(em));
-                    bool diffuse = h.flags & PCL_EYE_DIFFUSE;
-                    result.aovs.albedo.add(x, y, diffuse ? Vec3(h.albedo[0], h.albedo[1], h.albedo[2]) : Vec3(0.0f));
-                    result.aovs.normal.add(x, y, diffuse ? Vec3(h.nx, h.ny, h.nz) : Vec3(0.0f));
-                }
-            }
-            result.times.accumulate += since(t);
-            result.samples += count;
-        }
+        PassMaps maps;
+        timed(device_, result_.times.maps, [&] { maps = buildMaps(photons, radius2); });
+        eyePass(pass, maps, passFilm);
         // 5. The pass's sums, rounded once to fixed point, join the render's (exact: any
         // grouping of passes gives the same bits).
         {
             auto t = Clock::now();
-            result.sums.addPass(passFilm);
-            result.times.accumulate += since(t);
+            result_.sums.addPass(passFilm);
+            result_.times.accumulate += since(t);
         }
-        result.passes = done + 1;
-        double fraction = s.passes ? double(result.passes) / s.passes : 0.0;
-        if (s.seconds > 0) fraction = std::max(fraction, std::min(1.0, since(start) / s.seconds));
-        if (s.log)
+        result_.passes = done + 1;
+        double fraction = s_.passes ? double(result_.passes) / s_.passes : 0.0;
+        if (s_.seconds > 0) fraction = std::max(fraction, std::min(1.0, since(start) / s_.seconds));
+        if (s_.log)
             std::fprintf(stderr, "pass %u: %zu global + %zu caustic photons stored%s\n", pass, photons.global.size(),
                          photons.caustic.size(),
                          progressive ? (", radius " + std::to_string(std::sqrt(radius2))).c_str() : "");
-        if (s.onPass) s.onPass(result.passes, std::min(1.0, fraction));
+        if (s_.onPass) s_.onPass(result_.passes, std::min(1.0, fraction));
     }
-    if (!result.stopped && s.stop && s.stop->load() && s.passes && result.passes < s.passes) result.stopped = true;
+    if (!result_.stopped && s_.stop && s_.stop->load() && s_.passes && result_.passes < s_.passes)
+        result_.stopped = true;
     passFilm = Film();  // (host memory: a 4K film is 265 MB)
-    result.film = result.sums.toFilm();
-    result.times.total = since(start);
-    return result;
+    result_.film = result_.sums.toFilm();
+    result_.times.total = since(start);
+    return std::move(result_);
+}
+
+}  // namespace
+
+PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const SceneGeometry& geometry,
+                                      const SceneBuffers& buffers, const RenderPlan& plan,
+                                      const PhotonRenderSettings& settings) {
+    if (settings.method == RenderMethod::PathTracing)
+        throw InputError("renderPhotonMapped: the path tracer is render/path_render.h, not a photon method");
+    validateRenderSettings(settings);
+    return PhotonRenderer(device, scene, geometry, buffers, plan, settings).run();
 }
 
 }  // namespace pcl

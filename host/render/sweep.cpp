@@ -9,25 +9,20 @@
 #include <sstream>
 #include <thread>
 
+#include "core/clock.h"
 #include "core/error.h"
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
 #include "image/film.h"
 #include "image/image_io.h"
 #include "image/metrics.h"
-#include "pipeline/memory_plan.h"
-#include "pipeline/photon_pass.h"
-#include "pipeline/plan.h"
-#include "pipeline/projection_map.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/prepared_scene.h"
 #include "reference/path_tracer.h"
+#include "render/path_render.h"
 #include "scene/load_scene.h"
 
 namespace pcl {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 uint64_t splitmix64(uint64_t x) {
     x += 0x9E3779B97F4A7C15ull;
@@ -75,13 +70,12 @@ std::vector<Curve> allCurves() {
     };
 }
 
-// The method's defaults as `photoncl render` chooses them with no options (cli/render_command.cpp,
-// chooseDefaults), scaled down for the quick form.
-// render's defaults for the method (applyRenderDefaults); quick: fewer photons and rays.
-PhotonRenderSettings methodDefaults(RenderMethod method, const RenderPlan& plan, bool quick) {
-    PhotonRenderSettings s;
-    s.method = method;
-    applyRenderDefaults(s, plan);
+// render's defaults for the method (resolveRenderSettings with nothing given); quick: fewer
+// photons and rays.
+PhotonRenderSettings methodDefaults(RenderMethod method, const RenderPlan& plan, int width, int height, bool quick) {
+    RenderRequest q;
+    q.method = renderMethodName(method);
+    PhotonRenderSettings s = resolveRenderSettings(q, plan, width, height).settings;
     if (quick) {
         s.globalPhotons = std::max(2000u, s.globalPhotons / 8);
         s.causticPhotons = std::max(2000u, s.causticPhotons / 8);
@@ -113,12 +107,6 @@ std::string fmt(double v) {
     return b;
 }
 
-struct SceneSetup {
-    Scene scene;
-    std::unique_ptr<SceneGeometry> geometry;
-    SceneBuffers buffers;
-    RenderPlan plan;
-};
 
 }  // namespace
 
@@ -183,9 +171,8 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
     }
 
     Image reference = readImage(o.referencePath);
-    SceneSetup setup;
-    setup.scene = loadScene(o.scenePath);
-    Camera& cam = setup.scene.camera;
+    Scene scene = loadScene(o.scenePath);
+    Camera& cam = scene.camera;
     // The reference's size sets the render's; a different aspect ratio is a different image.
     const double camAspect = double(cam.width) / cam.height, refAspect = double(reference.width) / reference.height;
     if (std::abs(camAspect / refAspect - 1.0) > 0.01)
@@ -203,10 +190,10 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
     }
     cam.width = reference.width;
     cam.height = reference.height;
-    setup.geometry = std::make_unique<SceneGeometry>(SceneGeometry::build(setup.scene));
-    setup.buffers = buildSceneBuffers(setup.scene, *setup.geometry);
-    buildProjectionMaps(setup.scene, *setup.geometry, setup.buffers);
-    setup.plan = makePlan(setup.scene, classifyLightPaths(setup.scene, *setup.geometry, setup.buffers));
+    const PreparedScene prepared = prepareScene(scene);
+    const SceneGeometry& geometry = prepared.geometry;
+    const SceneBuffers& buffers = prepared.buffers;
+    const RenderPlan& plan = prepared.plan;
     const std::string sceneName = fs::path(o.scenePath).stem().string();
 
     std::unique_ptr<Device> device;
@@ -218,25 +205,16 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
 
     for (const Curve& curve : curves) {
         const bool path = curve.method == RenderMethod::PathTracing;
-        PhotonRenderSettings base = methodDefaults(curve.method, setup.plan, o.quick);
+        PhotonRenderSettings base = methodDefaults(curve.method, plan, cam.width, cam.height, o.quick);
         if (!path) {
             curve.tweak(base);
             if (!device) device = std::make_unique<Device>(Device::open(o.device));
-            RenderMaps maps = mapsFor(base.method, setup.plan);
-            PhotonPassOptions pass;
-            pass.buildGlobal = maps.global;
-            pass.buildCaustic = maps.caustic;
-            pass.globalPhotons = maps.global ? base.globalPhotons : 0;
-            pass.causticPhotons = maps.caustic ? base.causticPhotons : 0;
-            const MemoryPlan memory = planMemory(photonPassMemoryRequest(*setup.geometry, setup.buffers, pass),
-                                                 memoryLimits(device->info()));
-            requireMemoryFits(memory);
-            base.photonBatch = memory.photonBatch;
+            base.photonBatch = planRenderMemory(device->info(), geometry, buffers, base, plan).photonBatch;
             // One untimed pass: builds this configuration's kernels.
             PhotonRenderSettings warm = base;
             warm.passes = 1;
             warm.seed = ~0ull;
-            renderPhotonMapped(*device, setup.scene, *setup.geometry, setup.buffers, setup.plan, warm);
+            renderPhotonMapped(*device, scene, geometry, buffers, plan, warm);
         }
         const std::string deviceName =
             path ? "ref (CPU path tracer, " + std::to_string(o.threads ? o.threads : int(std::thread::hardware_concurrency())) + " threads)"
@@ -284,17 +262,18 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
                 row.device = deviceName;
                 row.seed = std::to_string(seed);
                 if (path) {
-                    PathTracerSettings ps;
+                    PathRenderSettings ps;
                     ps.seed = seed;
                     ps.threads = o.threads;
-                    ps.firstSample = int(done);
-                    ps.samplesPerPixel = int(target - done);
-                    PathTracerStats stats;
+                    ps.firstSample = done;
+                    ps.samples = target - done;
                     auto t = Clock::now();
-                    film.merge(PathTracer(setup.scene, *setup.geometry, ps).render(&stats));
+                    film.merge(renderPathTraced(scene, geometry, ps).film);
                     cumulative.total += since(t);
+                    const PathTracerSettings defaults;
                     settingsText = "unidirectional, NEE + MIS, Russian roulette from bounce " +
-                                   std::to_string(ps.rouletteDepth) + ", max depth " + std::to_string(ps.maxDepth);
+                                   std::to_string(defaults.rouletteDepth) + ", max depth " +
+                                   std::to_string(defaults.maxDepth);
                     row.samplesPerPixel = target;
                 } else {
                     PhotonRenderSettings s = base;
@@ -303,13 +282,13 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
                         // From scratch: the radius schedule follows the pass index.
                         s.passes = target;
                         s.seed = seed;
-                        r = renderPhotonMapped(*device, setup.scene, *setup.geometry, setup.buffers, setup.plan, s);
+                        r = renderPhotonMapped(*device, scene, geometry, buffers, plan, s);
                         film = r.film;
                         cumulative = r.times;
                     } else {
                         s.passes = target - done;
                         s.seed = incrementSeed(seed, uint32_t(bi));
-                        r = renderPhotonMapped(*device, setup.scene, *setup.geometry, setup.buffers, setup.plan, s);
+                        r = renderPhotonMapped(*device, scene, geometry, buffers, plan, s);
                         film.merge(r.film);
                         StageTimes& c = cumulative;
                         const StageTimes& t = r.times;

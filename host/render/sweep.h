@@ -1,4 +1,4 @@
-// Speed against accuracy (issue 7 part 1): one scene rendered at increasing budgets with every
+// Speed against accuracy (README.md, "Speed against accuracy"): one scene rendered at increasing budgets with every
 // method and a small grid of settings, each point's error against a reference image and the
 // seconds it took, as CSV rows for scripts/chart.py.
 //

@@ -8,6 +8,7 @@
 #define TINYGLTF_IMPLEMENTATION
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_IMPLEMENTATION
+#include "core/math.h"
 #include "scene/gltf_loader.h"
 
 #include <cmath>
@@ -26,7 +27,6 @@ namespace pcl {
 namespace {
 
 using json = nlohmann::json;
-constexpr double kPi = 3.14159265358979323846;
 // Photometric → radiometric: 683 lm/W, the luminous efficacy at 555 nm (the definition of the
 // candela). glTF punctual lights are in candela (point, spot) and lux (directional).
 constexpr double kLumensPerWatt = 683.0;
@@ -530,8 +530,8 @@ private:
             l.type = LightType::Spot;
             l.intensity = radiometric;
             l.direction = normalize(axis);
-            double inner = factor(g.spot.innerConeAngle, lf + ".spot.innerConeAngle", 0, kPi / 2);
-            double outer = factor(g.spot.outerConeAngle, lf + ".spot.outerConeAngle", 0, kPi / 2);
+            double inner = factor(g.spot.innerConeAngle, lf + ".spot.innerConeAngle", 0, kPiD / 2);
+            double outer = factor(g.spot.outerConeAngle, lf + ".spot.outerConeAngle", 0, kPiD / 2);
             if (!(outer > 0) || inner > outer)
                 fail(lf + ".spot", "0 <= innerConeAngle <= outerConeAngle <= pi/2, outer > 0", show(inner) + ", " + show(outer));
             l.cosInner = float(std::cos(inner));
@@ -554,7 +554,7 @@ private:
         std::string field = at("cameras", size_t(index));
         if (g.type != "perspective") fail(field + ".type", "perspective", "\"" + g.type + "\"");
         Camera c;
-        c.vfovDegrees = float(factor(g.perspective.yfov, field + ".perspective.yfov", 1e-6, kPi - 1e-6) * 180.0 / kPi);
+        c.vfovDegrees = float(factor(g.perspective.yfov, field + ".perspective.yfov", 1e-6, kPiD - 1e-6) * 180.0 / kPiD);
         c.height = 256;
         c.width = 256;
         if (g.perspective.aspectRatio > 0) {

@@ -1,6 +1,7 @@
 // Reads the JSON scene format of scenes/README.md. Every field is checked where it is read, so a
 // message can name the JSON path: "scenes/x.json: materials[2].rho_d: expected 3 numbers in
 // [0,1], got [1.2,0,0]". Checks that span the whole scene live in validate.cpp.
+#include "core/math.h"
 #include "scene/json_loader.h"
 
 #include <cmath>
@@ -22,7 +23,6 @@ namespace pcl {
 namespace {
 
 using json = nlohmann::json;
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kFloatMax = 3.0e38;  // numbers beyond this would become inf as float
 
 std::string keyPath(const std::string& path, const std::string& key) {
@@ -439,7 +439,7 @@ private:
             checkObject(value, path, {"type", "name", "position", "power", "intensity"});
             light.type = LightType::Point;
             light.position = point(required(value, path, "position", "3 finite numbers"), keyPath(path, "position"));
-            light.intensity = intensityOrPower(value, path, 4.0 * kPi);  // I = Φ / 4π
+            light.intensity = intensityOrPower(value, path, 4.0 * kPiD);  // I = Φ / 4π
         } else if (type == "spot") {
             checkObject(value, path, {"type", "name", "position", "direction", "power", "intensity", "inner_angle", "outer_angle"});
             light.type = LightType::Spot;
@@ -452,12 +452,12 @@ private:
             if (auto* v = optional(value, "inner_angle"))
                 inner = number(*v, keyPath(path, "inner_angle"), 0.0, outer,
                                "a half-angle in degrees in [0, outer_angle = " + showJson(value["outer_angle"]) + "]");
-            double cosInner = std::cos(inner * kPi / 180.0), cosOuter = std::cos(outer * kPi / 180.0);
+            double cosInner = std::cos(inner * kPiD / 180.0), cosOuter = std::cos(outer * kPiD / 180.0);
             light.cosInner = float(cosInner);
             light.cosOuter = float(cosOuter);
             // Full intensity inside the inner cone, smoothstep in cosθ down to the outer cone,
             // whose integral over its cos range is half its width: Φ = I·2π·((1-ci) + (ci-co)/2).
-            light.intensity = intensityOrPower(value, path, 2.0 * kPi * ((1.0 - cosInner) + 0.5 * (cosInner - cosOuter)));
+            light.intensity = intensityOrPower(value, path, 2.0 * kPiD * ((1.0 - cosInner) + 0.5 * (cosInner - cosOuter)));
         } else if (type == "directional") {
             checkObject(value, path, {"type", "name", "direction", "irradiance"});
             light.type = LightType::Directional;
@@ -506,7 +506,7 @@ private:
         Material emitter;
         emitter.name = light.name + ":emitter";
         emitter.emission = radiance ? lightAmount(*radiance, keyPath(path, "radiance"))
-                                    : lightAmount(*power, keyPath(path, "power")) * float(1.0 / (kPi * area));
+                                    : lightAmount(*power, keyPath(path, "power")) * float(1.0 / (kPiD * area));
         if (!isFinite(emitter.emission))
             failInput(file_, path, "a finite radiance", "power / (pi * area) overflowing");
 

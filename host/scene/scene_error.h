@@ -1,5 +1,5 @@
 // How the scene loaders report bad input: one message shape everywhere,
-// "FILE: FIELD: expected X, got Y" (DESIGN.md, Errors), thrown as pcl::InputError (exit status 2).
+// "FILE: FIELD: expected X, got Y" (README.md, "Commands": exit statuses), thrown as pcl::InputError (exit status 2).
 #pragma once
 #include <string>
 

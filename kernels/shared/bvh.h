@@ -3,7 +3,7 @@
  * explicit: the eight child boxes of a node are slab-tested together with float8 (one vload8 per
  * SoA field) and a leaf's triangles four at a time with float4 Möller–Trumbore, because PoCL
  * does not vectorise a traversal loop across work-items but compiles vector types well
- * (DESIGN.md, "Speed under PoCL").
+ * (README.md, "Benchmarks").
  *
  * The arithmetic is the host traversal's (host/geometry/bvh_traversal.cpp and
  * primitive_intersect.h) operation for operation, with FP_CONTRACT off so no a*b+c is fused:

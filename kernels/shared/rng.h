@@ -6,7 +6,7 @@
  * kernel work-item and its CPU twin get the same numbers in any order, on any device, with no
  * state to store between launches.
  *
- * Counter layout (DESIGN.md: "indexed by (seed, path, bounce, dimension)"):
+ * Counter layout (indexed by seed, path, bounce and dimension: kernels/README.md, "Random numbers"):
  *   key = { seed_lo, seed_hi }             the 64-bit render seed
  *   ctr = { path, bounce, dim / 4, stream }
  * One Philox call gives four 32-bit words: dimensions 4b..4b+3 of a (path, bounce) pair.

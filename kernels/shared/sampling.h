@@ -61,7 +61,7 @@
 #define PCL_PI_F 3.14159265358979323846f
 #define PCL_TWO_PI_F 6.28318530717958647692f
 
-/* Three floats by value: a local helper, never a buffer struct (no float3: DESIGN.md). */
+/* Three floats by value: a local helper, never a buffer struct (no float3 in buffers: types.h). */
 typedef struct PclV3 {
     pcl_f32 x, y, z;
 } PclV3;

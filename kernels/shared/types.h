@@ -28,7 +28,7 @@ PCL_STATIC_ASSERT(sizeof(PclHit) == 16, PclHit_size);
 /* ---- Wide BVH ----------------------------------------------------------------------------
  * Eight-way nodes whose child boxes are stored as structure-of-arrays, so a kernel loads each
  * coordinate with one vload8 and tests all eight boxes at once (PoCL does not vectorise a
- * traversal loop across work-items, but compiles explicit vector types well: DESIGN.md).
+ * traversal loop across work-items, but compiles explicit vector types well: shared/bvh.h).
  * Node 0 is the root.
  *
  * Child word encoding:

@@ -1,4 +1,4 @@
-// The photon-mapping renderer against ground truth (issue 6 part 6): every shipped scene's
+// The photon-mapping renderer against ground truth: every shipped scene's
 // final-gather render against its path-traced reference (tests/data/), the furnace in every
 // method against L = ρ/(1−ρ), and a per-pixel Z-test of progressive renders over 16 seeds.
 // Small images and photon counts keep the whole file near two minutes on 2 cores under PoCL;
@@ -11,9 +11,9 @@
 
 #include "accuracy/accuracy_common.h"
 #include "geometry/scene_geometry.h"
-#include "pipeline/plan.h"
-#include "pipeline/projection_map.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/plan.h"
+#include "prep/projection_map.h"
+#include "prep/scene_buffers.h"
 #include "reference/path_tracer.h"
 #include "render/photon_renderer.h"
 #include "stages/device_fixture.h"

@@ -1,4 +1,4 @@
-// Ground truth itself (issue 6 part 6): every shipped scene has a path-traced reference in
+// Ground truth itself: every shipped scene has a path-traced reference in
 // tests/data/, finite, at the size the accuracy tests render; the furnace scenes' references
 // and fresh path-traced renders give L = ρ/(1−ρ) within 1 %; a short fresh render agrees with
 // each stored reference (a stale reference after a scene edit fails here, not in a photon test).

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `photoncl batch slurm` end to end (issue 8): a single-node Slurm cluster brought up by hand
+# `photoncl batch slurm` end to end: a single-node Slurm cluster brought up by hand
 # under a temp folder (scripts/slurm_cluster.sh: munged, slurmctld, slurmd, no systemd), a
 # 4-shard job submitted through it (a job array plus a merge that depends on it), and the merged
 # image checked bit for bit against the same job rendered as one shard on this machine and against

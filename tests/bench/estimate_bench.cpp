@@ -1,4 +1,4 @@
-// Irradiance-estimate benchmarks (issue 5, part 4): estimates per second for each filter,
+// Irradiance-estimate benchmarks: estimates per second for each filter,
 // k = 50 and 100, on 1M photons uniform on the unit square (z = 0, normals +z), through the
 // device kd-tree and hash grid (pipeline/estimate: kNN + estimate kernels, the map built once),
 // and the CPU twin (reference/estimate: brute-force kNN over the whole map, then the same

@@ -1,4 +1,4 @@
-// Precomputed irradiance benchmarks (issue 5, part 5): per-query cost of a lookup
+// Precomputed irradiance benchmarks: per-query cost of a lookup
 // (pipeline/precomputed_irradiance: one nearest-neighbour search with the normal test) against
 // the full estimate it replaces (pipeline/estimate: k-nearest-neighbour search + estimate), for
 // k = 50 and 100 on 1M photons, on the device; and the one-off precomputation per photon map.

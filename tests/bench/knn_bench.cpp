@@ -1,4 +1,4 @@
-// k-nearest-neighbour benchmarks (issue 5, part 8): queries per second for k = 50, 100, 500 on
+// k-nearest-neighbour benchmarks: queries per second for k = 50, 100, 500 on
 // 1M photons, the device search through the kd-tree and through the hash grid (pipeline/knn),
 // against nanoflann's KD-tree on all cores (std::thread over the queries); and build times of
 // the device kd-tree, the device hash grid and nanoflann's tree.

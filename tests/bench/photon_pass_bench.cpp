@@ -21,8 +21,8 @@
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
 #include "pipeline/photon_pass.h"
-#include "pipeline/projection_map.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/projection_map.h"
+#include "prep/scene_buffers.h"
 #include "reference/photon_pass.h"
 #include "scene/load_scene.h"
 

@@ -1,4 +1,4 @@
-// Photon-map build benchmarks (issue 5, part 8), ratios printed after the runs:
+// Photon-map build benchmarks, ratios printed after the runs:
 //   Sort/Device/<bits>/<n>   the device radix sort (pipeline/sort) of n (key, value) pairs
 //                            resident on the device (the input is restored by a buffer copy
 //                            outside the timed region); device time from event profiling

@@ -1,4 +1,4 @@
-// Caustics (issue 7 part 2): light reaching a diffuse floor through glass (L S S D E, a glass
+// Caustics: light reaching a diffuse floor through glass (L S S D E, a glass
 // ball) and from a mirror (L S D E), photon-mapped against the reference path tracer.
 //
 // What "the caustic's total power" means here, the same for both renderers: the floor's image

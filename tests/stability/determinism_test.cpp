@@ -1,4 +1,4 @@
-// Determinism through the command line (issue 7 part 2): the same scene, seed and device give
+// Determinism through the command line: the same scene, seed and device give
 // the same image bit for bit, run after run, whether the kernels come from a warm cache, a cold
 // one (a fresh XDG_CACHE_HOME, PoCL's own cache off) or a damaged one (every cache file cut in
 // half: rebuilt, not trusted; ProgramCache's own test, tests/stages/program_cache_test.cpp

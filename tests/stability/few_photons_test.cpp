@@ -1,4 +1,4 @@
-// Few photons (issue 7 part 2): the furnace (scenes/furnace-0.5.json, L = ρ/(1−ρ) = 1 on every
+// Few photons: the furnace (scenes/furnace-0.5.json, L = ρ/(1−ρ) = 1 on every
 // surface) rendered from 1 000 photons stays finite and unbiased in the mean, and its error
 // falls at the rate density estimation predicts as the photon count doubles.
 #include "stability/stability_common.h"

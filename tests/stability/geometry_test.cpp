@@ -1,4 +1,4 @@
-// Geometry at the edges (issue 7 part 2): grazing light and grazing view, total internal
+// Geometry at the edges: grazing light and grazing view, total internal
 // reflection, zero-area and NaN-vertex triangles, scenes at 1e-3 and 1e4 units, and spawned
 // rays re-hitting their own triangle over coordinates from 1e-6 to 1e6. No NaN anywhere.
 #include "stability/stability_common.h"

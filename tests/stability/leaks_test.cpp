@@ -1,4 +1,4 @@
-// Corners and thin walls end to end (issue 7 part 2): the estimate's failure modes at a wall
+// Corners and thin walls end to end: the estimate's failure modes at a wall
 // thinner than the search radius and at a corner where three surfaces meet, through the whole
 // renderer rather than the estimate stage alone (tests/stages/estimate_test.cpp d and c).
 #include "stability/stability_common.h"

@@ -1,4 +1,4 @@
-// Extreme lights (issue 7 part 2): a tiny, very bright area light, and a light sealed in an
+// Extreme lights: a tiny, very bright area light, and a light sealed in an
 // opaque box.
 //
 // "The emission loop" in this code is runPhotonPass's batch loop (pipeline/photon_pass.cpp): it

@@ -1,4 +1,4 @@
-// Progressive photon mapping converges on every shipped scene (issue 7 part 2): the error
+// Progressive photon mapping converges on every shipped scene: the error
 // against ground truth falls strictly over 4 → 16 → 64 passes.
 //
 // Ground truth: the path-traced reference (tests/data, 64 wide) averaged 2×2 to the test's 32

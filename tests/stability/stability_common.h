@@ -1,4 +1,4 @@
-// Shared by the stability suite (issue 7 part 2): a scene prepared for the photon renderer, and
+// Shared by the stability suite: a scene prepared for the photon renderer, and
 // the small helpers every test uses. One Device per process (stages/device_fixture.h).
 #pragma once
 #include <gtest/gtest.h>
@@ -12,9 +12,9 @@
 #include "geometry/scene_geometry.h"
 #include "image/image.h"
 #include "image/metrics.h"
-#include "pipeline/plan.h"
-#include "pipeline/projection_map.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/plan.h"
+#include "prep/projection_map.h"
+#include "prep/scene_buffers.h"
 #include "render/photon_renderer.h"
 #include "scene/validate.h"
 #include "stages/device_fixture.h"

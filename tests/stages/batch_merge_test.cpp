@@ -1,4 +1,4 @@
-// Batch merges on the device (issue 8 parts 2-3): the shards of a job, rendered separately and
+// Batch merges on the device: the shards of a job, rendered separately and
 // written to shard files, merge into exactly the bits of one renderPhotonMapped run of the same
 // passes (N = 1, 2, 3, 7; fg and progressive, whose r_0 every shard computes from pass 0; the
 // path tracer's shards merge exactly among themselves); a

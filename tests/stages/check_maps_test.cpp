@@ -1,11 +1,11 @@
-// pipeline/check_maps (photoncl check --stage sort|build): passes on a shipped scene, prints a
+// check/maps (photoncl check --stage sort|build): passes on a shipped scene, prints a
 // row per input, and fails when the comparison is handed a wrong answer.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include "device_fixture.h"
-#include "pipeline/check_maps.h"
+#include "check/maps.h"
 #include "reference/kdtree.h"
 #include "scene/load_scene.h"
 

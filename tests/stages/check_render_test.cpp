@@ -1,4 +1,4 @@
-// checkRender (pipeline/check_render.h): every eye-pass stage, device against twin, on shipped
+// checkRender (check/render.h): every eye-pass stage, device against twin, on shipped
 // scenes at 64×48, one pass.
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <string>
 
 #include "device_fixture.h"
-#include "pipeline/check_render.h"
+#include "check/render.h"
 #include "scene/load_scene.h"
 
 namespace pcl {

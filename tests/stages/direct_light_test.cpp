@@ -9,7 +9,7 @@
 
 #include "eye_test_scenes.h"
 #include "pipeline/camera_rays.h"
-#include "pipeline/check_render.h"
+#include "check/render.h"
 #include "pipeline/direct_light.h"
 #include "pipeline/eye_paths.h"
 #include "reference/direct_light.h"

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "device_fixture.h"
-#include "pipeline/photon_allocation.h"
+#include "prep/photon_allocation.h"
 #include "photon_test_scenes.h"
 #include "pipeline/emit.h"
 #include "shared/sampling.h"

@@ -22,7 +22,7 @@
 #include "device_fixture.h"
 #include "common/two_rooms.h"
 #include "photon_test_scenes.h"
-#include "pipeline/check_estimate.h"
+#include "check/estimate.h"
 #include "pipeline/device_scene.h"
 #include "pipeline/estimate.h"
 #include "pipeline/photon_pass.h"

@@ -8,7 +8,7 @@
 #include <cstdio>
 
 #include "eye_test_scenes.h"
-#include "pipeline/check_render.h"
+#include "check/render.h"
 #include "pipeline/eye_estimate.h"
 #include "pipeline/photon_pass.h"
 #include "reference/eye_estimate.h"

@@ -9,7 +9,7 @@
 
 #include "eye_test_scenes.h"
 #include "pipeline/camera_rays.h"
-#include "pipeline/check_render.h"
+#include "check/render.h"
 #include "pipeline/eye_paths.h"
 #include "reference/eye_paths.h"
 

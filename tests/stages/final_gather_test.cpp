@@ -10,7 +10,7 @@
 #include <cstdio>
 
 #include "eye_test_scenes.h"
-#include "pipeline/check_render.h"
+#include "check/render.h"
 #include "pipeline/direct_light.h"
 #include "pipeline/final_gather.h"
 #include "pipeline/photon_pass.h"

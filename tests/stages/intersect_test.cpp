@@ -12,7 +12,7 @@
 
 #include "common/test_scenes.h"
 #include "device_fixture.h"
-#include "pipeline/check_intersect.h"
+#include "check/trace.h"
 #include "pipeline/intersect.h"
 #include "scene/load_scene.h"
 

@@ -5,7 +5,7 @@
 // subtree's box; every left-subtree photon ≤ node ≤ every right-subtree photon on the node's
 // axis, ordered by (coordinate key, photon index)); degenerate maps (0 and 1 photon, 1M
 // identical photons, two dense clusters, collinear photons) build in ⌊log2 n⌋ + 1 levels.
-// Validity is judged by kdTreeDefect (pipeline/check_maps), the check `photoncl check --stage
+// Validity is judged by kdTreeDefect (check/maps), the check `photoncl check --stage
 // build` runs.
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@
 
 #include "device_fixture.h"
 #include "photon_test_scenes.h"
-#include "pipeline/check_maps.h"
+#include "check/maps.h"
 #include "pipeline/kdtree.h"
 #include "reference/kdtree.h"
 

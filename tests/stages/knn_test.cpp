@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "device_fixture.h"
-#include "pipeline/check_knn.h"
+#include "check/knn.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
 #include "reference/knn.h"

@@ -1,4 +1,4 @@
-// The memory plan against the device (pipeline/memory_plan, Device::setBufferCap; issue 5 part
+// The memory plan against the device (pipeline/memory_plan, Device::setBufferCap
 // 7): the bytes it predicts for every buffer equal the bytes the stages allocate (observed
 // through Device::setAllocationObserver, buffer by buffer); under a 64 MiB per-buffer cap the
 // photon pass and a kNN search whose outputs pass 64 MiB split into more launches and give the

@@ -1,6 +1,6 @@
 // The photon-pass kernels (emit, trace_photons, deposit) against their CPU twin
 // (host/reference/) on every shipped scene, through the same checks `photoncl check --stage
-// emit|trace|deposit|pass` runs (pipeline/check_photons.h states the tolerances): emit with no
+// emit|trace|deposit|pass` runs (check/photon_stages.h states the tolerances): emit with no
 // mismatch, trace with at most 0.1 % divergent paths per pass, deposit byte for byte. Photon
 // counts are modest so the file stays within ~30 s on PoCL with two busy cores. And the check
 // can fail: corrupted device results are caught.
@@ -14,10 +14,10 @@
 #include <memory>
 
 #include "device_fixture.h"
-#include "pipeline/check_photons.h"
+#include "check/photon_stages.h"
 #include "pipeline/deposit.h"
 #include "pipeline/emit.h"
-#include "pipeline/projection_map.h"
+#include "prep/projection_map.h"
 #include "pipeline/trace_photons.h"
 #include "reference/deposit.h"
 #include "reference/emit.h"

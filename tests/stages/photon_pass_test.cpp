@@ -13,7 +13,7 @@
 #include "device_fixture.h"
 #include "photon_test_scenes.h"
 #include "pipeline/photon_pass.h"
-#include "pipeline/projection_map.h"
+#include "prep/projection_map.h"
 
 namespace pcl {
 namespace {

@@ -8,10 +8,10 @@
 
 #include "device_fixture.h"
 #include "geometry/scene_geometry.h"
-#include "pipeline/photon_allocation.h"
+#include "prep/photon_allocation.h"
 #include "pipeline/photon_pass.h"
-#include "pipeline/projection_map.h"
-#include "pipeline/scene_buffers.h"
+#include "prep/projection_map.h"
+#include "prep/scene_buffers.h"
 #include "scene/load_scene.h"
 #include "scene/scene.h"
 
@@ -85,7 +85,7 @@ inline void addAreaLight(Scene& s, float y, float a, Vec3 radiance) {
 }
 
 // Marks every projection-map cell of every light (f = 1): the caustic pass then emits as the
-// global one does, for tests that do not depend on pipeline/projection_map.
+// global one does, for tests that do not depend on prep/projection_map.
 inline void markAllProjectionCells(SceneBuffers& b) {
     b.projCells.clear();
     for (uint32_t k = 0; k < PCL_PROJ_GRID * PCL_PROJ_GRID; ++k) b.projCells.push_back(k);

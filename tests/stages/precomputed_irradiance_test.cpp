@@ -1,5 +1,5 @@
 // Precomputed irradiance (kernels/precomputed_irradiance.cl, pipeline/precomputed_irradiance)
-// against its twin and against the full estimate, through pipeline/check_irradiance (which
+// against its twin and against the full estimate, through check/precomputed_irradiance (which
 // states the tolerances): on a uniformly lit plane and on cornell-box.json's real global map the
 // selection matches the twin exactly, the stored irradiance within 1e-5 relative and the covers
 // bit for bit, every lookup chooses the brute force's point and returns its value bit for bit, a
@@ -18,7 +18,7 @@
 #include <string>
 
 #include "device_fixture.h"
-#include "pipeline/check_irradiance.h"
+#include "check/precomputed_irradiance.h"
 #include "pipeline/precomputed_irradiance.h"
 #include "reference/precomputed_irradiance.h"
 #include "reference/trace_photons.h"

@@ -11,11 +11,11 @@
 #include <cstring>
 
 #include "device_fixture.h"
-#include "pipeline/photon_allocation.h"
+#include "prep/photon_allocation.h"
 #include "photon_test_scenes.h"
 #include "pipeline/emit.h"
 #include "pipeline/photon_pass.h"
-#include "pipeline/projection_map.h"
+#include "prep/projection_map.h"
 #include "pipeline/trace_photons.h"
 #include "shared/sampling.h"
 

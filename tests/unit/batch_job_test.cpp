@@ -1,4 +1,4 @@
-// Batch job files (issue 8 part 1): every key checked, paths relative to the job file, render
+// Batch job files: every key checked, paths relative to the job file, render
 // defaults for what is left out, shard pass ranges that tile [0, P).
 #include <gtest/gtest.h>
 

@@ -278,7 +278,7 @@ TEST(Bvh, TriangleSoupMatchesBruteForce) { expectAgreement(soupScene(), 11); }
 TEST(Bvh, SpheresMatchBruteForce) { expectAgreement(sphereScene(), 12); }
 TEST(Bvh, MovingPrimitivesMatchBruteForce) { expectAgreement(movingScene(), 13); }
 
-// The layout budget of issue 3 (≤ 80 bytes per triangle for nodes + packets) on a 100k-triangle
+// The layout budget (≤ 80 bytes per triangle for nodes + packets) on a 100k-triangle
 // scan-like mesh; packets must be mostly full for that (SAH counts whole packets).
 TEST(Bvh, CompactLayout) {
     Scene s;

@@ -1,4 +1,4 @@
-// The command-line contract (DESIGN.md): exit statuses, messages that name the bad input,
+// The command-line contract (README.md, "Commands"): exit statuses, messages that name the bad input,
 // outputs written whole or not at all. Runs the real photoncl binary.
 #include <gtest/gtest.h>
 

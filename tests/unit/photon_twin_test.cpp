@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/scene_buffers.h"
-#include "pipeline/photon_allocation.h"
+#include "prep/scene_buffers.h"
+#include "prep/photon_allocation.h"
 #include "reference/bsdf.h"
 #include "reference/emit.h"
 #include "reference/photon_pass.h"
@@ -27,13 +27,11 @@
 #include "shared/rng.h"
 #include "shared/sampling.h"
 
-#include "pipeline/projection_map.h"
+#include "prep/projection_map.h"
 
 using namespace pcl;
 
 namespace {
-
-constexpr double kPiD = 3.14159265358979323846;
 
 // ---- Chi-square machinery ---------------------------------------------------------------
 // Every chi-square test below counts towards kChiSquareTests; each must reach the Šidák level

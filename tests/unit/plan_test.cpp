@@ -1,4 +1,4 @@
-// The plan (host/pipeline/plan.h): light paths present and the maps and samplers a scene needs,
+// The plan (host/prep/plan.h): light paths present and the maps and samplers a scene needs,
 // for every shipped scene and for small scenes built to exercise each rule; and the
 // `photoncl analyze` command.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <string>
 
 #include "common/test_scenes.h"
-#include "pipeline/plan.h"
+#include "prep/prepared_scene.h"
 #include "run_photoncl.h"
 #include "scene/load_scene.h"
 
@@ -24,9 +24,9 @@ bool path(const LightPaths& lp, const std::string& notation) {
     return false;
 }
 
-SceneAnalysis analyzeFile(const std::string& name) {
+PreparedScene analyzeFile(const std::string& name) {
     Scene s = loadScene(scenePath(name));
-    SceneAnalysis a = analyzeScene(s);
+    PreparedScene a = prepareScene(s);
     std::printf("%s", formatPlan(s, a.paths, a.plan).c_str());
     return a;
 }
@@ -71,7 +71,7 @@ Scene diffuseRoom() {
 // ---- Shipped scenes -------------------------------------------------------------------------
 
 TEST(PlanShipped, CornellBox) {
-    SceneAnalysis a = analyzeFile("cornell-box.json");
+    PreparedScene a = analyzeFile("cornell-box.json");
     EXPECT_TRUE(path(a.paths, "LE"));
     EXPECT_TRUE(path(a.paths, "LDE"));
     EXPECT_FALSE(path(a.paths, "LS+E"));
@@ -90,7 +90,7 @@ TEST(PlanShipped, CornellBox) {
 
 TEST(PlanShipped, CornellSpheres) {
     for (const char* name : {"cornell-spheres.json", "cornell-spheres-point.json"}) {
-        SceneAnalysis a = analyzeFile(name);
+        PreparedScene a = analyzeFile(name);
         bool area = std::string(name) == "cornell-spheres.json";
         EXPECT_EQ(path(a.paths, "LE"), area) << name;  // a point light is not visible
         EXPECT_TRUE(path(a.paths, "LS+E")) << name;
@@ -109,7 +109,7 @@ TEST(PlanShipped, CornellSpheres) {
 TEST(PlanShipped, CornellGlossyGetsACausticMapFromItsMixedFloor) {
     // The glossy floor also has a diffuse part; the caustic pass bounces photons off its glossy
     // lobe onto the walls (light → floor → wall, LSD), so the scene needs a caustic map.
-    SceneAnalysis a = analyzeFile("cornell-glossy.json");
+    PreparedScene a = analyzeFile("cornell-glossy.json");
     EXPECT_TRUE(path(a.paths, "LS+DE"));
     EXPECT_TRUE(a.plan.causticMap);
     EXPECT_GT(a.plan.causticPhotons, 0u);
@@ -121,7 +121,7 @@ TEST(PlanShipped, CornellGlossyGetsACausticMapFromItsMixedFloor) {
 }
 
 TEST(PlanShipped, MotionDof) {
-    SceneAnalysis a = analyzeFile("motion-dof.json");
+    PreparedScene a = analyzeFile("motion-dof.json");
     EXPECT_TRUE(a.plan.lensSampling);
     EXPECT_TRUE(a.plan.timeSampling);
     EXPECT_TRUE(a.plan.causticMap);  // the chrome sphere, in reach of the lamp and the sun
@@ -132,7 +132,7 @@ TEST(PlanShipped, MotionDof) {
 
 #if PHOTONCL_HAVE_GLTF
 TEST(PlanShipped, GltfRoom) {
-    SceneAnalysis a = analyzeFile("gltf-room.gltf");
+    PreparedScene a = analyzeFile("gltf-room.gltf");
     EXPECT_TRUE(a.plan.causticMap);  // mirror, glass
     EXPECT_TRUE(a.plan.globalMap);
     EXPECT_TRUE(a.plan.glossySampling);
@@ -145,7 +145,7 @@ TEST(PlanShipped, GltfRoom) {
 // ---- One rule at a time -------------------------------------------------------------------
 
 TEST(PlanRules, NoSpecularSurfacesNoCausticMap) {
-    SceneAnalysis a = analyzeScene(diffuseRoom());
+    PreparedScene a = prepareScene(diffuseRoom());
     EXPECT_FALSE(path(a.paths, "LS+DE"));
     EXPECT_FALSE(a.plan.causticMap);
     EXPECT_EQ(a.plan.reasons[1], "no specular surfaces");
@@ -155,7 +155,7 @@ TEST(PlanRules, NoSpecularSurfacesNoCausticMap) {
 }
 
 TEST(PlanRules, SingleDiffusePlaneNeedsNoGlobalMap) {
-    SceneAnalysis a = analyzeScene(floorUnderPointLight());
+    PreparedScene a = prepareScene(floorUnderPointLight());
     EXPECT_TRUE(path(a.paths, "LDE"));
     EXPECT_FALSE(path(a.paths, "LD(S|D)*DE"));
     EXPECT_FALSE(a.plan.globalMap);
@@ -166,27 +166,27 @@ TEST(PlanRules, SingleDiffusePlaneNeedsNoGlobalMap) {
     // Two meshes in one plane (a tiled floor) still cannot light each other ...
     Scene tiled = floorUnderPointLight();
     addQuad(tiled, Vec3(2, 0, -2), Vec3(0, 0, 4), Vec3(3, 0, 0), 0);
-    EXPECT_FALSE(analyzeScene(tiled).plan.globalMap);
+    EXPECT_FALSE(prepareScene(tiled).plan.globalMap);
     // ... nor can a single diffuse sphere (convex) ...
     Scene ball = base();
     addSphere(ball, Vec3(0, 0.5f, 0), 0.5f, addMaterial(ball, Vec3(0.5f)));
     ball.lights = {pointLight(Vec3(0, 3, 0))};
-    EXPECT_FALSE(analyzeScene(ball).plan.globalMap);
+    EXPECT_FALSE(prepareScene(ball).plan.globalMap);
     // ... though its inside lights itself when the light is in it (the furnace) ...
     Scene furnace = base();
     addSphere(furnace, Vec3(0, 0, 0), 1.0f, addMaterial(furnace, Vec3(0.5f)));
     furnace.lights = {pointLight(Vec3(0, 0.2f, 0))};
-    EXPECT_TRUE(analyzeScene(furnace).plan.globalMap);
+    EXPECT_TRUE(prepareScene(furnace).plan.globalMap);
     // ... but a second, tilted plane can.
     Scene two = floorUnderPointLight();
     addQuad(two, Vec3(-2, 0, 2), Vec3(0, 2, 0.5f), Vec3(4, 0, 0), 0);
-    EXPECT_TRUE(analyzeScene(two).plan.globalMap);
+    EXPECT_TRUE(prepareScene(two).plan.globalMap);
 }
 
 TEST(PlanRules, MirrorReturningLightToTheFloorNeedsGlobalAndCausticMaps) {
     Scene s = floorUnderPointLight();
     addSphere(s, Vec3(0.5f, 0.5f, 0), 0.4f, addMaterial(s, Vec3(0.0f), Vec3(0.9f), SpecularKind::Mirror));
-    SceneAnalysis a = analyzeScene(s);
+    PreparedScene a = prepareScene(s);
     EXPECT_TRUE(path(a.paths, "LS+DE"));
     EXPECT_TRUE(a.plan.causticMap);
     EXPECT_TRUE(path(a.paths, "LD(S|D)*DE"));  // floor → mirror → floor
@@ -197,7 +197,7 @@ TEST(PlanRules, MirrorAloneNothingDiffuseBuildsNoMaps) {
     Scene s = base();
     addSphere(s, Vec3(0, 0.5f, 0), 0.5f, addMaterial(s, Vec3(0.0f), Vec3(0.9f), SpecularKind::Mirror));
     s.lights = {pointLight(Vec3(0, 3, 0))};
-    SceneAnalysis a = analyzeScene(s);
+    PreparedScene a = prepareScene(s);
     EXPECT_TRUE(path(a.paths, "LS+E"));
     EXPECT_FALSE(path(a.paths, "LDE"));
     EXPECT_FALSE(path(a.paths, "LS+DE"));
@@ -219,41 +219,41 @@ TEST(PlanRules, SpecularOutOfTheLightsReachNoCausticMap) {
     spot.cosInner = std::cos(0.3f);
     spot.cosOuter = std::cos(0.6f);
     s.lights = {spot};
-    SceneAnalysis a = analyzeScene(s);
+    PreparedScene a = prepareScene(s);
     EXPECT_EQ(a.paths.markedCells, 0u);
     EXPECT_FALSE(path(a.paths, "LS+E"));
     EXPECT_FALSE(a.plan.causticMap);
     EXPECT_NE(a.plan.reasons[1].find("projection map"), std::string::npos) << a.plan.reasons[1];
     // Turned towards it, the same light reaches it.
     s.lights[0].direction = Vec3(0, 1, 0);
-    EXPECT_TRUE(analyzeScene(s).plan.causticMap);
+    EXPECT_TRUE(prepareScene(s).plan.causticMap);
 }
 
 TEST(PlanRules, GlassRefractingOntoTheFloorNeedsACausticMap) {
     Scene s = floorUnderPointLight();
     addSphere(s, Vec3(0, 0.6f, 0), 0.4f, addMaterial(s, Vec3(0.0f), Vec3(1.0f), SpecularKind::Dielectric));
-    EXPECT_TRUE(analyzeScene(s).plan.causticMap);
+    EXPECT_TRUE(prepareScene(s).plan.causticMap);
 }
 
 TEST(PlanRules, ThinLensMeansLensSampling) {
     Scene s = diffuseRoom();
-    EXPECT_FALSE(analyzeScene(s).plan.lensSampling);
+    EXPECT_FALSE(prepareScene(s).plan.lensSampling);
     s.camera.model = CameraModel::ThinLens;
     s.camera.apertureRadius = 0.05f;
     s.camera.focusDistance = 4.0f;
-    RenderPlan p = analyzeScene(s).plan;
+    RenderPlan p = prepareScene(s).plan;
     EXPECT_TRUE(p.lensSampling);
     EXPECT_NE(p.reasons[3].find("thin lens"), std::string::npos);
 }
 
 TEST(PlanRules, MotionMeansTimeSampling) {
     Scene s = diffuseRoom();
-    EXPECT_FALSE(analyzeScene(s).plan.timeSampling);
+    EXPECT_FALSE(prepareScene(s).plan.timeSampling);
     addSphere(s, Vec3(0, 0.5f, 0), 0.3f, 0, Vec3(0.5f, 0, 0));
     s.camera.shutterClose = 0.01f;
-    EXPECT_TRUE(analyzeScene(s).plan.timeSampling);
+    EXPECT_TRUE(prepareScene(s).plan.timeSampling);
     s.camera.shutterClose = 0.0f;  // motion, but the shutter never opens
-    EXPECT_FALSE(analyzeScene(s).plan.timeSampling);
+    EXPECT_FALSE(prepareScene(s).plan.timeSampling);
 }
 
 TEST(PlanRules, AreaLightsAndGlossySurfacesTurnOnTheirSamplers) {
@@ -263,12 +263,12 @@ TEST(PlanRules, AreaLightsAndGlossySurfacesTurnOnTheirSamplers) {
     area.type = LightType::Area;
     area.mesh = addQuad(s, Vec3(-0.3f, 2.9f, -0.3f), Vec3(0.6f, 0, 0), Vec3(0, 0, 0.6f), lamp);  // faces down
     s.lights = {area};
-    SceneAnalysis a = analyzeScene(s);
+    PreparedScene a = prepareScene(s);
     EXPECT_TRUE(a.plan.areaLightSampling);
     EXPECT_FALSE(a.plan.glossySampling);
     EXPECT_TRUE(path(a.paths, "LE"));  // the camera (y = 2) is below the lamp (y = 2.9), on its lit side
     addSphere(s, Vec3(0, 0.5f, 0), 0.4f, addMaterial(s, Vec3(0.3f), Vec3(0.4f), SpecularKind::Glossy));
-    a = analyzeScene(s);
+    a = prepareScene(s);
     EXPECT_TRUE(a.plan.glossySampling);
     EXPECT_TRUE(a.plan.causticMap);  // glossy with a diffuse part still reflects onto floor and wall
 }
@@ -280,7 +280,7 @@ TEST(PlanRules, MixedSurfaceMakesCausticsWhenItSeesADiffuseOne) {
     int mixed = addMaterial(s, Vec3(0.4f), Vec3(0.5f), SpecularKind::Glossy);
     addQuad(s, Vec3(-2, 0, -2), Vec3(0, 0, 4), Vec3(4, 0, 0), mixed);
     s.lights = {pointLight(Vec3(0, 2, 0))};
-    SceneAnalysis a = analyzeScene(s);
+    PreparedScene a = prepareScene(s);
     EXPECT_TRUE(path(a.paths, "LS+E"));
     EXPECT_FALSE(path(a.paths, "LS+DE"));
     EXPECT_FALSE(a.plan.causticMap);
@@ -288,19 +288,19 @@ TEST(PlanRules, MixedSurfaceMakesCausticsWhenItSeesADiffuseOne) {
     // ... a diffuse wall receives what the floor reflects (light → floor → wall) ...
     Scene wall = s;
     addQuad(wall, Vec3(-2, 0, 2), Vec3(0, 3, 0), Vec3(4, 0, 0), addMaterial(wall, Vec3(0.7f)));
-    a = analyzeScene(wall);
+    a = prepareScene(wall);
     EXPECT_TRUE(path(a.paths, "LS+DE"));
     EXPECT_TRUE(a.plan.causticMap);
     EXPECT_NE(a.plan.reasons[1].find("caustics (LS+DE)"), std::string::npos) << a.plan.reasons[1];
     // ... and so does a mixed wall (light → floor → wall, or light → wall → floor).
     Scene mixedWall = s;
     addQuad(mixedWall, Vec3(-2, 0, 2), Vec3(0, 3, 0), Vec3(4, 0, 0), mixed);
-    EXPECT_TRUE(analyzeScene(mixedWall).plan.causticMap);
+    EXPECT_TRUE(prepareScene(mixedWall).plan.causticMap);
 }
 
 TEST(PlanFormat, PrintsEveryPathAndOneReasonPerDecision) {
     Scene s = loadScene(scenePath("cornell-spheres.json"));
-    SceneAnalysis a = analyzeScene(s);
+    PreparedScene a = prepareScene(s);
     ASSERT_EQ(a.plan.reasons.size(), 7u);
     for (const std::string& r : a.plan.reasons) EXPECT_FALSE(r.empty());
     std::string text = formatPlan(s, a.paths, a.plan);
@@ -319,7 +319,7 @@ TEST(AnalyzeCommand, PrintsThePlanOfCornellSpheres) {
     Result r = run("analyze " + scenePath("cornell-spheres.json"));
     EXPECT_EQ(r.status, 0) << r.output;
     Scene s = loadScene(scenePath("cornell-spheres.json"));
-    SceneAnalysis a = analyzeScene(s);
+    PreparedScene a = prepareScene(s);
     EXPECT_EQ(r.output, formatPlan(s, a.paths, a.plan));  // the whole output, nothing else
     EXPECT_NE(r.output.find("LS+DE       yes"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("caustic map          yes, 100000 photons"), std::string::npos) << r.output;

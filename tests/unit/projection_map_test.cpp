@@ -1,4 +1,4 @@
-// Projection maps (host/pipeline/projection_map.h): conservative (no sample whose first hit is
+// Projection maps (host/prep/projection_map.h): conservative (no sample whose first hit is
 // specular falls in an unmarked cell, checked by brute force through the light warps of
 // kernels/README.md "emit") and reasonably tight.
 #include <gtest/gtest.h>
@@ -10,7 +10,7 @@
 #include <string>
 
 #include "common/test_scenes.h"
-#include "pipeline/projection_map.h"
+#include "prep/projection_map.h"
 #include "reference/sampling.h"
 #include "scene/load_scene.h"
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <numeric>
 
-#include "pipeline/scene_buffers.h"
-#include "pipeline/photon_allocation.h"
+#include "prep/scene_buffers.h"
+#include "prep/photon_allocation.h"
 #include "scene/load_scene.h"
 
 namespace pcl {

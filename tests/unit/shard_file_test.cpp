@@ -1,4 +1,4 @@
-// Shard files and fixed-point films (issue 8 parts 2-3): sums that add to the same bits in any
+// Shard files and fixed-point films: sums that add to the same bits in any
 // grouping, a file format that round-trips exactly, and every truncation or flipped bit refused
 // with the file's name and the reason.
 #include <gtest/gtest.h>

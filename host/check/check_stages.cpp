@@ -1,0 +1,103 @@
+#include "check/check_stages.h"
+
+#include "check/estimate.h"
+#include "check/knn.h"
+#include "check/maps.h"
+#include "check/photon_stages.h"
+#include "check/precomputed_irradiance.h"
+#include "check/render.h"
+#include "check/trace.h"
+
+namespace pcl {
+namespace {
+
+template <class Report>
+CheckReport toCheckReport(const std::string& stage, const Report& report) {
+    return {stage, report.table(), report.passed()};
+}
+
+// emit, trace_photons, deposit and pass share one check (photon_stages.h), where the photon
+// tracing stage is called "trace".
+template <const char* Stage>
+std::vector<CheckReport> photonStage(Device& device, const Scene&, const PreparedScene& prepared,
+                                     const CheckOptions& o) {
+    PhotonCheckOptions options;
+    options.photons = o.photons;
+    options.seed = o.seed;
+    const std::string inner = std::string(Stage) == "trace_photons" ? "trace" : Stage;
+    return {toCheckReport(Stage, checkPhotonStage(device, prepared.geometry, prepared.buffers, inner, options))};
+}
+constexpr char kEmit[] = "emit", kTracePhotons[] = "trace_photons", kDeposit[] = "deposit", kPass[] = "pass";
+
+std::vector<CheckReport> trace(Device& device, const Scene& scene, const PreparedScene& prepared,
+                               const CheckOptions& o) {
+    return {toCheckReport("trace", checkIntersect(device, scene, prepared.geometry, o.rays, o.seed))};
+}
+
+MapCheckOptions mapOptions(const CheckOptions& o) {
+    MapCheckOptions m;
+    m.photons = o.photons;
+    m.seed = o.seed;
+    return m;
+}
+
+std::vector<CheckReport> sort(Device& device, const Scene&, const PreparedScene& prepared, const CheckOptions& o) {
+    return {toCheckReport("sort", checkSort(device, prepared, mapOptions(o)))};
+}
+
+std::vector<CheckReport> build(Device& device, const Scene&, const PreparedScene& prepared, const CheckOptions& o) {
+    return {toCheckReport("build", checkKdTreeBuild(device, prepared, mapOptions(o)))};
+}
+
+std::vector<CheckReport> knn(Device& device, const Scene& scene, const PreparedScene& prepared, const CheckOptions& o) {
+    KnnCheckOptions options;
+    options.photons = o.photons;
+    options.seed = o.seed;
+    return {toCheckReport("knn", checkKnn(device, scene, prepared.geometry, prepared.buffers, options))};
+}
+
+std::vector<CheckReport> estimate(Device& device, const Scene& scene, const PreparedScene& prepared,
+                                  const CheckOptions& o) {
+    EstimateCheckOptions options;
+    options.photons = o.photons;
+    options.seed = o.seed;
+    IrradianceCheckOptions irradiance;
+    irradiance.photons = o.photons;
+    irradiance.seed = o.seed;
+    return {toCheckReport("estimate", checkEstimate(device, scene, prepared.geometry, prepared.buffers, options)),
+            toCheckReport("estimate (precomputed irradiance)",
+                          checkPrecomputedIrradiance(device, scene, prepared.geometry, prepared.buffers, irradiance))};
+}
+
+std::vector<CheckReport> render(Device& device, const Scene& scene, const PreparedScene& prepared,
+                                const CheckOptions& o) {
+    RenderCheckOptions options;
+    options.seed = o.seed;
+    return {toCheckReport("render", checkRender(device, scene, prepared, options))};
+}
+
+}  // namespace
+
+const std::vector<CheckStage>& checkStages() {
+    static const std::vector<CheckStage> stages = {
+        {"trace", "BVH traversal kernel against the host BVH traversal", trace},
+        {"emit", "photon emission, ray by ray", photonStage<kEmit>},
+        {"trace_photons", "photon tracing (Russian roulette, bounces, deposits), path by path", photonStage<kTracePhotons>},
+        {"deposit", "the deterministic deposit into the maps, record by record", photonStage<kDeposit>},
+        {"pass", "the whole photon pass, maps aligned path by path", photonStage<kPass>},
+        {"sort", "the device radix sort against a stable sort", sort},
+        {"build", "the kd-tree build, byte for byte and against its definition", build},
+        {"knn", "k nearest neighbours on kd-tree and hash grid against brute force", knn},
+        {"estimate",
+         "the filtered irradiance estimate (every filter, both structures, with and without the visibility test) "
+         "and the precomputed irradiance lookup",
+         estimate},
+        {"render",
+         "the eye pass (camera, eye paths, direct light, caustics, final gather, direct visualisation) per stage and "
+         "per pixel on a small image",
+         render},
+    };
+    return stages;
+}
+
+}  // namespace pcl

@@ -1,0 +1,42 @@
+// `photoncl check --stage NAME`: every kernel stage against its CPU twin on the same inputs.
+// One list of stages, each with its own file under host/check/ (the typed report of that file
+// keeps the stage's own figures; tests read those): trace (trace.h), emit, trace_photons,
+// deposit and pass (photon_stages.h), sort and build (maps.h), knn (knn.h), estimate
+// (estimate.h and precomputed_irradiance.h), render (render.h). The command prepares the scene
+// once and runs the stages it was asked for in this order.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "device/device.h"
+#include "prep/prepared_scene.h"
+#include "scene/scene.h"
+
+namespace pcl {
+
+// What the command line sets for every stage.
+struct CheckOptions {
+    size_t rays = 100000;    // trace: random rays
+    uint32_t photons = 50000;  // photon paths per pass of the photon and map stages
+    uint64_t seed = 1;       // of every random input
+};
+
+// The one result type every stage gives the command: printable, with a verdict.
+struct CheckReport {
+    std::string stage;  // the --stage name, or a part of it ("estimate (precomputed irradiance)")
+    std::string table;  // the stage's table: one line per comparison, then its tolerances
+    bool passed = false;
+};
+
+struct CheckStage {
+    const char* name;     // --stage NAME
+    const char* summary;  // what is compared with what (for --help)
+    std::vector<CheckReport> (*run)(Device& device, const Scene& scene, const PreparedScene& prepared,
+                                    const CheckOptions& options);
+};
+
+// Every stage, in the order `--stage all` runs them.
+const std::vector<CheckStage>& checkStages();
+
+}  // namespace pcl

@@ -1,0 +1,73 @@
+// Model no more than the scene needs: classify the light paths a
+// scene can produce in Heckbert's notation L(S|D)*E (SEED-global-illumination-notes.md, "Light
+// Paths"), then decide which photon maps are built and which eye-pass samplers run.
+//
+// The classification is conservative: a path class is called present when the scene's lights,
+// materials and (cheap) geometry allow it, not when a simulation has found it. Geometry enters in
+// three places only:
+//  * reach from the lights: the projection maps (prep/projection_map.h) say whether a
+//    light can send photons straight at a specular object;
+//  * "can see each other": two primitives are taken to see each other when they are distinct and
+//    not both triangles of one plane, and a sphere with a light inside sees itself (the furnace).
+//    So one diffuse triangle or convex sphere, or diffuse triangles all in one plane (a floor,
+//    however many triangles), cannot interreflect; anything else is assumed to
+//    (back-to-back or occluded surfaces are not detected);
+//  * visible emitters: an emitting triangle whose lit side faces the camera position.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "geometry/scene_geometry.h"
+#include "prep/scene_buffers.h"
+#include "scene/scene.h"
+
+namespace pcl {
+
+struct LightPath {
+    std::string notation;  // e.g. "LS+DE"
+    std::string name;      // e.g. "caustics"
+    bool present = false;
+    std::string why;       // the rule that decided it, with the scene's objects
+};
+
+// What the scene holds that decides the plan (primitives counted, not materials, so an
+// unused material changes nothing).
+struct LightPaths {
+    bool visibleEmitters = false;  // LE
+    bool direct = false;           // LDE
+    bool specularOfLights = false; // LS+E
+    bool diffuseInSpecular = false;// LDS+E
+    bool caustics = false;         // LS+DE
+    bool indirectDiffuse = false;  // LD(S|D)*DE
+    // Facts behind them.
+    size_t lights = 0, areaTriangles = 0, diffusePrims = 0, specularPrims = 0, pureSpecularPrims = 0,
+           glossyPrims = 0;
+    uint32_t markedCells = 0;      // projection-map cells over all lights (specular surfaces, mixed included)
+    bool diffuseSeesDiffuse = false, diffuseSeesSpecular = false;
+    std::vector<LightPath> list;   // the classes above, in order, with reasons
+};
+
+struct PlanSettings {
+    uint32_t globalPhotons = 200000;   // photons emitted in the global pass when one is needed
+    uint32_t causticPhotons = 100000;  // photons emitted in the caustic pass when one is needed
+};
+
+struct RenderPlan {
+    bool globalMap = false, causticMap = false, finalGather = false;
+    bool lensSampling = false, timeSampling = false, areaLightSampling = false, glossySampling = false;
+    uint32_t globalPhotons = 0, causticPhotons = 0;
+    // One reason per decision, in the order of the fields above: global map, caustic map, final
+    // gather, lens, time, area light, glossy.
+    std::vector<std::string> reasons;
+};
+
+// buffers must hold projection maps (buildProjectionMaps).
+LightPaths classifyLightPaths(const Scene& scene, const SceneGeometry& geometry, const SceneBuffers& buffers);
+RenderPlan makePlan(const Scene& scene, const LightPaths& paths, const PlanSettings& settings = {});
+
+// The light paths present and the plan with one reason per decision (what `photoncl analyze`
+// prints and `render` logs).
+std::string formatPlan(const Scene& scene, const LightPaths& paths, const RenderPlan& plan);
+
+}  // namespace pcl

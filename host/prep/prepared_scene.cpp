@@ -1,0 +1,17 @@
+#include "prep/prepared_scene.h"
+
+#include "prep/projection_map.h"
+
+namespace pcl {
+
+PreparedScene prepareScene(const Scene& scene, const PlanSettings& settings) {
+    PreparedScene p;
+    p.geometry = SceneGeometry::build(scene);
+    p.buffers = buildSceneBuffers(scene, p.geometry);
+    buildProjectionMaps(scene, p.geometry, p.buffers);
+    p.paths = classifyLightPaths(scene, p.geometry, p.buffers);
+    p.plan = makePlan(scene, p.paths, settings);
+    return p;
+}
+
+}  // namespace pcl

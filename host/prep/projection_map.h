@@ -1,0 +1,46 @@
+// Projection maps (Jensen 1996, "Global Illumination using Photon Maps", §3.1; Jensen 2001 §5.2.2):
+// per light, a PCL_PROJ_GRID × PCL_PROJ_GRID grid over the unit square of the light's sample
+// (the pair (s1, s2) its warp turns into a direction, or into a disc position for directional
+// lights; kernels/README.md "emit"). A cell is marked when some sample in it can send a photon
+// straight at a specular object, so the caustic pass emits only into marked cells.
+//
+// The map is conservative: every sample whose first hit is specular lies in a marked cell
+// (tests/unit/projection_map_test.cpp checks this by brute force), so restricting caustic
+// photons to marked cells and scaling their flux by the marked fraction adds no bias.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "geometry/scene_geometry.h"
+#include "prep/scene_buffers.h"
+#include "scene/scene.h"
+
+namespace pcl {
+
+// What the projection maps aim at: photons reflect or refract specularly off a material with
+// ρs > 0 and a specular kind (mirror, glossy, dielectric), whether or not it also has a diffuse part.
+bool isSpecular(const PclMaterial& m);
+bool isDiffuse(const PclMaterial& m);  // max ρd > 0
+
+// Fills buffers.projCells and every light's projFirst/projCount (cells in increasing index
+// k = cy·G + cx, with cx = ⌊s1·G⌋, cy = ⌊s2·G⌋). A scene without specular objects gets
+// projCount 0 everywhere. buffers must come from buildSceneBuffers(scene, geometry).
+void buildProjectionMaps(const Scene& scene, const SceneGeometry& geometry, SceneBuffers& buffers);
+
+bool isPureSpecular(const PclMaterial& m);  // specular with ρd = 0
+
+// The light's warp of kernels/README.md "emit" in double precision: the direction of sample
+// (s1, s2) (point, spot, triangle) and the origin for triangle lights at position numbers
+// (u1, u2) and time τ, or for directional lights the disc position of (s1, s2).
+struct LightSampleRay {
+    Vec3 origin, direction;
+};
+LightSampleRay warpLightSample(const PclLight& light, double s1, double s2, double u1, double u2, double time);
+
+// Marked fraction of a light's sample square, fᵢ = projCount / G² (kernels/README.md,
+// "Photon allocation").
+inline double projectionFraction(const PclLight& light) {
+    return double(light.projCount) / double(PCL_PROJ_GRID * PCL_PROJ_GRID);
+}
+
+}  // namespace pcl

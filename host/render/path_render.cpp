@@ -1,0 +1,59 @@
+#include "render/path_render.h"
+
+#include <algorithm>
+
+#include "core/clock.h"
+#include "core/error.h"
+#include "reference/path_tracer.h"
+
+namespace pcl {
+
+PathRenderResult renderPathTraced(const Scene& scene, const SceneGeometry& geometry, const PathRenderSettings& s) {
+    if (s.samples == 0 && !(s.seconds > 0.0)) throw InputError("render: give a sample count or a time budget");
+    const auto start = Clock::now();
+    const int width = scene.camera.width, height = scene.camera.height;
+    PathRenderResult r;
+    PathTracerSettings pt;
+    pt.seed = s.seed;
+    pt.threads = s.threads;
+    PathTracerStats stats;
+    if (!(s.seconds > 0.0) && !s.fixedPoint) {
+        // All samples in one call: progress per tile, no stop between samples.
+        pt.firstSample = int(s.firstSample);
+        pt.samplesPerPixel = int(s.samples);
+        if (s.progress) pt.progress = [&](double f) { s.progress(0, f); };
+        r.film = PathTracer(scene, geometry, pt).render(&stats);
+        r.samples = s.samples;
+        r.paths = stats.samples;
+        r.discarded = stats.discardedSamples;
+        r.seconds = since(start);
+        return r;
+    }
+    if (s.fixedPoint) r.sums = FixedPointFilm(width, height);
+    else r.film = Film(width, height);
+    pt.samplesPerPixel = 1;
+    for (uint32_t done = 0;; ++done) {
+        if (s.samples && done >= s.samples) break;
+        if (done > 0 && s.seconds > 0 && since(start) >= s.seconds) break;
+        if (done > 0 && s.stop && s.stop->load()) {
+            r.stopped = true;
+            break;
+        }
+        pt.firstSample = int(s.firstSample + done);
+        Film one = PathTracer(scene, geometry, pt).render(&stats);
+        if (s.fixedPoint) r.sums.addPass(one);
+        else r.film.merge(one);
+        r.paths += stats.samples;
+        r.discarded += stats.discardedSamples;
+        r.samples = done + 1;
+        if (s.progress) {
+            double fraction = s.samples ? double(r.samples) / s.samples : 0.0;
+            if (s.seconds > 0) fraction = std::max(fraction, since(start) / s.seconds);
+            s.progress(r.samples, std::min(1.0, fraction));
+        }
+    }
+    r.seconds = since(start);
+    return r;
+}
+
+}  // namespace pcl

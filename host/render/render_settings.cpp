@@ -1,0 +1,256 @@
+#include "render/render_settings.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/hash.h"
+#include "image/fixed_point_film.h"
+#include "pipeline/eye_paths.h"
+
+namespace pcl {
+namespace {
+
+// %a: the exact bits of a float, so two settings texts are equal exactly when the values are.
+std::string exact(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%a", v);
+    return buf;
+}
+
+// The method's defaults (what `render` uses with no options), without the user's values.
+void applyMethodDefaults(PhotonRenderSettings& s, const RenderPlan& plan) {
+    s.globalPhotons = plan.globalPhotons ? plan.globalPhotons : 200000;
+    s.causticPhotons = plan.causticPhotons ? plan.causticPhotons : 100000;
+    s.globalK = 50;
+    s.causticK = 50;
+    s.lightSamples = 16;
+    const bool distributed = plan.lensSampling || plan.timeSampling || plan.glossySampling;
+    switch (s.method) {
+        case RenderMethod::FinalGather:
+            // Gather rays carry the noise of the indirect part; strata × passes antialias and
+            // add fresh photons. Lens, shutter and glossy lobes are sampled by the eye samples:
+            // scenes that need them get 2×2 per pass and a quarter of the gather rays.
+            s.strata = distributed ? 2 : 1;
+            s.gatherRays = distributed ? 16 : 64;
+            break;
+        case RenderMethod::DirectVisualisation:
+            s.gatherRays = 1;
+            s.strata = 2;
+            break;
+        case RenderMethod::Progressive:
+            s.gatherRays = 1;
+            s.strata = 1;
+            break;
+        case RenderMethod::PathTracing: break;
+    }
+}
+
+}  // namespace
+
+const char* renderMethodName(RenderMethod m) {
+    switch (m) {
+        case RenderMethod::FinalGather: return "fg";
+        case RenderMethod::DirectVisualisation: return "direct";
+        case RenderMethod::Progressive: return "progressive";
+        case RenderMethod::PathTracing: return "path";
+    }
+    return "?";
+}
+
+RenderMethod parseRenderMethod(const std::string& name) {
+    for (RenderMethod m : {RenderMethod::FinalGather, RenderMethod::DirectVisualisation, RenderMethod::Progressive,
+                           RenderMethod::PathTracing})
+        if (name == renderMethodName(m)) return m;
+    throw InputError("render method '" + name + "': expected fg, direct, progressive or path");
+}
+
+const char* gatherSourceName(GatherSource g) { return g == GatherSource::Estimate ? "estimate" : "precomputed"; }
+
+GatherSource parseGatherSource(const std::string& name) {
+    for (GatherSource g : {GatherSource::Precomputed, GatherSource::Estimate})
+        if (name == gatherSourceName(g)) return g;
+    throw InputError("gather source '" + name + "': expected precomputed or estimate");
+}
+
+const char* knnStructureWord(KnnStructure s) { return s == KnnStructure::HashGrid ? "hash-grid" : "kd-tree"; }
+
+KnnStructure parseKnnStructure(const std::string& word) {
+    for (KnnStructure s : {KnnStructure::KdTree, KnnStructure::HashGrid})
+        if (word == knnStructureWord(s)) return s;
+    throw InputError("search structure '" + word + "': expected kd-tree or hash-grid");
+}
+
+void validateRenderSettings(const PhotonRenderSettings& s) {
+    if (s.strata < 1 || s.strata > 16) throw InputError("render: strata must be 1..16, got " + std::to_string(s.strata));
+    if (s.gatherRays < 1) throw InputError("render: gather rays must be at least 1");
+    if (s.globalK < 1 || s.globalK > PCL_KNN_MAX_K || s.causticK < 1 || s.causticK > PCL_KNN_MAX_K)
+        throw InputError("render: k must be 1.." + std::to_string(PCL_KNN_MAX_K));
+    if (!(s.alpha > 0.0f && s.alpha < 1.0f)) throw InputError("render: alpha must be in (0, 1)");
+    if (s.passes == 0 && !(s.seconds > 0.0)) throw InputError("render: give a pass count or a time budget");
+}
+
+RenderMaps mapsFor(RenderMethod method, const RenderPlan& plan) {
+    RenderMaps maps;
+    switch (method) {
+        case RenderMethod::FinalGather:
+            maps.global = plan.globalMap && plan.finalGather;
+            maps.gather = maps.global;
+            maps.caustic = plan.causticMap;
+            break;
+        case RenderMethod::DirectVisualisation:
+            maps.global = true;  // the preview reads every kind of light from the global map
+            break;
+        case RenderMethod::Progressive:
+            maps.global = plan.globalMap;
+            maps.caustic = plan.causticMap;
+            break;
+        case RenderMethod::PathTracing: break;
+    }
+    return maps;
+}
+
+uint32_t defaultPasses(RenderMethod method, int width, int height) {
+    const double megapixels = double(width) * height / 1e6;
+    switch (method) {
+        // One 256² pass with 64 gather rays takes ~2-6 s under PoCL on 2 cores.
+        case RenderMethod::FinalGather:
+            return uint32_t(std::clamp(int(10 * 0.065536 / std::max(megapixels, 1e-6) + 0.5), 1, 64));
+        case RenderMethod::DirectVisualisation: return 4;  // a preview: seconds
+        case RenderMethod::Progressive: return 32;
+        case RenderMethod::PathTracing: break;
+    }
+    return 0;
+}
+
+std::string ResolvedSettings::log() const {
+    std::string out;
+    for (const SettingChoice& c : choices)
+        out += "  " + c.what + (c.given ? std::string("  (given)") : "  (default: " + c.reason + ")") + "\n";
+    return out;
+}
+
+// The defaults below were measured on the 2-core PoCL machine (README, "Commands"):
+// cornell-spheres at 256×256 renders in under a minute with them.
+ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan& plan, int width, int height) {
+    ResolvedSettings r;
+    PhotonRenderSettings& s = r.settings;
+    s.method = parseRenderMethod(q.method);
+    s.seed = q.seed;
+    s.filter = parseEstimateFilter(q.filter);
+    s.visibility = q.visibility;
+    s.structure = parseKnnStructure(q.structure);
+    s.gatherSource = parseGatherSource(q.gatherSource);
+    s.alpha = q.alpha;
+    s.histogramCells = q.gatherImportance;
+    s.initialRadius = q.radius;
+    s.maxRadius = q.maxRadius;
+    s.seconds = q.seconds;
+    applyMethodDefaults(s, plan);
+    if (q.globalPhotons) s.globalPhotons = q.globalPhotons;
+    if (q.causticPhotons) s.causticPhotons = q.causticPhotons;
+    if (q.k) s.globalK = q.k;
+    if (q.causticK) s.causticK = q.causticK;
+    if (q.lightSamples) s.lightSamples = q.lightSamples;
+    if (q.strata && s.method != RenderMethod::PathTracing) s.strata = q.strata;
+    if (q.gatherRays && s.method == RenderMethod::FinalGather) s.gatherRays = q.gatherRays;
+    if (s.method == RenderMethod::PathTracing) {
+        s.passes = q.passes;  // samples per pixel; the path tracer's caller chooses when 0
+        return r;
+    }
+    s.passes = q.passes ? q.passes : (q.seconds > 0 ? 0 : defaultPasses(s.method, width, height));
+    s.passes = std::min<uint32_t>(s.passes, 1u << 20);
+
+    auto note = [&](const std::string& what, bool given, const std::string& reason) {
+        r.choices.push_back({what, given, given ? std::string() : reason});
+    };
+    const bool distributed = plan.lensSampling || plan.timeSampling || plan.glossySampling;
+    note("passes " + (s.passes ? std::to_string(s.passes) : std::string("until --time")), q.passes || q.seconds > 0,
+         s.method == RenderMethod::FinalGather
+             ? "10 passes of a 256x256 image (about 40 s on 2 CPU cores), scaled by pixel count, 1 to 64"
+         : s.method == RenderMethod::Progressive ? "the radius shrinks by (i+α)/(i+1) per pass; 32 passes ≈ r0 × 0.56"
+                                                 : "a quick preview");
+    note("eye samples per pixel per pass " + std::to_string(s.strata * s.strata), q.strata,
+         distributed ? "2x2: the plan samples a lens, a shutter or glossy lobes, which need eye samples"
+                     : "one stratified sample; passes add more");
+    if (s.method == RenderMethod::FinalGather)
+        note("gather rays " + std::to_string(s.gatherRays), q.gatherRays,
+             distributed ? "16 per eye sample, 4 eye samples per pass: the 64 per pixel and pass of a "
+                           "scene without them; the indirect noise falls as "
+                           "1/sqrt(passes × samples × gather rays)"
+                         : "64: the indirect part's noise falls as 1/sqrt(passes × gather rays)");
+    // A map the method does not build (mapsFor) emits nothing.
+    const RenderMaps built = mapsFor(s.method, plan);
+    note("global photons per pass " + std::to_string(built.global ? s.globalPhotons : 0u), q.globalPhotons,
+         built.global ? (plan.globalMap ? "the plan's (photoncl analyze): the scene needs a global map"
+                                        : "the preview reads all light from the global map")
+                      : "no global map needed");
+    note("caustic photons per pass " + std::to_string(built.caustic ? s.causticPhotons : 0u), q.causticPhotons,
+         built.caustic ? "the plan's: the scene has caustics"
+                       : (plan.causticMap ? "the preview reads caustics from the global map" : "no caustic map needed"));
+    note("light samples " + std::to_string(s.lightSamples), q.lightSamples,
+         "16 shadow rays per diffuse hit: with N gather rays and M light samples the power heuristic gives the gather "
+         "rays a share growing with N/M, and gather rays find a small lamp rarely");
+    note("k " + std::to_string(s.globalK) + " (caustic " + std::to_string(s.causticK) + ")", q.k || q.causticK,
+         "Jensen's 50 photons per estimate");
+    return r;
+}
+
+std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const RenderPlan& plan, int width, int height,
+                                          uint32_t passes) {
+    // A new setting must be added here or among the controls of PhotonRenderSettings that change
+    // no pixel; this fails to compile until one of the two is done.
+#if defined(__x86_64__) && defined(__GLIBCXX__)
+    static_assert(sizeof(PhotonRenderSettings) == 160,
+                  "PhotonRenderSettings changed: add the new setting to settingsFields (or say why it changes no "
+                  "pixel), then update this size");
+#endif
+    std::vector<SettingsField> f;
+    auto add = [&](const char* key, const std::string& value) { f.push_back({key, value}); };
+    add("method", renderMethodName(s.method));
+    add("width", std::to_string(width));
+    add("height", std::to_string(height));
+    add("passes", std::to_string(passes));
+    add("seed", std::to_string(s.seed));
+    if (s.method == RenderMethod::PathTracing) {
+        add("samplesPerPass", "1");
+    } else {
+        const RenderMaps maps = mapsFor(s.method, plan);
+        add("strata", std::to_string(s.strata));
+        add("globalPhotons", std::to_string(maps.global ? s.globalPhotons : 0u));
+        add("causticPhotons", std::to_string(maps.caustic ? s.causticPhotons : 0u));
+        add("k", std::to_string(s.globalK));
+        add("causticK", std::to_string(s.causticK));
+        add("gatherRays", std::to_string(s.gatherRays));
+        add("lightSamples", std::to_string(s.lightSamples));
+        add("eyeDepth", std::to_string(s.eyeDepth ? s.eyeDepth : kDefaultEyeDepth));
+        add("maxRadius", exact(s.maxRadius));
+        add("filter", estimateFilterName(s.filter));
+        add("visibility", s.visibility ? "1" : "0");
+        add("gatherSource", gatherSourceName(s.gatherSource));
+        add("structure", knnStructureWord(s.structure));
+        add("gatherImportance", std::to_string(s.histogramCells));
+        add("alpha", exact(s.alpha));
+        add("progressiveK0", exact(s.progressiveK0));
+        add("radius", exact(s.initialRadius));
+    }
+    add("fixedPointBits", std::to_string(FixedPointFilm::kFractionBits));
+    return f;
+}
+
+std::string settingsText(const PhotonRenderSettings& s, const RenderPlan& plan, int width, int height,
+                         uint32_t passes) {
+    std::string text;
+    for (const SettingsField& f : settingsFields(s, plan, width, height, passes))
+        text += (text.empty() ? "" : ";") + f.key + "=" + f.value;
+    return text;
+}
+
+uint64_t settingsHash(const std::string& text) {
+    Fnv1a h;
+    h.add(text);
+    return h.h;
+}
+
+}  // namespace pcl

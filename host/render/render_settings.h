@@ -1,0 +1,154 @@
+// Render settings, in one place: the methods, every setting with its default and the reason for
+// it, parsing from the words users type (`render`'s options, a batch job's keys), validation,
+// and the one serialisation of everything that changes a pixel (the EXR metadata of `render`,
+// the shard settings hash and the merged image of `batch`, which therefore cannot disagree).
+//
+//   RenderRequest q;  q.method = "fg";  q.k = 100;         // what the user gave (0 / "": default)
+//   ResolvedSettings r = resolveRenderSettings(q, plan, width, height);
+//   r.settings        the settings to render with; r.choices: each default and why
+//   settingsText(r.settings, plan, width, height, passes)  "method=fg;width=...;..." (exact)
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "prep/estimate_settings.h"
+#include "prep/knn_structure.h"
+#include "prep/plan.h"
+
+namespace pcl {
+
+enum class RenderMethod { FinalGather, DirectVisualisation, Progressive, PathTracing };
+const char* renderMethodName(RenderMethod m);             // "fg", "direct", "progressive", "path"
+RenderMethod parseRenderMethod(const std::string& name);  // InputError naming the valid ones
+
+// Where final gathering reads the global map: Christensen's precomputed irradiance (one nearest
+// lookup per gather ray) or the full k-nearest-neighbour estimate.
+enum class GatherSource { Precomputed, Estimate };
+const char* gatherSourceName(GatherSource g);             // "precomputed", "estimate"
+GatherSource parseGatherSource(const std::string& name);  // InputError naming the valid ones
+
+// The words of --structure and a job's "structure": "kd-tree", "hash-grid".
+const char* knnStructureWord(KnnStructure s);
+KnnStructure parseKnnStructure(const std::string& word);
+
+struct PhotonRenderSettings {
+    // ---- What changes pixels (every one is in settingsFields) --------------------------------
+    RenderMethod method = RenderMethod::FinalGather;
+    uint32_t strata = 1;              // n: n × n stratified eye samples per pixel per pass
+    uint32_t globalPhotons = 200000;  // photons emitted per pass for the global map
+    uint32_t causticPhotons = 100000; // per pass for the caustic map
+    uint32_t globalK = 50;            // photons per global-map estimate
+    uint32_t causticK = 50;           // photons per caustic estimate (fg, direct)
+    uint32_t gatherRays = 64;         // N final-gather rays per diffuse eye hit
+    uint32_t lightSamples = 16;       // M area-light samples per diffuse eye hit (M ≫ 1: the gather
+                                      // rays, N of them, would otherwise carry half the direct light)
+    uint32_t eyeDepth = 0;            // hits per eye path; 0: kDefaultEyeDepth
+    float maxRadius = 0.0f;           // kNN search radius cap; 0: 5 % of the scene's bounds diagonal
+    EstimateFilter filter = EstimateFilter::Cone;     // fg/direct estimates (progressive: box)
+    // The search structure of every map the pass builds (precomputed irradiance keeps its own):
+    // the same photons are found either way; only the speed differs (the sweep charts both).
+    KnnStructure structure = KnnStructure::KdTree;
+    // Every estimate (global, caustic; fg, direct and progressive) also rejects photons whose
+    // lifted segment to the query is occluded (EstimateSettings::visibility): no light through
+    // walls thinner than the search radius, at the cost of one ray per photon used. fg then reads
+    // the full estimate, not precomputed irradiance (its nearest-record lookup has no such test).
+    bool visibility = false;
+    GatherSource gatherSource = GatherSource::Precomputed;
+    // fg: G > 0 importance-samples the gather rays from a G × G histogram of the incident flux of
+    // the globalK photons nearest each eye hit (Jensen 1995; pipeline/final_gather.h), mixed with
+    // the cosine density; direct light's MIS weights use the same density. 0: cosine only.
+    uint32_t histogramCells = 0;
+    // Progressive: the first pass's radius gives about `progressiveK0` photons per disc (from the
+    // stored photons per unit scene area); r² then shrinks by (i + α)/(i + 1) each pass.
+    float alpha = 2.0f / 3.0f;
+    float progressiveK0 = 20.0f;
+    float initialRadius = 0.0f;       // progressive r_0; 0: from progressiveK0
+    uint64_t seed = 0;
+
+    // ---- How much, and how the run goes (no pixel depends on these) --------------------------
+    uint32_t passes = 1;              // passes to run (with seconds > 0: at most this many; 0: no limit)
+    // The global index of the first pass: passes [firstPass, firstPass + passes) are rendered,
+    // each with its global index in the photon and eye seeds and the progressive radius, so a
+    // batch shard renders exactly the passes a single run would (batch/batch_render.h).
+    uint32_t firstPass = 0;
+    double seconds = 0.0;             // time budget: no new pass starts after it (at least one runs)
+    uint32_t photonBatch = 0;         // photon paths per launch; 0: the photon pass's default (the
+                                      // CLI passes the memory plan's)
+    bool aovs = false;                // also keep per-part films (direct, caustic, indirect, emitted)
+                                      // and the first hit's albedo and normal
+    size_t chunkSamples = 0;          // eye samples per chunk; 0: from the max allocation
+    const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT): no new pass starts
+    // After each pass: (passes done, fraction of the budget done in [0,1]).
+    std::function<void(uint32_t, double)> onPass;
+    bool log = false;                 // one line per pass on stderr
+};
+
+// InputError when a setting is out of its range (strata 1..16, k 1..PCL_KNN_MAX_K, gather rays
+// ≥ 1, α in (0, 1)), or neither a pass count nor a time budget is given.
+void validateRenderSettings(const PhotonRenderSettings& s);
+
+// What the plan decides for `method`: which maps a pass builds.
+struct RenderMaps {
+    bool global = false, caustic = false, gather = false;
+};
+RenderMaps mapsFor(RenderMethod method, const RenderPlan& plan);
+
+// What a user asks for: `render`'s options and a batch job's keys, as given. Counts of 0 and
+// passes/seconds of 0 mean "the default" (resolveRenderSettings chooses it and says why).
+struct RenderRequest {
+    std::string method = "fg", filter = "cone", gatherSource = "precomputed", structure = "kd-tree";
+    uint64_t seed = 0;
+    bool visibility = false;
+    uint32_t gatherImportance = 0;                   // G of --gather-importance
+    float radius = 0.0f, alpha = 2.0f / 3.0f, maxRadius = 0.0f;
+    uint32_t passes = 0;                             // 0: defaultPasses (unless seconds is given)
+    double seconds = 0.0;                            // time budget instead of a pass count
+    uint32_t globalPhotons = 0, causticPhotons = 0, k = 0, causticK = 0, lightSamples = 0, strata = 0,
+             gatherRays = 0;
+};
+
+// One resolved setting, as `render` logs it: "gather rays 64  (default: <reason>)" or "(given)".
+struct SettingChoice {
+    std::string what;
+    bool given = false;
+    std::string reason;  // why the default is what it is (empty when given)
+};
+
+struct ResolvedSettings {
+    PhotonRenderSettings settings;
+    std::vector<SettingChoice> choices;
+    std::string log() const;  // one line per choice
+};
+
+// The settings for `request` on a scene with this plan at width × height: the defaults of the
+// method (photons per pass from the plan, k 50, 16 light samples, per method the eye strata and
+// gather rays: 2×2 samples and a quarter of the gather rays when the plan samples a lens, a
+// shutter or glossy lobes), then every value the request gives (strata not for the path tracer,
+// which has none; gather rays only for fg, the one method that gathers). Passes: the request's,
+// else defaultPasses unless a time budget is given; path tracing leaves passes to its caller
+// (samples per pixel). InputError for unknown names.
+ResolvedSettings resolveRenderSettings(const RenderRequest& request, const RenderPlan& plan, int width, int height);
+
+// Passes of `render` with no --passes or --time: fg 10 at 256×256 scaled by pixel count (1..64),
+// direct 4, progressive 32.
+uint32_t defaultPasses(RenderMethod method, int width, int height);
+
+// Every setting that changes a pixel of a `passes`-pass render at width × height, at its exact
+// value (floats by their bits, %a), in a fixed order; photon counts of maps the method does not
+// build are 0. The photon batch, the chunk size, the buffer cap and the shard count are left out:
+// they change launch counts, not results. The path tracer's own settings are fixed (depth,
+// roulette, MIS), so for it only size, passes and seed count.
+struct SettingsField {
+    std::string key, value;
+};
+std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const RenderPlan& plan, int width, int height,
+                                          uint32_t passes);
+// The fields as "key=value;key=value" (batch shards, the EXR's photoncl:settings) and its hash.
+std::string settingsText(const PhotonRenderSettings& s, const RenderPlan& plan, int width, int height,
+                         uint32_t passes);
+uint64_t settingsHash(const std::string& text);  // FNV-1a
+
+}  // namespace pcl
