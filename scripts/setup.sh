@@ -13,6 +13,7 @@ packages=(
   python3-matplotlib python3-numpy
   libembree-dev libnanoflann-dev
   slurm-wlm munge  # tests/batch/slurm_test.sh: a single-node cluster started by hand
+  clang-format     # scripts/check_format.sh (CTest format): the tree against .clang-format
 )
 
 missing=()

@@ -18,11 +18,13 @@ using nlohmann::json;
 namespace pcl {
 namespace {
 
+// clang-format off
 const char* const kKeys[] = {"scene",        "output",       "method",      "shards",        "passes",
                              "seed",         "width",        "height",      "globalPhotons", "causticPhotons",
                              "strata",       "gatherRays",   "k",           "causticK",      "lightSamples",
                              "gatherImportance", "radius",   "alpha",       "maxRadius",     "filter",
                              "gatherSource", "visibility",   "device",      "maxBufferMib",  "structure", "threads"};
+// clang-format on
 
 std::string allowedKeys() {
     std::string out;
@@ -59,7 +61,8 @@ struct Reader {
             failInput(file, key, expected, showJson(*v));
         return v->get<float>();
     }
-    std::string text(const char* key, const std::string& fallback, std::initializer_list<const char*> allowed = {}) const {
+    std::string text(const char* key, const std::string& fallback,
+                     std::initializer_list<const char*> allowed = {}) const {
         const json* v = find(key);
         if (!v) return fallback;
         std::string expected = "a string";
@@ -69,7 +72,8 @@ struct Reader {
         }
         if (!v->is_string()) failInput(file, key, expected, showJson(*v));
         std::string s = v->get<std::string>();
-        if (allowed.size() && std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return s == a; }) == allowed.end())
+        if (allowed.size() &&
+            std::find_if(allowed.begin(), allowed.end(), [&](const char* a) { return s == a; }) == allowed.end())
             failInput(file, key, expected, showJson(*v));
         if (s.empty()) failInput(file, key, "a non-empty string", showJson(*v));
         return s;
@@ -93,7 +97,8 @@ BatchJob loadBatchJob(const std::string& path) {
     const json root = parseSceneJson(readTextFile(path), path);
     if (!root.is_object()) failInput(path, "(top level)", "an object", showJson(root));
     for (auto it = root.begin(); it != root.end(); ++it)
-        if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) == std::end(kKeys))
+        if (std::find_if(std::begin(kKeys), std::end(kKeys), [&](const char* k) { return it.key() == k; }) ==
+            std::end(kKeys))
             failInput(path, it.key(), "one of the keys " + allowedKeys(), "unknown key \"" + it.key() + "\"");
     for (const char* key : {"scene", "output", "shards"})
         if (!root.contains(key)) failInput(path, key, "a value (the key is required)", "nothing (the key is missing)");
@@ -139,10 +144,12 @@ BatchJob loadBatchJob(const std::string& path) {
         job.height = h ? h : (w ? std::max(1, w * cam.height / cam.width) : cam.height);
     }
     // path: `render --method path`'s default of 64 samples per pixel.
-    const uint32_t fallback = job.method == "path" ? 64u : defaultPasses(parseRenderMethod(job.method), job.width, job.height);
+    const uint32_t fallback =
+        job.method == "path" ? 64u : defaultPasses(parseRenderMethod(job.method), job.width, job.height);
     job.passes = static_cast<uint32_t>(r.integer("passes", 1, 1u << 20, fallback));
     if (job.shards > job.passes)
-        failInput(path, "shards", "at most the number of passes (" + std::to_string(job.passes) + "): a shard renders whole passes",
+        failInput(path, "shards",
+                  "at most the number of passes (" + std::to_string(job.passes) + "): a shard renders whole passes",
                   std::to_string(job.shards));
     return job;
 }

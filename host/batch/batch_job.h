@@ -23,18 +23,18 @@ struct PassRange {
 };
 
 struct BatchJob {
-    std::string path;         // the job file as given
-    std::string scene;        // scene file, resolved against the job file's folder
-    std::string output;       // final EXR, resolved against the job file's folder
+    std::string path;           // the job file as given
+    std::string scene;          // scene file, resolved against the job file's folder
+    std::string output;         // final EXR, resolved against the job file's folder
     std::string method = "fg";  // fg | direct | progressive | path (the CPU reference path tracer)
-    uint32_t shards = 1;      // N
-    uint32_t passes = 0;      // P: total passes (resolved: the render default when left out);
-                              // path: samples per pixel, one per pass
+    uint32_t shards = 1;        // N
+    uint32_t passes = 0;        // P: total passes (resolved: the render default when left out);
+                                // path: samples per pixel, one per pass
     uint64_t seed = 0;
     int width = 0, height = 0;  // resolved: the scene camera's when left out (one alone keeps the aspect)
     // Settings; 0 / empty: the render default for the method (resolveRenderSettings).
-    uint32_t globalPhotons = 0, causticPhotons = 0, strata = 0, gatherRays = 0, k = 0, causticK = 0,
-             lightSamples = 0, gatherImportance = 0;
+    uint32_t globalPhotons = 0, causticPhotons = 0, strata = 0, gatherRays = 0, k = 0, causticK = 0, lightSamples = 0,
+             gatherImportance = 0;
     float radius = 0.0f, alpha = 2.0f / 3.0f, maxRadius = 0.0f;
     std::string filter = "cone", gatherSource = "precomputed", structure = "kd-tree";
     bool visibility = false;

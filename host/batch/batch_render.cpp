@@ -109,7 +109,8 @@ namespace {
 // The path tracer's passes [first, first + count): one sample per pixel each, on the host, each
 // rounded to fixed point on its own (render/path_render.h).
 PhotonRenderResult renderPathPasses(const BatchScene& bs, uint32_t first, uint32_t count, int threads,
-                                    const std::atomic<bool>* stop, const std::function<void(uint32_t, double)>& onPass) {
+                                    const std::atomic<bool>* stop,
+                                    const std::function<void(uint32_t, double)>& onPass) {
     PathRenderSettings pt;
     pt.seed = bs.settings.seed;
     pt.threads = threads;
@@ -214,7 +215,7 @@ ShardData renderShard(Device* device, const BatchScene& bs, uint32_t index, Pass
             if (device) device->setAllocationObserver(nullptr);
             throw;
         }
-        out.film = std::move(r.sums);  // (no second copy: a 4K film of 128-bit sums is 531 MB)
+        out.film = std::move(r.sums);                    // (no second copy: a 4K film of 128-bit sums is 531 MB)
         if (resumeFrom) out.film.add(resumeFrom->film);  // integer addition: either order, same bits
         r.film = Film();
         out.passesDone += r.passes;

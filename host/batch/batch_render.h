@@ -10,8 +10,8 @@
 #include <string>
 
 #include "batch/batch_job.h"
-#include "core/hash.h"
 #include "batch/shard_file.h"
+#include "core/hash.h"
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
 #include "prep/plan.h"
@@ -23,7 +23,7 @@ namespace pcl {
 
 struct BatchScene {
     BatchJob job;
-    Scene scene;          // camera resized to the job's width × height
+    Scene scene;  // camera resized to the job's width × height
     SceneGeometry geometry;
     SceneBuffers buffers;
     RenderPlan plan;
@@ -41,7 +41,7 @@ BatchScene loadBatchScene(const BatchJob& job);
 
 // What one shard run reports besides its sums.
 struct ShardRunOptions {
-    const std::atomic<bool>* stop = nullptr;             // Ctrl-C: finish the pass, then stop
+    const std::atomic<bool>* stop = nullptr;  // Ctrl-C: finish the pass, then stop
     std::function<void(uint32_t done, uint32_t total)> onPass;
     bool log = false;
     double loadSeconds = 0;  // loading the scene and opening the device before this shard (manifest)

@@ -6,8 +6,8 @@
 #include <sstream>
 #include <utility>
 
-#include "core/hash.h"
 #include "core/error.h"
+#include "core/hash.h"
 
 namespace pcl {
 namespace {
@@ -86,15 +86,16 @@ MergedShards mergeShardFiles(const std::vector<std::string>& files, const MergeE
                                expectFrom + " has " + hex64(expect.sceneHash) +
                                "): the scene file or a file it includes changed; render this shard again");
         if (s.settingsHash != expect.settingsHash)
-            problems.push_back(e.file + ": rendered with other settings (" + settingsDifference(expect.settings, s.settings) +
-                                ", " + expectFrom + " first)");
+            problems.push_back(e.file + ": rendered with other settings (" +
+                               settingsDifference(expect.settings, s.settings) + ", " + expectFrom + " first)");
         else if (s.passes != expect.passes || s.width != expect.width || s.height != expect.height)
-            problems.push_back(e.file + ": a " + std::to_string(s.width) + "x" + std::to_string(s.height) + " shard of " +
-                               std::to_string(s.passes) + " passes, expected " + std::to_string(expect.width) + "x" +
-                               std::to_string(expect.height) + " and " + std::to_string(expect.passes));
+            problems.push_back(e.file + ": a " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                               " shard of " + std::to_string(s.passes) + " passes, expected " +
+                               std::to_string(expect.width) + "x" + std::to_string(expect.height) + " and " +
+                               std::to_string(expect.passes));
         if (s.version != version)
-            problems.push_back(e.file + ": rendered by photoncl " + s.version + ", " + shards.front().file +
-                               " by " + version + ": versions may render different bits; render every shard with one version");
+            problems.push_back(e.file + ": rendered by photoncl " + s.version + ", " + shards.front().file + " by " +
+                               version + ": versions may render different bits; render every shard with one version");
         if (!s.complete() && !options.allowPartial)
             problems.push_back(e.file + ": incomplete: " + std::to_string(s.passesDone) + " of " +
                                std::to_string(s.range.count()) + " passes " + range(s.range.first, s.range.end) +
@@ -103,8 +104,7 @@ MergedShards mergeShardFiles(const std::vector<std::string>& files, const MergeE
     }
     // Ranges: sorted by first pass they must tile [0, P) with neither gaps nor overlaps.
     std::sort(shards.begin(), shards.end(), [](const Entry& a, const Entry& b) {
-        return a.shard.range.first != b.shard.range.first ? a.shard.range.first < b.shard.range.first
-                                                          : a.file < b.file;
+        return a.shard.range.first != b.shard.range.first ? a.shard.range.first < b.shard.range.first : a.file < b.file;
     });
     bool partial = false;
     uint32_t covered = 0;
@@ -113,9 +113,10 @@ MergedShards mergeShardFiles(const std::vector<std::string>& files, const MergeE
         if (i > 0 && s.range.first < shards[i - 1].shard.range.end) {
             const ShardData& p = shards[i - 1].shard;
             bool same = p.range.first == s.range.first && p.range.end == s.range.end;
-            problems.push_back(shards[i - 1].file + " and " + shards[i].file + (same ? ": duplicates, both hold passes " : ": overlap: passes ") +
-                               range(p.range.first, p.range.end) + (same ? "" : " and " + range(s.range.first, s.range.end)) +
-                               "; merge each pass once");
+            problems.push_back(shards[i - 1].file + " and " + shards[i].file +
+                               (same ? ": duplicates, both hold passes " : ": overlap: passes ") +
+                               range(p.range.first, p.range.end) +
+                               (same ? "" : " and " + range(s.range.first, s.range.end)) + "; merge each pass once");
         } else if (s.range.first > covered) {
             if (!options.allowPartial)
                 problems.push_back("passes " + range(covered, s.range.first) + " are missing: no shard holds them");
@@ -124,7 +125,8 @@ MergedShards mergeShardFiles(const std::vector<std::string>& files, const MergeE
         covered = std::max(covered, s.range.end);
     }
     if (covered < expect.passes) {
-        if (!options.allowPartial) problems.push_back("passes " + range(covered, expect.passes) + " are missing: no shard holds them");
+        if (!options.allowPartial)
+            problems.push_back("passes " + range(covered, expect.passes) + " are missing: no shard holds them");
         partial = true;
     }
     if (!problems.empty()) {
@@ -187,7 +189,8 @@ nlohmann::json mergeManifest(const MergedShards& m, const std::string& job, cons
         device = std::max<uint64_t>(device, s.accounting.value("deviceBytesUpperBound", uint64_t(0)));
     }
     j["shards"] = shards;
-    j["totals"] = {{"secondsByStage", seconds}, {"largestHostMaxRssBytes", rss}, {"largestDeviceBytesUpperBound", device}};
+    j["totals"] = {
+        {"secondsByStage", seconds}, {"largestHostMaxRssBytes", rss}, {"largestDeviceBytesUpperBound", device}};
     return j;
 }
 

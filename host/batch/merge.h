@@ -24,8 +24,8 @@ namespace pcl {
 // taken from the first shard instead (merging a list of files without their job).
 struct MergeExpectation {
     uint64_t sceneHash = 0, settingsHash = 0;
-    std::string settings;     // settings text, to name the keys that differ
-    uint32_t passes = 0;      // P: the shards' ranges must tile [0, P) exactly
+    std::string settings;  // settings text, to name the keys that differ
+    uint32_t passes = 0;   // P: the shards' ranges must tile [0, P) exactly
     int width = 0, height = 0;
 };
 
@@ -35,11 +35,11 @@ struct MergeOptions {
 
 struct MergedShards {
     FixedPointFilm film;
-    std::vector<std::string> files;  // in the order added (by first pass)
-    std::vector<ShardData> shards;   // headers (films dropped after adding)
-    uint32_t passesDone = 0;         // passes in the sums
-    uint32_t passes = 0;             // P
-    bool partial = false;            // some passes missing (allowPartial)
+    std::vector<std::string> files;    // in the order added (by first pass)
+    std::vector<ShardData> shards;     // headers (films dropped after adding)
+    uint32_t passesDone = 0;           // passes in the sums
+    uint32_t passes = 0;               // P
+    bool partial = false;              // some passes missing (allowPartial)
     std::vector<std::string> devices;  // distinct devices, in order of appearance
 };
 

@@ -13,9 +13,9 @@
 #include <thread>
 #include <vector>
 
-#include "core/hash.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/hash.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -37,9 +37,7 @@ static_assert(sizeof(Fixed) == kValueBytes, "__int128 is 16 bytes");
 constexpr size_t kPixelBytes = 4 * kValueBytes;  // 3 sums and 1 weight
 constexpr size_t kPrefixBytes = 8 + 4 + 4 + 8 + 8;
 
-[[noreturn]] void fail(const std::string& path, const std::string& reason) {
-    throw InputError(path + ": " + reason);
-}
+[[noreturn]] void fail(const std::string& path, const std::string& reason) { throw InputError(path + ": " + reason); }
 
 // Test hook (PHOTONCL_BATCH_TEST_PAUSE): stop here long enough to be killed.
 void pauseIfAsked(const char* where, const std::string& tmp) {
@@ -77,7 +75,8 @@ void fsyncFolder(const fs::path& folder) {
 template <class T>
 T field(const json& h, const char* key, const std::string& path) {
     auto it = h.find(key);
-    if (it == h.end()) fail(path, std::string("header has no \"") + key + "\" (not a photoncl shard, or another version)");
+    if (it == h.end())
+        fail(path, std::string("header has no \"") + key + "\" (not a photoncl shard, or another version)");
     try {
         return it->get<T>();
     } catch (const json::exception&) {
@@ -87,7 +86,8 @@ T field(const json& h, const char* key, const std::string& path) {
 
 uint64_t hexField(const json& h, const char* key, const std::string& path) {
     uint64_t v = 0;
-    if (!parseHex64(field<std::string>(h, key, path), v)) fail(path, std::string("header field \"") + key + "\" is not a hex hash");
+    if (!parseHex64(field<std::string>(h, key, path), v))
+        fail(path, std::string("header field \"") + key + "\" is not a hex hash");
     return v;
 }
 
@@ -129,8 +129,9 @@ json shardHeaderJson(const ShardData& s) {
 void writeShardFile(const std::string& path, const ShardData& s) {
     const FixedPointFilm& film = s.film;
     if (film.width() != s.width || film.height() != s.height)
-        throw InputError(path + ": shard film is " + std::to_string(film.width()) + "x" + std::to_string(film.height()) +
-                         ", header says " + std::to_string(s.width) + "x" + std::to_string(s.height));
+        throw InputError(path + ": shard film is " + std::to_string(film.width()) + "x" +
+                         std::to_string(film.height()) + ", header says " + std::to_string(s.width) + "x" +
+                         std::to_string(s.height));
     const std::string header = shardHeaderJson(s).dump(1);
     const uint64_t headerBytes = header.size();
     const uint64_t payloadBytes = (film.sums().size() + film.weights().size()) * kValueBytes;
@@ -156,8 +157,9 @@ void writeShardFile(const std::string& path, const ShardData& s) {
     if (!ok) failWrite("sums");
     if (::fsync(fd) != 0) failWrite("fsync");
     pauseIfAsked("mid-write", tmp);
-    ok = writeAll(fd, reinterpret_cast<const char*>(film.sums().data()) + sumBytes / 2, sumBytes - sumBytes / 2, hash) &&
-         writeAll(fd, film.weights().data(), film.weights().size() * kValueBytes, hash);
+    ok =
+        writeAll(fd, reinterpret_cast<const char*>(film.sums().data()) + sumBytes / 2, sumBytes - sumBytes / 2, hash) &&
+        writeAll(fd, film.weights().data(), film.weights().size() * kValueBytes, hash);
     if (!ok) failWrite("sums");
     const uint64_t checksum = hash.h;
     Fnv1a ignored;

@@ -29,18 +29,18 @@
 namespace pcl {
 
 struct ShardData {
-    std::string job;                  // the job file as given to `batch run`
-    uint32_t index = 0, shards = 0;   // shard i of N
-    uint32_t passes = 0;              // P: the job's passes, [0, P) over all shards
-    PassRange range;                  // global passes [first, end) this shard renders
-    uint32_t passesDone = 0;          // passes [first, first + passesDone) are in the sums
+    std::string job;                 // the job file as given to `batch run`
+    uint32_t index = 0, shards = 0;  // shard i of N
+    uint32_t passes = 0;             // P: the job's passes, [0, P) over all shards
+    PassRange range;                 // global passes [first, end) this shard renders
+    uint32_t passesDone = 0;         // passes [first, first + passesDone) are in the sums
     bool complete() const { return passesDone == range.count(); }
     std::string method;
     int width = 0, height = 0;
     uint64_t seed = 0;
     uint64_t sceneHash = 0, settingsHash = 0;
-    std::string settings;             // BatchScene::settingsText: what the settings hash covers
-    std::string version;              // photoncl version that rendered it
+    std::string settings;  // BatchScene::settingsText: what the settings hash covers
+    std::string version;   // photoncl version that rendered it
     std::string device, platform, host;
     uint64_t globalEmitted = 0, causticEmitted = 0, globalStored = 0, causticStored = 0;
     uint64_t samples = 0, nonFiniteSamples = 0;

@@ -76,7 +76,8 @@ BatchPlanEstimate estimatePathTracer(const BatchScene& bs, bool calibrate, int t
         e.eyeSecondsPerPass = stats.seconds * double(pixels) / double(smallPixels);
         e.secondsPerPass = e.eyeSecondsPerPass;
         e.calibrationRssBytes = hostMaxRssBytes();
-        e.hostBytes = e.calibrationRssBytes + uint64_t(kHostBytesPerPixel * double(pixels - std::min(pixels, smallPixels)));
+        e.hostBytes = e.calibrationRssBytes +
+                      uint64_t(kHostBytesPerPixel * double(pixels - std::min(pixels, smallPixels)));
         e.calibrated = true;
     }
     planShards(bs.job, e);
@@ -144,11 +145,13 @@ BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, De
         const double ratio = double(pixels) / (double(small.camera.width) * small.camera.height);
         e.photonSecondsPerPass = r.times.photons + r.times.maps;
         e.eyeSecondsPerPass = (r.times.camera + r.times.eyePaths + r.times.direct + r.times.caustic + r.times.indirect +
-                               r.times.accumulate) * ratio;
+                               r.times.accumulate) *
+                              ratio;
         e.secondsPerPass = e.photonSecondsPerPass + e.eyeSecondsPerPass;
         e.calibrationRssBytes = hostMaxRssBytes();
         const size_t smallPixels = size_t(small.camera.width) * small.camera.height;
-        e.hostBytes = e.calibrationRssBytes + uint64_t(kHostBytesPerPixel * double(pixels - std::min(pixels, smallPixels)));
+        e.hostBytes = e.calibrationRssBytes +
+                      uint64_t(kHostBytesPerPixel * double(pixels - std::min(pixels, smallPixels)));
         // A CPU device's buffers are host memory: the full-size chunk's eye buffers add to the RSS.
         if (info.type & CL_DEVICE_TYPE_CPU) {
             const size_t smallChunk = std::min(e.eyeChunk, smallPixels * s.strata * s.strata);
@@ -165,41 +168,48 @@ std::string formatBatchPlan(const BatchScene& bs, const BatchPlanEstimate& e) {
     const PhotonRenderSettings& s = bs.settings;
     const RenderMaps maps = mapsFor(s.method, bs.plan);
     std::ostringstream o;
-    o << "job " << job.path << ": " << job.scene << " at " << job.width << "x" << job.height << ", method " << job.method
-      << ", " << job.passes << " passes in " << job.shards << " shard(s), seed " << job.seed << "\n";
-    if (s.method == RenderMethod::PathTracing) o << "per pass: 1 path-traced sample per pixel (CPU reference path tracer)";
-    else o << "per pass: " << (maps.global ? s.globalPhotons : 0u) << " global + " << (maps.caustic ? s.causticPhotons : 0u)
-      << " caustic photons, " << s.strata * s.strata << " eye sample(s)/pixel";
+    o << "job " << job.path << ": " << job.scene << " at " << job.width << "x" << job.height << ", method "
+      << job.method << ", " << job.passes << " passes in " << job.shards << " shard(s), seed " << job.seed << "\n";
+    if (s.method == RenderMethod::PathTracing)
+        o << "per pass: 1 path-traced sample per pixel (CPU reference path tracer)";
+    else
+        o << "per pass: " << (maps.global ? s.globalPhotons : 0u) << " global + "
+          << (maps.caustic ? s.causticPhotons : 0u) << " caustic photons, " << s.strata * s.strata
+          << " eye sample(s)/pixel";
     if (s.method == RenderMethod::FinalGather) o << ", " << s.gatherRays << " gather rays";
     o << "\nsettings " << hex64(bs.settingsHash) << ": " << bs.settingsText << "\n";
     o << "scene hash " << hex64(bs.sceneHash) << "\n";
-    o << "shard files: " << shardFolder(job) << "/, image " << job.output << ", manifest " << manifestPath(job) << "\n\n";
+    o << "shard files: " << shardFolder(job) << "/, image " << job.output << ", manifest " << manifestPath(job)
+      << "\n\n";
     const bool path = s.method == RenderMethod::PathTracing;
     o << "memory per shard (device " << e.device << "):\n";
     if (path) o << "  device: none (the path tracer runs on the host's cores)\n";
-    else o << "  device: " << mib(double(e.deviceBytes)) << " = photon pass, maps and searches " << mib(double(e.devicePhotonPassBytes))
-      << " (memory plan) + eye buffers " << mib(double(e.deviceEyeBytes)) << " (" << e.eyeChunk << " samples per chunk)\n";
+    else
+        o << "  device: " << mib(double(e.deviceBytes)) << " = photon pass, maps and searches "
+          << mib(double(e.devicePhotonPassBytes)) << " (memory plan) + eye buffers " << mib(double(e.deviceEyeBytes))
+          << " (" << e.eyeChunk << " samples per chunk)\n";
     if (!e.memoryProblems.empty()) o << "  does NOT fit this device:\n" << e.memoryProblems;
     o << "  host:   " << mib(double(e.hostBytes))
       << (e.calibrated ? " (the calibration's peak RSS " + mib(double(e.calibrationRssBytes)) +
                              " + 112 bytes per further pixel: sums and pass film" +
                              (path ? std::string(")") : std::string("; on a CPU device + the larger eye chunk)"))
                        : std::string(" (estimate: 112 bytes per pixel, the photon maps read back, 200 MiB runtime") +
-                             (!path && e.cpuDevice ? ", + the device's buffers: a CPU device's are host memory)"
-                                                                           : ")"))
+                             (!path && e.cpuDevice ? ", + the device's buffers: a CPU device's are host memory)" : ")"))
       << "\n";
     if (e.calibrated && path) {
         char line[256];
-        std::snprintf(line, sizeof line,
-                      "time per pass (1 sample per pixel): %.2fs (one warm pass at %dx%d on the host, scaled by pixels)\n",
-                      e.secondsPerPass, e.calibrationWidth, e.calibrationHeight);
+        std::snprintf(
+            line, sizeof line,
+            "time per pass (1 sample per pixel): %.2fs (one warm pass at %dx%d on the host, scaled by pixels)\n",
+            e.secondsPerPass, e.calibrationWidth, e.calibrationHeight);
         o << line;
     } else if (e.calibrated) {
         char line[256];
         std::snprintf(line, sizeof line,
                       "time per pass: %.2fs = photon pass + maps %.2fs + eye stages %.2fs (one warm pass at %dx%d on "
                       "this device, eye stages scaled by pixels)\n",
-                      e.secondsPerPass, e.photonSecondsPerPass, e.eyeSecondsPerPass, e.calibrationWidth, e.calibrationHeight);
+                      e.secondsPerPass, e.photonSecondsPerPass, e.eyeSecondsPerPass, e.calibrationWidth,
+                      e.calibrationHeight);
         o << line;
     } else {
         o << "time: not calibrated (--no-calibrate)\n";
@@ -208,9 +218,9 @@ std::string formatBatchPlan(const BatchScene& bs, const BatchPlanEstimate& e) {
     double total = 0;
     for (const ShardEstimate& se : e.shards) {
         char line[256];
-        std::snprintf(line, sizeof line, "  %5u  [%6u, %6u) %4u  %-10s  %-10s  %s\n", se.index, se.range.first, se.range.end,
-                      se.range.count(), mib(double(e.deviceBytes)).c_str(), mib(double(e.hostBytes)).c_str(),
-                      e.calibrated ? hms(se.seconds).c_str() : "-");
+        std::snprintf(line, sizeof line, "  %5u  [%6u, %6u) %4u  %-10s  %-10s  %s\n", se.index, se.range.first,
+                      se.range.end, se.range.count(), mib(double(e.deviceBytes)).c_str(),
+                      mib(double(e.hostBytes)).c_str(), e.calibrated ? hms(se.seconds).c_str() : "-");
         o << line;
         total += se.seconds;
     }

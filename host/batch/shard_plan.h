@@ -38,8 +38,8 @@ struct BatchPlanEstimate {
     std::string memoryProblems;          // the memory plan's, when it does not fit ("" fits)
     bool calibrated = false;
     int calibrationWidth = 0, calibrationHeight = 0;
-    double photonSecondsPerPass = 0;     // photon pass + maps (independent of the image size)
-    double eyeSecondsPerPass = 0;        // eye stages at the job's size (scaled)
+    double photonSecondsPerPass = 0;  // photon pass + maps (independent of the image size)
+    double eyeSecondsPerPass = 0;     // eye stages at the job's size (scaled)
     double secondsPerPass = 0;
     uint64_t calibrationRssBytes = 0;
     std::string device;

@@ -21,17 +21,20 @@ std::string sbatchLogPath(const std::string& folder, const std::string& pattern)
 }
 
 void requireAbsolute(const std::string& what, const std::string& path) {
-    if (!isAbsolute(path)) throw InputError("batch slurm: " + what + ": expected an absolute path, got \"" + path + "\"");
+    if (!isAbsolute(path))
+        throw InputError("batch slurm: " + what + ": expected an absolute path, got \"" + path + "\"");
     // A newline would end the #SBATCH line or the command; sbatch cannot escape a double quote.
     if (path.find_first_of("\n\r\"") != std::string::npos)
-        throw InputError("batch slurm: " + what + ": expected a path without newlines or double quotes, got \"" + path + "\"");
+        throw InputError("batch slurm: " + what + ": expected a path without newlines or double quotes, got \"" + path +
+                         "\"");
 }
 
 // Values that go bare on an #SBATCH line: no blanks, quotes or newlines.
 void requireWord(const std::string& what, const std::string& value) {
     for (char c : value)
         if (std::isspace(static_cast<unsigned char>(c)) || c == '"' || c == '\'' || c == '#')
-            throw InputError("batch slurm: " + what + ": expected one word without blanks or quotes, got \"" + value + "\"");
+            throw InputError("batch slurm: " + what + ": expected one word without blanks or quotes, got \"" + value +
+                             "\"");
 }
 
 std::string dir(const SlurmSubmission& s) {
@@ -64,8 +67,8 @@ std::string slurmShardScript(const SlurmSubmission& s) {
     checkSlurmSubmission(s);
     std::ostringstream out;
     out << "#!/bin/bash\n"
-        << "# photoncl batch slurm: " << s.shards << " shard" << (s.shards == 1 ? "" : "s") << " of "
-        << s.jobFile << ", one per array task.\n"
+        << "# photoncl batch slurm: " << s.shards << " shard" << (s.shards == 1 ? "" : "s") << " of " << s.jobFile
+        << ", one per array task.\n"
         << "#SBATCH --job-name=" << s.jobName << "\n"
         << "#SBATCH --array=0-" << (s.shards - 1);
     if (s.maxRunning > 0) out << "%" << s.maxRunning;
@@ -86,8 +89,8 @@ std::string slurmMergeScript(const SlurmSubmission& s) {
     checkSlurmSubmission(s);
     std::ostringstream out;
     out << "#!/bin/bash\n"
-        << "# photoncl batch slurm: merges the " << s.shards << " shard" << (s.shards == 1 ? "" : "s")
-        << " of " << s.jobFile << " once every array task succeeded.\n"
+        << "# photoncl batch slurm: merges the " << s.shards << " shard" << (s.shards == 1 ? "" : "s") << " of "
+        << s.jobFile << " once every array task succeeded.\n"
         << "#SBATCH --job-name=" << s.jobName << "-merge\n"
         << "#SBATCH --output=" << sbatchLogPath(dir(s), "merge.log") << "\n";
     commonDirectives(out, s);
@@ -133,7 +136,8 @@ std::string parseSbatchJobId(const std::string& parsableOutput) {
 std::string shellQuote(const std::string& word) {
     bool safe = !word.empty();
     for (char c : word)
-        safe = safe && (std::isalnum(static_cast<unsigned char>(c)) || std::string("/._-+=:,@%").find(c) != std::string::npos);
+        safe = safe &&
+               (std::isalnum(static_cast<unsigned char>(c)) || std::string("/._-+=:,@%").find(c) != std::string::npos);
     if (safe) return word;
     std::string out = "'";
     for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);

@@ -11,13 +11,13 @@
 namespace pcl {
 
 struct SlurmSubmission {
-    std::string photoncl;      // absolute path of the photoncl binary the tasks run
-    std::string jobFile;       // absolute path of the job file
-    uint32_t shards = 1;       // N: array tasks 0..N-1
-    std::string jobName;       // the array's name; the merge job's is "<name>-merge"
-    std::string logDir;        // absolute folder for the scripts and the logs
-    std::string partition;     // empty: the cluster's default partition
-    std::string timeLimit;     // sbatch --time per task, e.g. "30" or "1:00:00"; empty: the partition's
+    std::string photoncl;        // absolute path of the photoncl binary the tasks run
+    std::string jobFile;         // absolute path of the job file
+    uint32_t shards = 1;         // N: array tasks 0..N-1
+    std::string jobName;         // the array's name; the merge job's is "<name>-merge"
+    std::string logDir;          // absolute folder for the scripts and the logs
+    std::string partition;       // empty: the cluster's default partition
+    std::string timeLimit;       // sbatch --time per task, e.g. "30" or "1:00:00"; empty: the partition's
     uint64_t memPerTaskMib = 0;  // sbatch --mem of each array task; 0: the partition's default
     uint32_t cpusPerTask = 0;    // sbatch --cpus-per-task of each array task; 0: the default (1)
     uint32_t maxRunning = 0;     // at most this many tasks at once (--array=0-3%M); 0: no limit

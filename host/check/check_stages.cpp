@@ -82,7 +82,8 @@ const std::vector<CheckStage>& checkStages() {
     static const std::vector<CheckStage> stages = {
         {"trace", "BVH traversal kernel against the host BVH traversal", trace},
         {"emit", "photon emission, ray by ray", photonStage<kEmit>},
-        {"trace_photons", "photon tracing (Russian roulette, bounces, deposits), path by path", photonStage<kTracePhotons>},
+        {"trace_photons", "photon tracing (Russian roulette, bounces, deposits), path by path",
+         photonStage<kTracePhotons>},
         {"deposit", "the deterministic deposit into the maps, record by record", photonStage<kDeposit>},
         {"pass", "the whole photon pass, maps aligned path by path", photonStage<kPass>},
         {"sort", "the device radix sort against a stable sort", sort},

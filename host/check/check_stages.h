@@ -17,9 +17,9 @@ namespace pcl {
 
 // What the command line sets for every stage.
 struct CheckOptions {
-    size_t rays = 100000;    // trace: random rays
+    size_t rays = 100000;      // trace: random rays
     uint32_t photons = 50000;  // photon paths per pass of the photon and map stages
-    uint64_t seed = 1;       // of every random input
+    uint64_t seed = 1;         // of every random input
 };
 
 // The one result type every stage gives the command: printable, with a verdict.

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "check/camera_surface_hits.h"
+#include "check/on_device.h"
 #include "core/clock.h"
 #include "pipeline/device_scene.h"
 #include "pipeline/photon_pass.h"
@@ -66,14 +67,15 @@ std::string EstimateCheckReport::table() const {
     std::string out;
     char line[512];
     std::snprintf(line, sizeof line, "%-8s %-8s %-10s %-13s %4s %8s %7s %7s %9s %7s %6s %4s %10s %9s\n", "map",
-                  "queries", "structure", "filter", "vis", "photons", "queries", "nonzero", "used", "count!=",
-                  "r2!=", "nan", "max rel", "device s");
+                  "queries", "structure", "filter", "vis", "photons", "queries", "nonzero", "used",
+                  "count!=", "r2!=", "nan", "max rel", "device s");
     out += line;
     for (const auto& r : rows) {
-        std::snprintf(line, sizeof line, "%-8s %-8s %-10s %-13s %4s %8zu %7zu %7zu %9zu %7zu %6zu %4zu %10.2e %9.4f%s\n",
-                      r.map.c_str(), r.queries.c_str(), r.structure.c_str(), r.filter.c_str(),
-                      r.visibility ? "on" : "off", r.photons, r.queryCount, r.nonzero, r.used, r.countMismatches,
-                      r.radiusMismatches, r.nans, r.maxRelError, r.deviceSeconds, r.passed() ? "" : "  FAIL");
+        std::snprintf(line, sizeof line,
+                      "%-8s %-8s %-10s %-13s %4s %8zu %7zu %7zu %9zu %7zu %6zu %4zu %10.2e %9.4f%s\n", r.map.c_str(),
+                      r.queries.c_str(), r.structure.c_str(), r.filter.c_str(), r.visibility ? "on" : "off", r.photons,
+                      r.queryCount, r.nonzero, r.used, r.countMismatches, r.radiusMismatches, r.nans, r.maxRelError,
+                      r.deviceSeconds, r.passed() ? "" : "  FAIL");
         out += line;
     }
     std::snprintf(line, sizeof line,
@@ -144,8 +146,8 @@ EstimateCheckReport checkEstimate(Device& device, const Scene& scene, const Scen
 
     const std::vector<PclEstimateQuery> surface =
         surfaceEstimateQueries(scene, geometry, options.surfaceQueries, rMax, options.k, options.seed * 7 + 1);
-    for (const auto& [mapName, map] : {std::pair<const char*, const std::vector<PclPhoton>*>{"global", &maps.global},
-                                       {"caustic", &maps.caustic}}) {
+    for (const auto& [mapName, map] :
+         {std::pair<const char*, const std::vector<PclPhoton>*>{"global", &maps.global}, {"caustic", &maps.caustic}}) {
         float lo[3] = {sb.lo.x, sb.lo.y, sb.lo.z}, hi[3] = {sb.hi.x, sb.hi.y, sb.hi.z};
         for (int a = 0; a < 3; ++a) lo[a] -= rMax, hi[a] += rMax;
         const std::vector<PclEstimateQuery> random =
@@ -153,8 +155,8 @@ EstimateCheckReport checkEstimate(Device& device, const Scene& scene, const Scen
         // Each structure built once per map, estimated for every query set, filter and visibility.
         std::vector<PhotonMapOnDevice> built;
         for (KnnStructure s : options.structures) built.emplace_back(device, *map, s, rMax);
-        for (const auto& [setName, qs] : {std::pair<const char*, const std::vector<PclEstimateQuery>*>{"random", &random},
-                                          {"surface", &surface}}) {
+        for (const auto& [setName, qs] :
+             {std::pair<const char*, const std::vector<PclEstimateQuery>*>{"random", &random}, {"surface", &surface}}) {
             t0 = Clock::now();
             const ReferenceKnn brute = referenceKnnBruteForce(*map, estimateKnnQueries(*qs));
             report.twinSeconds += since(t0);

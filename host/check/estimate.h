@@ -16,49 +16,49 @@
 #include <vector>
 
 #include "device/device.h"
-#include "prep/prepared_scene.h"
 #include "geometry/scene_geometry.h"
 #include "pipeline/estimate.h"
+#include "prep/prepared_scene.h"
 #include "prep/scene_buffers.h"
 #include "scene/scene.h"
 
 namespace pcl {
 
 struct EstimateCheckOptions {
-    uint32_t photons = 50000;          // paths per photon pass (global and caustic each)
+    uint32_t photons = 50000;  // paths per photon pass (global and caustic each)
     uint32_t surfaceQueries = 4000;
     uint32_t randomQueries = 2000;
     uint32_t k = 50;
-    float radiusFraction = 0.05f;      // r_max / scene bounding-box diagonal
+    float radiusFraction = 0.05f;  // r_max / scene bounding-box diagonal
     float coneK = 1.1f;
     std::vector<EstimateFilter> filters = allEstimateFilters();
     std::vector<KnnStructure> structures = {KnnStructure::KdTree, KnnStructure::HashGrid};
-    bool visibility = true;            // also check the visibility test on the surface queries
+    bool visibility = true;  // also check the visibility test on the surface queries
     uint64_t seed = 1;
 };
 
 struct EstimateCheckRow {
-    std::string map;                   // "global" / "caustic"
-    std::string queries;               // "random" / "surface"
-    std::string structure;             // "kd-tree" / "hash grid"
-    std::string filter;                // "box", ...
+    std::string map;        // "global" / "caustic"
+    std::string queries;    // "random" / "surface"
+    std::string structure;  // "kd-tree" / "hash grid"
+    std::string filter;     // "box", ...
     bool visibility = false;
     size_t photons = 0, queryCount = 0;
-    size_t nonzero = 0;                // queries the twin estimates nonzero
-    size_t used = 0;                   // photons used by the twin, summed over queries
-    size_t countMismatches = 0;        // queries whose found or used counts differ
-    size_t radiusMismatches = 0;       // queries whose r² differs
-    size_t nans = 0;                   // non-finite values from either side
-    double maxRelError = 0.0;          // irradiance, per channel: |d − t| / max(|d|, |t|)
-    double deviceSeconds = 0.0;        // kNN + estimate kernels
+    size_t nonzero = 0;           // queries the twin estimates nonzero
+    size_t used = 0;              // photons used by the twin, summed over queries
+    size_t countMismatches = 0;   // queries whose found or used counts differ
+    size_t radiusMismatches = 0;  // queries whose r² differs
+    size_t nans = 0;              // non-finite values from either side
+    double maxRelError = 0.0;     // irradiance, per channel: |d − t| / max(|d|, |t|)
+    double deviceSeconds = 0.0;   // kNN + estimate kernels
     bool passed() const;
 };
 
 struct EstimateCheckReport {
     std::vector<EstimateCheckRow> rows;
     double photonSeconds = 0.0, twinSeconds = 0.0, deviceSeconds = 0.0;
-    bool passed() const;               // every row passed (and there is at least one)
-    std::string table() const;         // one line per row, then the tolerances
+    bool passed() const;        // every row passed (and there is at least one)
+    std::string table() const;  // one line per row, then the tolerances
 };
 
 // Relative tolerance on irradiance between the device and the twin.

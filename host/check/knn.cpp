@@ -7,6 +7,7 @@
 #include <random>
 
 #include "check/camera_surface_hits.h"
+#include "check/on_device.h"
 #include "core/clock.h"
 #include "pipeline/hashgrid.h"
 #include "pipeline/kdtree.h"
@@ -17,7 +18,6 @@ namespace pcl {
 namespace {
 
 constexpr double kDist2Tolerance = 1e-6;  // relative
-
 
 PclKnnQuery makeQuery(float x, float y, float z, float maxRadius2, uint32_t k) {
     PclKnnQuery q{};
@@ -153,8 +153,8 @@ KnnCheckReport checkKnn(Device& device, const Scene& scene, const SceneGeometry&
 
     const std::vector<PclKnnQuery> surface =
         surfaceKnnQueries(scene, geometry, options.surfaceQueries, rMax, maxK, options.seed * 7 + 1);
-    for (const auto& [mapName, map] : {std::pair<const char*, const std::vector<PclPhoton>*>{"global", &maps.global},
-                                       {"caustic", &maps.caustic}}) {
+    for (const auto& [mapName, map] :
+         {std::pair<const char*, const std::vector<PclPhoton>*>{"global", &maps.global}, {"caustic", &maps.caustic}}) {
         float lo[3] = {sb.lo.x, sb.lo.y, sb.lo.z}, hi[3] = {sb.hi.x, sb.hi.y, sb.hi.z};
         if (!map->empty()) {
             lo[0] = hi[0] = (*map)[0].x, lo[1] = hi[1] = (*map)[0].y, lo[2] = hi[2] = (*map)[0].z;
@@ -170,8 +170,8 @@ KnnCheckReport checkKnn(Device& device, const Scene& scene, const SceneGeometry&
         cl::Buffer photons = device.upload(*map, CL_MEM_READ_ONLY, "check knn: photon map");
         const KnnKdTree tree = packKdTree(device, buildKdTree(device, photons, map->size()));
         const DeviceHashGrid grid = buildHashGrid(device, photons, map->size(), hashGridParams(*map, rMax));
-        for (const auto& [setName, base] : {std::pair<const char*, const std::vector<PclKnnQuery>*>{"random", &random},
-                                            {"surface", &surface}}) {
+        for (const auto& [setName, base] :
+             {std::pair<const char*, const std::vector<PclKnnQuery>*>{"random", &random}, {"surface", &surface}}) {
             t0 = Clock::now();
             const ReferenceKnn brute = referenceKnnBruteForce(*map, *base);
             report.bruteSeconds += since(t0);

@@ -14,10 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "check/on_device.h"
 #include "device/device.h"
-#include "prep/prepared_scene.h"
 #include "geometry/scene_geometry.h"
 #include "pipeline/knn.h"
+#include "prep/prepared_scene.h"
 #include "prep/scene_buffers.h"
 #include "reference/knn.h"
 #include "scene/scene.h"
@@ -25,35 +26,35 @@
 namespace pcl {
 
 struct KnnCheckOptions {
-    uint32_t photons = 50000;          // paths per photon pass (global and caustic each)
+    uint32_t photons = 50000;  // paths per photon pass (global and caustic each)
     uint32_t randomQueries = 10000;
     uint32_t surfaceQueries = 10000;
     std::vector<uint32_t> ks = {1, 50, 500};
-    float radiusFraction = 0.05f;      // r_max / scene bounding-box diagonal
+    float radiusFraction = 0.05f;  // r_max / scene bounding-box diagonal
     uint64_t seed = 1;
 };
 
 struct KnnCheckRow {
-    std::string map;                   // "global" / "caustic"
-    std::string queries;               // "random" / "surface"
-    std::string structure;             // "kd-tree" / "hash grid"
+    std::string map;        // "global" / "caustic"
+    std::string queries;    // "random" / "surface"
+    std::string structure;  // "kd-tree" / "hash grid"
     uint32_t k = 0;
     size_t photons = 0, queryCount = 0;
-    size_t neighbours = 0;             // returned by the brute force, summed over queries
-    size_t empty = 0;                  // queries the brute force finds nothing for
-    size_t countMismatches = 0;        // queries whose counts differ
-    size_t indexMismatches = 0;        // neighbour slots whose photon index differs
-    size_t radiusViolations = 0;       // r² > maxRadius2, or r² ≠ last d² (0 if none)
-    double maxDist2Error = 0.0;        // relative, over slots with equal indices
-    double deviceSeconds = 0.0;        // search kernel
+    size_t neighbours = 0;        // returned by the brute force, summed over queries
+    size_t empty = 0;             // queries the brute force finds nothing for
+    size_t countMismatches = 0;   // queries whose counts differ
+    size_t indexMismatches = 0;   // neighbour slots whose photon index differs
+    size_t radiusViolations = 0;  // r² > maxRadius2, or r² ≠ last d² (0 if none)
+    double maxDist2Error = 0.0;   // relative, over slots with equal indices
+    double deviceSeconds = 0.0;   // search kernel
     bool passed() const;
 };
 
 struct KnnCheckReport {
     std::vector<KnnCheckRow> rows;
     double bruteSeconds = 0.0, deviceSeconds = 0.0, photonSeconds = 0.0;
-    bool passed() const;               // every row passed (and there is at least one)
-    std::string table() const;         // one line per row, then the tolerances
+    bool passed() const;        // every row passed (and there is at least one)
+    std::string table() const;  // one line per row, then the tolerances
 };
 
 KnnCheckReport checkKnn(Device& device, const Scene& scene, const KnnCheckOptions& options = {});

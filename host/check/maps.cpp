@@ -10,9 +10,9 @@
 #include "geometry/scene_geometry.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/photon_pass.h"
+#include "pipeline/sort.h"
 #include "prep/projection_map.h"
 #include "prep/scene_buffers.h"
-#include "pipeline/sort.h"
 #include "reference/kdtree.h"
 #include "reference/sort.h"
 
@@ -182,8 +182,8 @@ MapCheckReport checkSort(Device& device, const PreparedScene& prepared, const Ma
     MapCheckReport report;
     report.stage = "sort";
     PhotonMaps maps = scenePhotonMaps(device, prepared, options);
-    for (const auto& [name, map] : {std::pair<const char*, const std::vector<PclPhoton>*>{"global", &maps.global},
-                                    {"caustic", &maps.caustic}}) {
+    for (const auto& [name, map] :
+         {std::pair<const char*, const std::vector<PclPhoton>*>{"global", &maps.global}, {"caustic", &maps.caustic}}) {
         if (map->empty()) continue;
         for (uint32_t a = 0; a < 3; ++a) {
             std::vector<uint64_t> keys(map->size());
@@ -207,8 +207,8 @@ MapCheckReport checkKdTreeBuild(Device& device, const PreparedScene& prepared, c
     MapCheckReport report;
     report.stage = "build";
     PhotonMaps maps = scenePhotonMaps(device, prepared, options);
-    for (const auto& [name, map] : {std::pair<const char*, const std::vector<PclPhoton>*>{"global", &maps.global},
-                                    {"caustic", &maps.caustic}}) {
+    for (const auto& [name, map] :
+         {std::pair<const char*, const std::vector<PclPhoton>*>{"global", &maps.global}, {"caustic", &maps.caustic}}) {
         MapCheckRow row;
         row.input = name;
         row.items = map->size();
@@ -239,8 +239,8 @@ std::string MapCheckReport::table() const {
     std::string out;
     char line[512];
     if (stage == "sort") {
-        std::snprintf(line, sizeof line, "%-18s %5s %9s %9s %9s %10s %10s %10s\n", "keys", "bits", "pairs", "key!=",
-                      "value!=", "dev s", "twin s", "dev/twin");
+        std::snprintf(line, sizeof line, "%-18s %5s %9s %9s %9s %10s %10s %10s\n", "keys", "bits", "pairs",
+                      "key!=", "value!=", "dev s", "twin s", "dev/twin");
         out += line;
         for (const MapCheckRow& r : rows) {
             std::snprintf(line, sizeof line, "%-18s %5d %9zu %9zu %9zu %10.4f %10.4f %10.2f\n", r.input.c_str(),
@@ -251,8 +251,8 @@ std::string MapCheckReport::table() const {
         out += "device radix sort vs std::stable_sort: keys and values must be equal at every position "
                "(stable: equal keys keep input order); any difference fails\n";
     } else {
-        std::snprintf(line, sizeof line, "%-8s %9s %7s %9s %9s %10s %10s  %s\n", "map", "photons", "levels", "bytes!=",
-                      "index!=", "dev s", "twin s", "device tree");
+        std::snprintf(line, sizeof line, "%-8s %9s %7s %9s %9s %10s %10s  %s\n", "map", "photons", "levels",
+                      "bytes!=", "index!=", "dev s", "twin s", "device tree");
         out += line;
         for (const MapCheckRow& r : rows) {
             std::snprintf(line, sizeof line, "%-8s %9zu %7u %9zu %9zu %10.4f %10.4f  %s\n", r.input.c_str(), r.items,

@@ -25,28 +25,28 @@
 namespace pcl {
 
 struct MapCheckOptions {
-    uint32_t photons = 100000;      // paths per map (global and caustic) of the photon pass
+    uint32_t photons = 100000;  // paths per map (global and caustic) of the photon pass
     uint32_t maxDepth = 16;
     uint64_t seed = 1;
-    size_t syntheticKeys = 1000000; // sort: pairs per synthetic pattern
+    size_t syntheticKeys = 1000000;  // sort: pairs per synthetic pattern
 };
 
 struct MapCheckRow {
-    std::string input;             // "global", "caustic", "x keys", "random 64", ...
-    size_t items = 0;              // pairs sorted, or photons in the tree
-    int keyBits = 0;               // sort
-    size_t keyMismatches = 0, valueMismatches = 0;    // sort: positions differing
-    size_t byteMismatches = 0, indexMismatches = 0;   // build: nodes differing in any byte / index
-    std::string defect;            // build: first broken tree property of the device tree, "" if none
-    uint32_t levels = 0;           // build: device levels
+    std::string input;                               // "global", "caustic", "x keys", "random 64", ...
+    size_t items = 0;                                // pairs sorted, or photons in the tree
+    int keyBits = 0;                                 // sort
+    size_t keyMismatches = 0, valueMismatches = 0;   // sort: positions differing
+    size_t byteMismatches = 0, indexMismatches = 0;  // build: nodes differing in any byte / index
+    std::string defect;                              // build: first broken tree property of the device tree, "" if none
+    uint32_t levels = 0;                             // build: device levels
     double deviceSeconds = 0.0, hostSeconds = 0.0;
 };
 
 struct MapCheckReport {
-    std::string stage;             // "sort" or "build"
+    std::string stage;  // "sort" or "build"
     std::vector<MapCheckRow> rows;
-    bool passed() const;           // every row without a mismatch or defect
-    std::string table() const;     // printable, one line per input, then the rule
+    bool passed() const;        // every row without a mismatch or defect
+    std::string table() const;  // printable, one line per input, then the rule
 };
 
 // Sort on keys from the scene's maps and on synthetic keys (see above).

@@ -6,13 +6,14 @@
 #include <cstdio>
 #include <cstring>
 
+#include "check/on_device.h"
 #include "core/clock.h"
 #include "core/error.h"
 #include "pipeline/deposit.h"
 #include "pipeline/emit.h"
 #include "pipeline/photon_pass.h"
-#include "prep/projection_map.h"
 #include "pipeline/trace_photons.h"
+#include "prep/projection_map.h"
 #include "reference/deposit.h"
 #include "reference/emit.h"
 #include "reference/photon_pass.h"
@@ -24,7 +25,6 @@ namespace {
 constexpr double kPositionTolerance = 1e-4;   // of max(|p|∞, scene radius)
 constexpr double kDirectionTolerance = 1e-4;  // absolute, per component of a unit vector
 constexpr double kPowerTolerance = 1e-5;      // of the largest channel
-
 
 // One pass of the check: its allocation and its photons split over two batches.
 struct CheckPass {
@@ -38,12 +38,12 @@ std::vector<CheckPass> checkPasses(const SceneGeometry& geometry, const SceneBuf
     std::vector<CheckPass> passes;
     const uint64_t seed = referencePhotonPassSeed(o.seed, 0);
     for (uint32_t pass : {PCL_PASS_GLOBAL, PCL_PASS_CAUSTIC}) {
-        CheckPass p{pass == PCL_PASS_GLOBAL ? "global" : "caustic", referenceLightFirstPhoton(buffers, pass, o.photons), {}};
+        CheckPass p{
+            pass == PCL_PASS_GLOBAL ? "global" : "caustic", referenceLightFirstPhoton(buffers, pass, o.photons), {}};
         const uint32_t total = p.first.back();
         const uint32_t half = total / 2;
         for (auto [start, n] : {std::pair<uint32_t, uint32_t>{0, half}, {half, total - half}})
-            if (n > 0)
-                p.batches.push_back(referencePhotonParams(buffers, geometry, seed, pass, start, n, o.maxDepth));
+            if (n > 0) p.batches.push_back(referencePhotonParams(buffers, geometry, seed, pass, start, n, o.maxDepth));
         passes.push_back(std::move(p));
     }
     return passes;
@@ -103,7 +103,8 @@ void alignMaps(const std::vector<PclPhoton>& twin, const std::vector<uint32_t>& 
             continue;
         }
         lost = false;
-        for (uint32_t k = 0; k < c; ++k) row.identicalRecords += std::memcmp(&twin[t + k], &dev[found + k], sizeof(PclPhoton)) == 0;
+        for (uint32_t k = 0; k < c; ++k)
+            row.identicalRecords += std::memcmp(&twin[t + k], &dev[found + k], sizeof(PclPhoton)) == 0;
         t += c;
         d = found + c;
     }
@@ -112,7 +113,7 @@ void alignMaps(const std::vector<PclPhoton>& twin, const std::vector<uint32_t>& 
 }  // namespace
 
 void comparePhotonRays(const std::vector<PclPhotonRay>& host, const std::vector<PclPhotonRay>& dev, float radius,
-                 PhotonCheckRow& row) {
+                       PhotonCheckRow& row) {
     for (size_t i = 0; i < host.size(); ++i) {
         const PclPhotonRay& h = host[i];
         const PclPhotonRay& d = dev[i];
@@ -132,7 +133,7 @@ void comparePhotonRays(const std::vector<PclPhotonRay>& host, const std::vector<
 }
 
 void comparePhotonPaths(const ReferencePhotonBatch& host, const PhotonTraceResult& dev, float radius,
-                  PhotonCheckRow& row) {
+                        PhotonCheckRow& row) {
     const uint32_t S = host.slotsPerPath;
     for (size_t i = 0; i < host.counts.size(); ++i) {
         row.items++;
@@ -140,8 +141,14 @@ void comparePhotonPaths(const ReferencePhotonBatch& host, const PhotonTraceResul
         row.hostDeposits += host.counts[i];
         row.deviceDeposits += dev.counts[i];
         bool divergent = false;
-        if (referenceEndCause(host.ends[i]) != referenceEndCause(dev.ends[i])) { row.endMismatches++; divergent = true; }
-        if (referenceEndBounces(host.ends[i]) != referenceEndBounces(dev.ends[i])) { row.bounceMismatches++; divergent = true; }
+        if (referenceEndCause(host.ends[i]) != referenceEndCause(dev.ends[i])) {
+            row.endMismatches++;
+            divergent = true;
+        }
+        if (referenceEndBounces(host.ends[i]) != referenceEndBounces(dev.ends[i])) {
+            row.bounceMismatches++;
+            divergent = true;
+        }
         if (host.counts[i] != dev.counts[i]) {
             row.countMismatches++;
             divergent = true;
@@ -286,8 +293,7 @@ PhotonCheckReport checkPhotonStage(Device& device, const SceneGeometry& geometry
 
 bool PhotonCheckReport::passed() const {
     for (const PhotonCheckRow& r : rows) {
-        if (stage == "emit" &&
-            (r.originMismatches || r.directionMismatches || r.powerMismatches || r.lightMismatches))
+        if (stage == "emit" && (r.originMismatches || r.directionMismatches || r.powerMismatches || r.lightMismatches))
             return false;
         if (stage == "trace" && r.items > 0 && double(r.divergent) > maxDivergentFraction * double(r.items))
             return false;
@@ -306,8 +312,8 @@ std::string PhotonCheckReport::table() const {
     std::string out;
     char line[512];
     if (stage == "emit") {
-        std::snprintf(line, sizeof line, "%-8s %9s %9s %9s %9s %9s %11s %11s %11s\n", "pass", "rays", "origin!=",
-                      "dir!=", "power!=", "light!=", "max o err", "max d err", "max P err");
+        std::snprintf(line, sizeof line, "%-8s %9s %9s %9s %9s %9s %11s %11s %11s\n", "pass", "rays",
+                      "origin!=", "dir!=", "power!=", "light!=", "max o err", "max d err", "max P err");
         out += line;
         for (const auto& r : rows) {
             std::snprintf(line, sizeof line, "%-8s %9zu %9zu %9zu %9zu %9zu %11.2e %11.2e %11.2e\n", r.pass.c_str(),
@@ -321,18 +327,18 @@ std::string PhotonCheckReport::table() const {
                       kPositionTolerance, kDirectionTolerance, kPowerTolerance);
         out += line;
     } else if (stage == "trace") {
-        std::snprintf(line, sizeof line, "%-8s %8s %9s %8s %6s %7s %7s %6s %6s %6s %10s %9s %9s  %s\n", "pass",
-                      "paths", "divergent", "%", "end!=", "bounce!", "count!=", "pos!=", "bits!=", "rgbe!=",
-                      "max p err", "dep twin", "dep dev", "twin ends: escaped/absorbed/max depth/stored");
+        std::snprintf(line, sizeof line, "%-8s %8s %9s %8s %6s %7s %7s %6s %6s %6s %10s %9s %9s  %s\n", "pass", "paths",
+                      "divergent", "%", "end!=", "bounce!", "count!=", "pos!=", "bits!=", "rgbe!=", "max p err",
+                      "dep twin", "dep dev", "twin ends: escaped/absorbed/max depth/stored");
         out += line;
         for (const auto& r : rows) {
             std::snprintf(line, sizeof line,
                           "%-8s %8zu %9zu %8.4f %6zu %7zu %7zu %6zu %6zu %6zu %10.2e %9zu %9zu  %zu/%zu/%zu/%zu\n",
                           r.pass.c_str(), r.items, r.divergent, r.items ? 100.0 * r.divergent / r.items : 0.0,
                           r.endMismatches, r.bounceMismatches, r.countMismatches, r.positionMismatches,
-                          r.packedMismatches, r.rgbeMismatches, r.maxPositionError, r.hostDeposits,
-                          r.deviceDeposits, r.ends[PCL_END_ESCAPED], r.ends[PCL_END_ABSORBED],
-                          r.ends[PCL_END_MAX_DEPTH], r.ends[PCL_END_STORED]);
+                          r.packedMismatches, r.rgbeMismatches, r.maxPositionError, r.hostDeposits, r.deviceDeposits,
+                          r.ends[PCL_END_ESCAPED], r.ends[PCL_END_ABSORBED], r.ends[PCL_END_MAX_DEPTH],
+                          r.ends[PCL_END_STORED]);
             out += line;
         }
         std::snprintf(line, sizeof line,
@@ -366,7 +372,8 @@ std::string PhotonCheckReport::table() const {
         out += "bytes!=: records differing in any byte, summed over two device maps (one sized exactly, one a "
                "quarter the size that must grow); any fails\n";
     }
-    std::snprintf(line, sizeof line, "twin %.3f s, device %.3f s (incl. upload/download)\n", hostSeconds, deviceSeconds);
+    std::snprintf(line, sizeof line, "twin %.3f s, device %.3f s (incl. upload/download)\n", hostSeconds,
+                  deviceSeconds);
     out += line;
     return out;
 }

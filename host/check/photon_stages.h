@@ -19,18 +19,19 @@
 #include <string>
 #include <vector>
 
+#include "check/on_device.h"
 #include "device/device.h"
-#include "prep/prepared_scene.h"
 #include "geometry/scene_geometry.h"
-#include "prep/scene_buffers.h"
 #include "pipeline/trace_photons.h"
+#include "prep/prepared_scene.h"
+#include "prep/scene_buffers.h"
 #include "reference/trace_photons.h"
 #include "scene/scene.h"
 
 namespace pcl {
 
 struct PhotonCheckOptions {
-    uint32_t photons = 50000;         // paths per pass (global and caustic each)
+    uint32_t photons = 50000;  // paths per pass (global and caustic each)
     uint32_t maxDepth = 16;
     uint64_t seed = 1;
     double maxDivergentFraction = 1e-3;  // trace: fail above 0.1 % divergent paths
@@ -38,34 +39,34 @@ struct PhotonCheckOptions {
 
 // One line of a stage's table: one pass (global or caustic).
 struct PhotonCheckRow {
-    std::string pass;                 // "global" / "caustic"
-    size_t items = 0;                 // photon rays or paths compared, or map records (deposit)
+    std::string pass;  // "global" / "caustic"
+    size_t items = 0;  // photon rays or paths compared, or map records (deposit)
     // emit
     size_t originMismatches = 0, directionMismatches = 0, powerMismatches = 0, lightMismatches = 0;
     double maxOriginError = 0, maxDirectionError = 0, maxPowerError = 0;  // relative, as the tolerances
     // trace
     size_t deviceDeposits = 0, hostDeposits = 0;
-    size_t divergent = 0;             // paths differing in any respect
+    size_t divergent = 0;  // paths differing in any respect
     size_t endMismatches = 0, bounceMismatches = 0, countMismatches = 0;
     size_t positionMismatches = 0, packedMismatches = 0, rgbeMismatches = 0;
-    double maxPositionError = 0;      // over deposits compared (paths with equal counts)
-    size_t ends[5] = {0, 0, 0, 0, 0}; // twin's paths by PCL_END_* cause
+    double maxPositionError = 0;       // over deposits compared (paths with equal counts)
+    size_t ends[5] = {0, 0, 0, 0, 0};  // twin's paths by PCL_END_* cause
     // deposit
-    size_t byteMismatches = 0;        // records differing in any byte (or missing)
-    uint32_t growths = 0;             // device map growths during the check
+    size_t byteMismatches = 0;  // records differing in any byte (or missing)
+    uint32_t growths = 0;       // device map growths during the check
     // pass (whole photon pass; divergent, hostDeposits, deviceDeposits as for trace)
-    size_t identicalRecords = 0;      // records of agreeing paths equal byte for byte
+    size_t identicalRecords = 0;  // records of agreeing paths equal byte for byte
     size_t deviceBatches = 0;
     uint32_t slotsPerPath = 0;
 };
 
 struct PhotonCheckReport {
-    std::string stage;                // "emit", "trace" or "deposit"
+    std::string stage;  // "emit", "trace" or "deposit"
     std::vector<PhotonCheckRow> rows;
     double hostSeconds = 0.0, deviceSeconds = 0.0;
     double maxDivergentFraction = 1e-3;
     bool passed() const;
-    std::string table() const;        // printable, one line per pass, then the verdict's reason
+    std::string table() const;  // printable, one line per pass, then the verdict's reason
 };
 
 // stage: "emit", "trace", "deposit" or "pass". Builds the geometry, buffers and projection maps
@@ -79,9 +80,8 @@ struct PhotonCheckReport {
 PhotonCheckReport checkPhotonStage(Device& device, const Scene& scene, const std::string& stage,
                                    const PhotonCheckOptions& options = {});
 // The same on already built geometry and buffers (projection maps included, if wanted).
-PhotonCheckReport checkPhotonStage(Device& device, const SceneGeometry& geometry,
-                                   const SceneBuffers& buffers, const std::string& stage,
-                                   const PhotonCheckOptions& options = {});
+PhotonCheckReport checkPhotonStage(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                                   const std::string& stage, const PhotonCheckOptions& options = {});
 
 // The comparisons themselves, added into `row` (tests feed them corrupted results to see the
 // check fail). sceneRadius scales the position tolerance.
@@ -89,7 +89,6 @@ void comparePhotonRays(const std::vector<PclPhotonRay>& twin, const std::vector<
                        float sceneRadius, PhotonCheckRow& row);
 void comparePhotonPaths(const ReferencePhotonBatch& twin, const PhotonTraceResult& device, float sceneRadius,
                         PhotonCheckRow& row);
-void comparePhotonMaps(const std::vector<PclPhoton>& twin, const std::vector<PclPhoton>& device,
-                       PhotonCheckRow& row);
+void comparePhotonMaps(const std::vector<PclPhoton>& twin, const std::vector<PclPhoton>& device, PhotonCheckRow& row);
 
 }  // namespace pcl

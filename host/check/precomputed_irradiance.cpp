@@ -9,6 +9,7 @@
 #include <random>
 
 #include "check/camera_surface_hits.h"
+#include "check/on_device.h"
 #include "core/clock.h"
 #include "pipeline/photon_pass.h"
 #include "prep/projection_map.h"
@@ -85,8 +86,8 @@ double IrradianceCheckReport::speedUp() const { return lookupSeconds > 0.0 ? est
 
 bool IrradianceCheckReport::passed() const {
     return points > 0 && selectionMismatches == 0 && storedCompared > 0 &&
-           storedMaxError <= kIrradianceStoredTolerance && coverMismatches == 0 && lookupCompared > 0 && choiceMismatches == 0 &&
-           valueMismatches == 0 && exactCompared > 0 && exactFailures == 0;
+           storedMaxError <= kIrradianceStoredTolerance && coverMismatches == 0 && lookupCompared > 0 &&
+           choiceMismatches == 0 && valueMismatches == 0 && exactCompared > 0 && exactFailures == 0;
 }
 
 bool IrradianceCheckReport::accurate() const {
@@ -118,8 +119,7 @@ std::string IrradianceCheckReport::table() const {
                   "per-point RMS relative difference %.3f (RMS difference / mean %.3f); %zu zero estimates with a "
                   "lookup, %zu zero lookups with an estimate\n",
                   accuracyQueries, meanEstimate, meanLookup, 100.0 * meanRelativeError(), rmsRelativeDifference,
-                  rmsDifferenceOverMean,
-                  estimateZeroLookupNot, lookupZeroEstimateNot);
+                  rmsDifferenceOverMean, estimateZeroLookupNot, lookupZeroEstimateNot);
     out += line;
     std::snprintf(line, sizeof line,
                   "  speed      full estimate %.4f s, lookup %.4f s device time: %.1fx per query (precompute %.3f s)\n",
@@ -254,8 +254,8 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
         size_t nonZero = 0;
         for (size_t q = 0; q < surface.size(); ++q) {
             const double e = scalar(full.values[q].r, full.values[q].g, full.values[q].b);
-            const double l = scalar(onSurface.irradiance[4 * q], onSurface.irradiance[4 * q + 1],
-                                    onSurface.irradiance[4 * q + 2]);
+            const double l =
+                scalar(onSurface.irradiance[4 * q], onSurface.irradiance[4 * q + 1], onSurface.irradiance[4 * q + 2]);
             sumE += e, sumL += l, sumDiff2 += (l - e) * (l - e);
             if (e > 0.0) {
                 sumRel2 += (l - e) * (l - e) / (e * e);

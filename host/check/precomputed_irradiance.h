@@ -23,38 +23,38 @@
 #include <vector>
 
 #include "device/device.h"
-#include "prep/prepared_scene.h"
 #include "geometry/scene_geometry.h"
 #include "pipeline/precomputed_irradiance.h"
+#include "prep/prepared_scene.h"
 #include "prep/scene_buffers.h"
 #include "scene/scene.h"
 
 namespace pcl {
 
 struct IrradianceCheckOptions {
-    uint32_t photons = 50000;          // global paths of the photon pass (scene check)
-    uint32_t every = 4;                // m
-    uint32_t k = 50;                   // photons per estimate, full and stored
-    float coverFactor = 2.0f;          // PrecomputedIrradianceOptions::coverFactor
-    float radiusFraction = 0.05f;      // r_max / scene bounding-box diagonal (scene check)
-    uint32_t surfaceQueries = 10000;   // camera-ray hits (scene check)
-    uint32_t randomQueries = 10000;    // points in the map's box, normals of random photons
-    uint32_t twinPoints = 2000;        // stored points the estimate twin recomputes
-    uint32_t twinQueries = 4000;       // per query set: lookups the brute force repeats
-    EstimateSettings estimate;         // the filter and normal test of both estimates
+    uint32_t photons = 50000;         // global paths of the photon pass (scene check)
+    uint32_t every = 4;               // m
+    uint32_t k = 50;                  // photons per estimate, full and stored
+    float coverFactor = 2.0f;         // PrecomputedIrradianceOptions::coverFactor
+    float radiusFraction = 0.05f;     // r_max / scene bounding-box diagonal (scene check)
+    uint32_t surfaceQueries = 10000;  // camera-ray hits (scene check)
+    uint32_t randomQueries = 10000;   // points in the map's box, normals of random photons
+    uint32_t twinPoints = 2000;       // stored points the estimate twin recomputes
+    uint32_t twinQueries = 4000;      // per query set: lookups the brute force repeats
+    EstimateSettings estimate;        // the filter and normal test of both estimates
     uint64_t seed = 1;
 };
 
 struct IrradianceCheckReport {
-    std::string name;                  // the scene or map
-    size_t photons = 0, points = 0;    // global map records, stored points
+    std::string name;                // the scene or map
+    size_t photons = 0, points = 0;  // global map records, stored points
     float maxRadius = 0.0f;
     // selection
-    size_t selectionMismatches = 0;    // points differing from the twin's in position, normal or photon
+    size_t selectionMismatches = 0;  // points differing from the twin's in position, normal or photon
     // stored irradiance vs the estimate twin
     size_t storedCompared = 0;
-    double storedMaxError = 0.0;       // max |device − twin| / max(|twin|, 1e-3 × mean stored), per channel
-    size_t coverMismatches = 0;        // covers not bit-equal to the twin's
+    double storedMaxError = 0.0;  // max |device − twin| / max(|twin|, 1e-3 × mean stored), per channel
+    size_t coverMismatches = 0;   // covers not bit-equal to the twin's
     // lookup vs brute force (random, surface)
     size_t lookupCompared = 0, choiceMismatches = 0, valueMismatches = 0, lookupEmpty = 0;
     // exact points
@@ -62,19 +62,19 @@ struct IrradianceCheckReport {
     // accuracy: scalar irradiance (r + g + b) / 3 at the surface queries
     size_t accuracyQueries = 0;
     double meanEstimate = 0.0, meanLookup = 0.0;
-    double meanRelativeError() const;  // |meanLookup / meanEstimate − 1|
-    double rmsRelativeDifference = 0.0;// over queries with a non-zero estimate: √mean(((L − E)/E)²)
-    double rmsDifferenceOverMean = 0.0;// √mean((L − E)²) / mean E, over every query
+    double meanRelativeError() const;    // |meanLookup / meanEstimate − 1|
+    double rmsRelativeDifference = 0.0;  // over queries with a non-zero estimate: √mean(((L − E)/E)²)
+    double rmsDifferenceOverMean = 0.0;  // √mean((L − E)²) / mean E, over every query
     size_t estimateZeroLookupNot = 0, lookupZeroEstimateNot = 0;
     // speed (device seconds over the surface queries)
     double estimateSeconds = 0.0, lookupSeconds = 0.0;
-    double speedUp() const;            // estimateSeconds / lookupSeconds (0 if no lookup time)
-    double precomputeSeconds = 0.0;    // device: selection + estimates at the points; wall: tree
+    double speedUp() const;          // estimateSeconds / lookupSeconds (0 if no lookup time)
+    double precomputeSeconds = 0.0;  // device: selection + estimates at the points; wall: tree
     double photonSeconds = 0.0, twinSeconds = 0.0;
 
-    bool passed() const;               // every kernel-vs-twin criterion (accuracy is not one)
-    bool accurate() const;             // the lookup mean within kIrradianceMeanTolerance of the full estimate's
-    std::string table() const;         // one line per part, the tolerances, then passed/FAILED
+    bool passed() const;        // every kernel-vs-twin criterion (accuracy is not one)
+    bool accurate() const;      // the lookup mean within kIrradianceMeanTolerance of the full estimate's
+    std::string table() const;  // one line per part, the tolerances, then passed/FAILED
 };
 
 constexpr double kIrradianceStoredTolerance = 1e-5;  // relative, device vs twin: the estimate's own
@@ -84,7 +84,8 @@ constexpr double kIrradianceMeanTolerance = 0.01;    // lookup mean vs full-esti
 IrradianceCheckReport checkPrecomputedIrradiance(Device& device, const Scene& scene,
                                                  const IrradianceCheckOptions& options = {});
 IrradianceCheckReport checkPrecomputedIrradiance(Device& device, const Scene& scene, const SceneGeometry& geometry,
-                                                 const SceneBuffers& buffers, const IrradianceCheckOptions& options = {});
+                                                 const SceneBuffers& buffers,
+                                                 const IrradianceCheckOptions& options = {});
 
 // The check on any global map with given surface queries (position, unit normal facing the side
 // looked at, maxRadius2 = r_max², k) and r_max. Random queries are drawn here. With
@@ -94,6 +95,5 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
                                                       const IrradianceCheckOptions& options, const std::string& name,
                                                       const DeviceScene* deviceScene = nullptr,
                                                       const SceneGeometry* geometry = nullptr);
-
 
 }  // namespace pcl

@@ -15,8 +15,8 @@
 #include "pipeline/final_gather.h"
 #include "pipeline/irradiance_source.h"
 #include "pipeline/photon_pass.h"
-#include "prep/plan.h"
 #include "pipeline/precomputed_irradiance.h"
+#include "prep/plan.h"
 #include "prep/projection_map.h"
 #include "prep/scene_buffers.h"
 #include "reference/camera_rays.h"
@@ -253,9 +253,9 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
         const GatherTiming gt = finalGather(device, deviceScene, deviceLights, gp, hits, *source, gathered);
         dGather = device.download<PclRadiance>(gathered, n);
         t0 = Clock::now();
-        tGather = referenceFinalGather(geometry, buffers, dHits, gp,
-                                       referenceEstimateIrradiance(maps.global, es, &geometry))
-                      .radiance;
+        tGather =
+            referenceFinalGather(geometry, buffers, dHits, gp, referenceEstimateIrradiance(maps.global, es, &geometry))
+                .radiance;
         timed(compareRadiance("final gather", dGather, tGather, o.tolerance, o.worstShown),
               gt.traceSeconds + gt.irradianceSeconds + gt.resolveSeconds, since(t0));
 
@@ -274,16 +274,13 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
         const std::vector<float> cover = device.download<float>(irr.cover, irr.count);
         t0 = Clock::now();
         const std::vector<PclRadiance> tPre =
-            referenceFinalGather(geometry, buffers, dHits, gp,
-                                 [&](const std::vector<PclEstimateQuery>& q) {
-                                     const ReferenceIrradianceLookup l =
-                                         referenceLookupIrradiance(points, cover, q, irr.minNormalCos);
-                                     std::vector<Vec3> e(q.size());
-                                     for (size_t j = 0; j < q.size(); ++j)
-                                         e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1], l.irradiance[4 * j + 2]);
-                                     return e;
-                                 })
-                .radiance;
+            referenceFinalGather(geometry, buffers, dHits, gp, [&](const std::vector<PclEstimateQuery>& q) {
+                const ReferenceIrradianceLookup l = referenceLookupIrradiance(points, cover, q, irr.minNormalCos);
+                std::vector<Vec3> e(q.size());
+                for (size_t j = 0; j < q.size(); ++j)
+                    e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1], l.irradiance[4 * j + 2]);
+                return e;
+            }).radiance;
         timed(compareRadiance("final gather (precomp.)", dPre, tPre, o.tolerance, o.worstShown),
               pt.traceSeconds + pt.irradianceSeconds + pt.resolveSeconds, since(t0));
 
@@ -305,17 +302,17 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
             const std::vector<PclRadiance> dImp = device.download<PclRadiance>(gathered, n);
             t0 = Clock::now();
             const std::vector<PclRadiance> tImp =
-                referenceFinalGather(geometry, buffers, dHits, ip,
-                                     [&](const std::vector<PclEstimateQuery>& q) {
-                                         const ReferenceIrradianceLookup l =
-                                             referenceLookupIrradiance(points, cover, q, irr.minNormalCos);
-                                         std::vector<Vec3> e(q.size());
-                                         for (size_t j = 0; j < q.size(); ++j)
-                                             e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1],
-                                                         l.irradiance[4 * j + 2]);
-                                         return e;
-                                     },
-                                     &dHist)
+                referenceFinalGather(
+                    geometry, buffers, dHits, ip,
+                    [&](const std::vector<PclEstimateQuery>& q) {
+                        const ReferenceIrradianceLookup l =
+                            referenceLookupIrradiance(points, cover, q, irr.minNormalCos);
+                        std::vector<Vec3> e(q.size());
+                        for (size_t j = 0; j < q.size(); ++j)
+                            e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1], l.irradiance[4 * j + 2]);
+                        return e;
+                    },
+                    &dHist)
                     .radiance;
             timed(compareRadiance("final gather (import.)", dImp, tImp, o.tolerance, o.worstShown),
                   it.traceSeconds + it.irradianceSeconds + it.resolveSeconds, since(t0));
@@ -345,7 +342,8 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
         dt = estimateAtEyeHits(device, pe, hits, *source, out);
         std::vector<PclRadiance> d = device.download<PclRadiance>(out, n);
         t0 = Clock::now();
-        std::vector<PclRadiance> t = referenceEstimateAtEyeHits(dHits, pe, referenceEstimateIrradiance(map, es, &geometry));
+        std::vector<PclRadiance> t =
+            referenceEstimateAtEyeHits(dHits, pe, referenceEstimateIrradiance(map, es, &geometry));
         timed(compareRadiance(which == 0 ? "caustics" : "direct visualisation", d, t, o.tolerance, o.worstShown), dt,
               since(t0));
         if (which == 0) {

@@ -20,33 +20,33 @@
 #include <vector>
 
 #include "device/device.h"
-#include "prep/prepared_scene.h"
 #include "pipeline/estimate.h"
+#include "prep/prepared_scene.h"
 #include "scene/scene.h"
 #include "shared/types.h"
 
 namespace pcl {
 
 struct RenderCheckOptions {
-    int width = 64, height = 48;       // the check's image (the camera's aspect follows it)
-    uint32_t strata = 1;               // n × n samples per pixel
+    int width = 64, height = 48;  // the check's image (the camera's aspect follows it)
+    uint32_t strata = 1;          // n × n samples per pixel
     uint32_t pass = 0;
     uint64_t seed = 1;
-    uint32_t maxDepth = 8;             // eye path hits
-    uint32_t lightSamples = 1;         // M
-    uint32_t gatherRays = 8;           // N
-    uint32_t k = 50;                   // photons per estimate
-    float radiusFraction = 0.1f;       // r_max / scene bounding-box diagonal
+    uint32_t maxDepth = 8;        // eye path hits
+    uint32_t lightSamples = 1;    // M
+    uint32_t gatherRays = 8;      // N
+    uint32_t k = 50;              // photons per estimate
+    float radiusFraction = 0.1f;  // r_max / scene bounding-box diagonal
     uint32_t globalPhotons = 20000, causticPhotons = 20000;
-    EstimateSettings estimate;         // filter etc. (structure: the device map's)
-    uint32_t histogramCells = 8;       // G of the importance-sampled gather's rows (0: those rows left out)
-    double tolerance = 1e-3;           // relative, per value
-    double required = 0.999;           // fraction of samples that must match
+    EstimateSettings estimate;    // filter etc. (structure: the device map's)
+    uint32_t histogramCells = 8;  // G of the importance-sampled gather's rows (0: those rows left out)
+    double tolerance = 1e-3;      // relative, per value
+    double required = 0.999;      // fraction of samples that must match
     size_t worstShown = 5;
 };
 
 struct WorstSample {
-    size_t index = 0;                  // sample (or pixel) index
+    size_t index = 0;  // sample (or pixel) index
     double relError = 0.0;
     float device[3] = {0, 0, 0}, twin[3] = {0, 0, 0};
 };
@@ -54,10 +54,10 @@ struct WorstSample {
 struct StageComparison {
     std::string stage;
     size_t compared = 0, matched = 0;
-    size_t nonFinite = 0;              // samples with a NaN/Inf value on either side
-    size_t nonzero = 0;                // samples whose twin value is not all zero
+    size_t nonFinite = 0;  // samples with a NaN/Inf value on either side
+    size_t nonzero = 0;    // samples whose twin value is not all zero
     double maxRelError = 0.0;
-    std::vector<WorstSample> worst;    // largest relative errors first
+    std::vector<WorstSample> worst;  // largest relative errors first
     double deviceSeconds = 0.0, twinSeconds = 0.0;
     double fraction() const { return compared ? double(matched) / double(compared) : 1.0; }
     bool passed(double required) const { return nonFinite == 0 && compared > 0 && fraction() >= required; }
@@ -81,8 +81,8 @@ struct RenderCheckReport {
     double required = 0.999, tolerance = 1e-3;
     int width = 0, height = 0;
     size_t globalPhotons = 0, causticPhotons = 0;
-    bool passed() const;                  // every stage passed
-    std::string table() const;            // one line per stage, the worst samples, the tolerances
+    bool passed() const;        // every stage passed
+    std::string table() const;  // one line per stage, the worst samples, the tolerances
 };
 
 RenderCheckReport checkRender(Device& device, const Scene& scene, const RenderCheckOptions& options = {});

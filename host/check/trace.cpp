@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "core/clock.h"
+#include "core/math.h"
 #include "pipeline/intersect.h"
 #include "reference/parallel_for.h"
 
@@ -16,11 +17,14 @@ namespace {
 constexpr double kRelT = 1e-5;
 const char* const kSets[3] = {"camera", "inside", "shadow"};
 
-
 PclRay makeRay(Vec3 o, Vec3 d, float tmin, float tmax, float time) {
     PclRay r{};
-    r.ox = o.x; r.oy = o.y; r.oz = o.z;
-    r.dx = d.x; r.dy = d.y; r.dz = d.z;
+    r.ox = o.x;
+    r.oy = o.y;
+    r.oz = o.z;
+    r.dx = d.x;
+    r.dy = d.y;
+    r.dz = d.z;
     r.tmin = tmin;
     r.tmax = tmax;
     r.time = time;
@@ -42,7 +46,7 @@ std::vector<PclRay> checkRays(const Scene& scene, const Bounds3& bounds, size_t 
     Vec3 right = normalize(cross(forward, cam.up));
     Vec3 up = cross(right, forward);
     if (!isFinite(right) || !isFinite(up)) makeBasis(forward, right, up);
-    float tanY = std::tan(0.5f * cam.vfovDegrees * 3.14159265f / 180.0f);
+    float tanY = std::tan(0.5f * cam.vfovDegrees * kPi / 180.0f);
     float tanX = tanY * float(cam.width) / float(std::max(cam.height, 1));
 
     std::vector<PclRay> rays(n);
@@ -73,8 +77,8 @@ IntersectCheckReport checkIntersect(Device& device, const Scene& scene, size_t n
     return checkIntersect(device, scene, g, n, seed);
 }
 
-IntersectCheckReport checkIntersect(Device& device, const Scene& scene, const SceneGeometry& g,
-                                    size_t n, uint64_t seed) {
+IntersectCheckReport checkIntersect(Device& device, const Scene& scene, const SceneGeometry& g, size_t n,
+                                    uint64_t seed) {
     std::vector<std::string> sets;
     std::vector<PclRay> rays = checkRays(scene, g.bounds(), n, seed, &sets);
 
@@ -128,14 +132,13 @@ bool IntersectCheckReport::passed() const {
 std::string IntersectCheckReport::table() const {
     std::string out;
     char line[256];
-    std::snprintf(line, sizeof line, "%-8s %9s %9s %9s %9s %9s %9s %10s\n", "rays", "count", "host hit",
-                  "dev hit", "prim!=", "t!=", "any!=", "max rel t");
+    std::snprintf(line, sizeof line, "%-8s %9s %9s %9s %9s %9s %9s %10s\n", "rays", "count", "host hit", "dev hit",
+                  "prim!=", "t!=", "any!=", "max rel t");
     out += line;
     IntersectCheck total{"total"};
     for (const auto& r : rows) {
-        std::snprintf(line, sizeof line, "%-8s %9zu %9zu %9zu %9zu %9zu %9zu %10.2e\n", r.rays.c_str(),
-                      r.count, r.hostHits, r.deviceHits, r.primMismatches, r.tMismatches,
-                      r.anyMismatches, r.maxRelT);
+        std::snprintf(line, sizeof line, "%-8s %9zu %9zu %9zu %9zu %9zu %9zu %10.2e\n", r.rays.c_str(), r.count,
+                      r.hostHits, r.deviceHits, r.primMismatches, r.tMismatches, r.anyMismatches, r.maxRelT);
         out += line;
         total.count += r.count;
         total.hostHits += r.hostHits;
@@ -145,9 +148,9 @@ std::string IntersectCheckReport::table() const {
         total.anyMismatches += r.anyMismatches;
         total.maxRelT = std::max(total.maxRelT, r.maxRelT);
     }
-    std::snprintf(line, sizeof line, "%-8s %9zu %9zu %9zu %9zu %9zu %9zu %10.2e\n", "total",
-                  total.count, total.hostHits, total.deviceHits, total.primMismatches,
-                  total.tMismatches, total.anyMismatches, total.maxRelT);
+    std::snprintf(line, sizeof line, "%-8s %9zu %9zu %9zu %9zu %9zu %9zu %10.2e\n", "total", total.count,
+                  total.hostHits, total.deviceHits, total.primMismatches, total.tMismatches, total.anyMismatches,
+                  total.maxRelT);
     out += line;
     std::snprintf(line, sizeof line, "host traversal %.3f s, device %.3f s (closest + any, incl. upload)\n",
                   hostSeconds, deviceSeconds);

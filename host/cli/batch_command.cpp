@@ -16,7 +16,6 @@
 #include <thread>
 #include <vector>
 
-
 #include "batch/batch_job.h"
 #include "batch/batch_render.h"
 #include "batch/merge.h"
@@ -84,7 +83,8 @@ int runPlan(const BatchOptions& o) {
     DeviceInfo info;
     if (device) info = device->info();
     else info.name = kPathTracerDevice;
-    if (!o.noCalibrate && !o.quiet) std::fprintf(stderr, "calibrating: one pass of the job, twice, on %s ...\n", info.name.c_str());
+    if (!o.noCalibrate && !o.quiet)
+        std::fprintf(stderr, "calibrating: one pass of the job, twice, on %s ...\n", info.name.c_str());
     BatchPlanEstimate e = estimateBatch(scene, info, device.get(), !o.noCalibrate, job.threads);
     std::fputs(formatBatchPlan(scene, e).c_str(), stdout);
     return e.memoryProblems.empty() ? kExitOk : kExitBadInput;
@@ -124,11 +124,11 @@ bool renderOne(Device* device, const BatchScene& bs, uint32_t i, bool force, boo
         if (why.empty()) {
             resume = &existing;
             if (!quiet)
-                std::fprintf(stderr, "shard %u/%u: %s has %u of %u passes; rendering the rest\n", i, job.shards, path.c_str(),
-                             existing.passesDone, range.count());
+                std::fprintf(stderr, "shard %u/%u: %s has %u of %u passes; rendering the rest\n", i, job.shards,
+                             path.c_str(), existing.passesDone, range.count());
         } else if (!quiet) {
-            std::fprintf(stderr, "shard %u/%u: %s is not usable (%s); rendering it again\n", i, job.shards, path.c_str(),
-                         why.c_str());
+            std::fprintf(stderr, "shard %u/%u: %s is not usable (%s); rendering it again\n", i, job.shards,
+                         path.c_str(), why.c_str());
         }
     }
     if (!quiet)
@@ -151,8 +151,9 @@ bool renderOne(Device* device, const BatchScene& bs, uint32_t i, bool force, boo
     fs::create_directories(shardFolder(job));
     writeShardFile(path, shard);
     if (!quiet)
-        std::fprintf(stderr, "shard %u/%u: wrote %s (%u of %u passes%s)\n", i, job.shards, path.c_str(), shard.passesDone,
-                     range.count(), shard.complete() ? "" : ", INCOMPLETE: interrupted; `batch run JOB --all` completes it");
+        std::fprintf(stderr, "shard %u/%u: wrote %s (%u of %u passes%s)\n", i, job.shards, path.c_str(),
+                     shard.passesDone, range.count(),
+                     shard.complete() ? "" : ", INCOMPLETE: interrupted; `batch run JOB --all` completes it");
     if (shard.nonFiniteSamples)
         std::fprintf(stderr, "warning: shard %u: %llu non-finite eye samples were dropped\n", i,
                      static_cast<unsigned long long>(shard.nonFiniteSamples));
@@ -198,8 +199,10 @@ int runRun(const BatchOptions& o) {
     for (fs::directory_iterator it(shardFolder(job), ec), end; !ec && it != end; it.increment(ec))
         stale += it->path().filename().string().rfind(".shard-", 0) == 0;
     if (stale && !o.quiet)
-        std::fprintf(stderr, "note: %zu hidden temporary file(s) .shard-*.tmp-* in %s, left by killed runs, are never read; "
-                             "delete them when no batch run is writing there\n", stale, shardFolder(job).c_str());
+        std::fprintf(stderr,
+                     "note: %zu hidden temporary file(s) .shard-*.tmp-* in %s, left by killed runs, are never read; "
+                     "delete them when no batch run is writing there\n",
+                     stale, shardFolder(job).c_str());
     return kExitOk;
 }
 
@@ -236,7 +239,8 @@ int runMerge(const BatchOptions& o) {
             if (fs::path(f).extension() == ".json")
                 throw InputError("batch merge: give one job file, or shard files (.pcls) and -o OUT.exr, not both");
         files = o.inputs;
-        if (output.empty()) throw InputError("batch merge: merging shard files needs -o OUT.exr (a job file names its output)");
+        if (output.empty())
+            throw InputError("batch merge: merging shard files needs -o OUT.exr (a job file names its output)");
     }
     MergeOptions mo;
     mo.allowPartial = o.allowPartial;
@@ -286,12 +290,14 @@ int runMerge(const BatchOptions& o) {
     const double mergeSeconds = since(start);
     const std::string manifest = fs::path(output).replace_extension(".manifest.json").string();
     writeFileAtomically(manifest, mergeManifest(m, jobPath, scene, written, mergeSeconds).dump(2) + "\n");
-    std::fprintf(stderr, "merged %zu shard(s), %u of %u passes%s, on %s: wrote %s%s%s and %s\n", m.shards.size(), m.passesDone,
-                 m.passes, m.partial ? " (PARTIAL)" : "", devices.c_str(), written.c_str(), png.empty() ? "" : ", ",
-                 png.c_str(), manifest.c_str());
+    std::fprintf(stderr, "merged %zu shard(s), %u of %u passes%s, on %s: wrote %s%s%s and %s\n", m.shards.size(),
+                 m.passesDone, m.passes, m.partial ? " (PARTIAL)" : "", devices.c_str(), written.c_str(),
+                 png.empty() ? "" : ", ", png.c_str(), manifest.c_str());
     if (m.devices.size() > 1)
-        std::fprintf(stderr, "note: shards from %zu devices: the image is a correct estimate but not bit-identical to a "
-                             "one-device run\n", m.devices.size());
+        std::fprintf(stderr,
+                     "note: shards from %zu devices: the image is a correct estimate but not bit-identical to a "
+                     "one-device run\n",
+                     m.devices.size());
     return kExitOk;
 }
 
@@ -321,7 +327,8 @@ Run addBatchCommand(CLI::App& app) {
                "the passes done as an incomplete shard and exits with 130; a second Ctrl-C quits at once.");
     run->add_option("JOB", o->job, "Job file (.json)")->required();
     auto shard = run->add_option("--shard", o->shard, "I/N: shard I (from 0) of the job's N");
-    auto all = run->add_flag("--all", o->all, "Every shard that is missing, damaged, mismatched or incomplete, in order");
+    auto all =
+        run->add_flag("--all", o->all, "Every shard that is missing, damaged, mismatched or incomplete, in order");
     shard->excludes(all);
     all->excludes(shard);
     run->add_option("--device", o->device,

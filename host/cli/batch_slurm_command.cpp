@@ -36,15 +36,16 @@ namespace fs = std::filesystem;
 std::string selfExecutable() {
     std::error_code ec;
     fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (ec) throw InputError(std::string("batch slurm: /proc/self/exe: expected the photoncl binary, got ") + ec.message());
+    if (ec)
+        throw InputError(std::string("batch slurm: /proc/self/exe: expected the photoncl binary, got ") + ec.message());
     return exe.string();
 }
 
 std::string absolutePath(const std::string& path) { return fs::absolute(fs::path(path)).lexically_normal().string(); }
 
 struct Captured {
-    int status = -1;     // exit status, -1 when the program could not start or died by a signal
-    std::string out;     // its standard output (standard error passes through)
+    int status = -1;  // exit status, -1 when the program could not start or died by a signal
+    std::string out;  // its standard output (standard error passes through)
 };
 
 // Runs argv (argv[0] looked up in PATH) and captures its standard output.
@@ -95,8 +96,9 @@ uint64_t defaultMemPerTaskMib(const BatchJob& job, const std::string& deviceOpti
         BatchPlanEstimate e = estimateBatch(scene, device.info(), nullptr);
         const uint64_t mib = (e.hostBytes * 3 / 2 + (1ull << 20) - 1) >> 20;
         const uint64_t rounded = (mib + 63) / 64 * 64;
-        std::fprintf(stderr, "batch slurm: --mem %lluM per shard: 1.5x the plan's host estimate (%llu MiB on %s); "
-                             "--mem-mib sets it, --mem-mib 0 leaves it to the partition\n",
+        std::fprintf(stderr,
+                     "batch slurm: --mem %lluM per shard: 1.5x the plan's host estimate (%llu MiB on %s); "
+                     "--mem-mib sets it, --mem-mib 0 leaves it to the partition\n",
                      static_cast<unsigned long long>(rounded), static_cast<unsigned long long>(e.hostBytes >> 20),
                      device.info().name.c_str());
         return rounded;
@@ -105,7 +107,8 @@ uint64_t defaultMemPerTaskMib(const BatchJob& job, const std::string& deviceOpti
     } catch (const cl::Error& e) {
         why = deviceError("batch slurm", e).what();
     }
-    std::fprintf(stderr, "batch slurm: no --mem (device \"%s\" cannot be opened here to plan for: %s); --mem-mib sets it\n",
+    std::fprintf(stderr,
+                 "batch slurm: no --mem (device \"%s\" cannot be opened here to plan for: %s); --mem-mib sets it\n",
                  spec.c_str(), why.c_str());
     return 0;
 }
@@ -131,9 +134,9 @@ Run addBatchSlurmCommand(CLI::App& batch) {
         bool dryRun = false;
     };
     auto o = std::make_shared<Options>();
-    CLI::App* sub = batch.add_subcommand(
-        "slurm", "Submit the job to Slurm: the shards as one job array (`batch run JOB --shard "
-                 "$SLURM_ARRAY_TASK_ID/N`), the merge as a job after every task succeeded");
+    CLI::App* sub = batch.add_subcommand("slurm",
+                                         "Submit the job to Slurm: the shards as one job array (`batch run JOB --shard "
+                                         "$SLURM_ARRAY_TASK_ID/N`), the merge as a job after every task succeeded");
     sub->add_option("JOB", o->job, "Job file (JSON)")->required();
     sub->add_flag("--dry-run", o->dryRun, "Print the two scripts and the sbatch commands; submit nothing");
     sub->add_option("--partition", o->partition, "Slurm partition (default: the cluster's)");
@@ -147,7 +150,8 @@ Run addBatchSlurmCommand(CLI::App& batch) {
     sub->add_option("--device", o->device, "Device for every shard (`batch run --device`; default: the job's)");
     sub->add_option("--job-name", o->jobName, "Name of the array job (default: photoncl-<job file name>)");
     sub->add_option("--log-dir", o->logDir, "Folder for the scripts and logs (default: <output>.slurm)");
-    sub->add_option("--sbatch-arg", o->sbatchArgs, "Extra argument for both sbatch calls, e.g. --sbatch-arg=--account=render")
+    sub->add_option("--sbatch-arg", o->sbatchArgs,
+                    "Extra argument for both sbatch calls, e.g. --sbatch-arg=--account=render")
         ->allow_extra_args(false);
     sub->add_option("--sbatch", o->sbatch, "The sbatch program (default: sbatch in PATH)");
     return [o] {

@@ -22,8 +22,8 @@ Run addCheckCommand(CLI::App& app) {
         uint64_t maxBufferMib = 0;
     };
     auto o = std::make_shared<Options>();
-    CLI::App* sub = app.add_subcommand(
-        "check", "Run kernel stages and their CPU twins on the same inputs and compare them");
+    CLI::App* sub =
+        app.add_subcommand("check", "Run kernel stages and their CPU twins on the same inputs and compare them");
     sub->add_option("SCENE", o->scene, "Scene file (.json, .gltf, .glb)")->required();
     sub->add_option("--device", o->device, "OpenCL device: auto|cpu|gpu|<index>|<name substring>")
         ->capture_default_str();
@@ -40,7 +40,8 @@ Run addCheckCommand(CLI::App& app) {
     sub->add_option("--photons", o->check.photons, "Photon paths per pass for the photon checks")
         ->capture_default_str();
     sub->add_option("--seed", o->check.seed, "Seed of the random inputs")->capture_default_str();
-    addMaxBufferMibOption(sub, o->maxBufferMib, "Cap every device buffer at this many MiB (the stages split their work)");
+    addMaxBufferMibOption(sub, o->maxBufferMib,
+                          "Cap every device buffer at this many MiB (the stages split their work)");
     return [o] {
         if (o->device == "ref") throw InputError("check: --device ref has no kernels to check; pick an OpenCL device");
         const Scene scene = loadScene(o->scene);

@@ -15,8 +15,8 @@ Run addCompareCommand(CLI::App& app) {
         double maxRmse = -1, maxRelMse = -1;
     };
     auto o = std::make_shared<Options>();
-    CLI::App* sub = app.add_subcommand(
-        "compare", "Error of image A against reference B: RMSE, relMSE, mean ratio, max difference");
+    CLI::App* sub =
+        app.add_subcommand("compare", "Error of image A against reference B: RMSE, relMSE, mean ratio, max difference");
     sub->add_option("A", o->test, "Test image (EXR, PNG, PFM)")->required();
     sub->add_option("B", o->reference, "Reference image")->required();
     sub->add_option("--max-rmse", o->maxRmse, "Exit 1 when RMSE exceeds this");

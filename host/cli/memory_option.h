@@ -25,7 +25,8 @@ inline CLI::Option* addMaxBufferMibOption(CLI::App* sub, uint64_t& mib, const st
             }
             if (used != value.size() || value.empty() || value[0] == '-' || v < 1 || v > (1ull << 30))
                 return "expected a whole number of MiB from 1 to 1073741824 (the largest buffer the device may "
-                       "allocate), got '" + value + "'";
+                       "allocate), got '" +
+                       value + "'";
             return {};
         },
         "MIB");

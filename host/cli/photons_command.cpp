@@ -60,8 +60,8 @@ int runPhotons(const PhotonsOptions& o) {
     requireMemoryFits(memory);
     pass.batchSize = memory.photonBatch;
     std::fprintf(stderr, "photons %s on %s (%s): global %u, caustic %u photons, seed %llu\n", o.scene.c_str(),
-                 device.info().name.c_str(), device.info().platform.c_str(), pass.globalPhotons,
-                 pass.causticPhotons, static_cast<unsigned long long>(o.seed));
+                 device.info().name.c_str(), device.info().platform.c_str(), pass.globalPhotons, pass.causticPhotons,
+                 static_cast<unsigned long long>(o.seed));
     PhotonMaps maps;
     if (pass.buildGlobal || pass.buildCaustic) maps = runPhotonPass(device, geometry, buffers, pass);
     std::fputs(maps.stats.summary().c_str(), stderr);

@@ -49,8 +49,8 @@ std::string defaultOutput(const std::string& scenePath) {
 // (core/interrupt.h); the path tracer, which cannot stop between passes, quits at once.
 const std::atomic<bool>* gStop = nullptr;
 
-int runPathTracer(const RenderOptions& o, const Scene& scene, const SceneGeometry& geometry,
-                  const std::string& output, Clock::time_point start) {
+int runPathTracer(const RenderOptions& o, const Scene& scene, const SceneGeometry& geometry, const std::string& output,
+                  Clock::time_point start) {
     const RenderRequest& q = o.request;
     PathRenderSettings settings;
     settings.seed = q.seed;
@@ -94,7 +94,8 @@ std::vector<std::string> parseAovs(const std::string& list) {
         if (item.empty()) continue;
         if (item != "direct" && item != "caustic" && item != "indirect" && item != "emitted" && item != "albedo" &&
             item != "normal")
-            throw InputError("render: --aov " + item + ": expected a comma-separated list of direct, caustic, indirect, "
+            throw InputError("render: --aov " + item +
+                             ": expected a comma-separated list of direct, caustic, indirect, "
                              "emitted, albedo, normal");
         out.push_back(item);
     }
@@ -157,8 +158,9 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
         add("alpha", std::to_string(s.alpha));
     }
     const std::pair<const char*, double> stages[] = {
-        {"photons", r.times.photons}, {"maps", r.times.maps},         {"camera", r.times.camera},
-        {"eyePaths", r.times.eyePaths}, {"direct", r.times.direct},   {"caustic", r.times.caustic},
+        {"photons", r.times.photons},   {"maps", r.times.maps},
+        {"camera", r.times.camera},     {"eyePaths", r.times.eyePaths},
+        {"direct", r.times.direct},     {"caustic", r.times.caustic},
         {"indirect", r.times.indirect}, {"accumulate", r.times.accumulate}};
     for (const auto& [name, sec] : stages) add(std::string("seconds:") + name, std::to_string(sec));
     if (r.stopped) add("interrupted", "after " + std::to_string(r.passes) + " passes");
@@ -185,8 +187,8 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
                  image.width, image.height, r.passes, s.strata * s.strata, seconds);
     if (!o.quiet)
         std::fprintf(stderr, "photons: %llu global, %llu caustic emitted over %u passes\ntime by stage:\n%s",
-                     static_cast<unsigned long long>(r.globalEmitted), static_cast<unsigned long long>(r.causticEmitted),
-                     r.passes, r.times.table().c_str());
+                     static_cast<unsigned long long>(r.globalEmitted),
+                     static_cast<unsigned long long>(r.causticEmitted), r.passes, r.times.table().c_str());
     if (r.nonFiniteSamples)
         std::fprintf(stderr, "warning: %llu non-finite eye samples were dropped\n",
                      static_cast<unsigned long long>(r.nonFiniteSamples));
@@ -261,8 +263,10 @@ Run addRenderCommand(CLI::App& app) {
         ->check(CLI::PositiveNumber)
         ->excludes(passes);
     sub->add_option("--width", o->width, "Image width (default: the scene camera's)")->check(CLI::PositiveNumber);
-    sub->add_option("--height", o->height, "Image height (default: keeps the aspect ratio)")->check(CLI::PositiveNumber);
-    sub->add_option("--seed", o->request.seed, "Random seed: same seed, same device, same image bits")->capture_default_str();
+    sub->add_option("--height", o->height, "Image height (default: keeps the aspect ratio)")
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--seed", o->request.seed, "Random seed: same seed, same device, same image bits")
+        ->capture_default_str();
     sub->add_option("--strata", o->request.strata, "n: n×n stratified eye samples per pixel per pass (1..16)")
         ->check(CLI::Range(1u, 16u));
     sub->add_option("--global-photons", o->request.globalPhotons, "Photons emitted per pass for the global map")
@@ -270,7 +274,8 @@ Run addRenderCommand(CLI::App& app) {
     sub->add_option("--caustic-photons", o->request.causticPhotons, "Photons emitted per pass for the caustic map")
         ->check(CLI::Range(1u, 2000000000u));
     sub->add_option("--k", o->request.k, "Photons per global-map estimate (1..500)")->check(CLI::Range(1u, 500u));
-    sub->add_option("--caustic-k", o->request.causticK, "Photons per caustic estimate (1..500)")->check(CLI::Range(1u, 500u));
+    sub->add_option("--caustic-k", o->request.causticK, "Photons per caustic estimate (1..500)")
+        ->check(CLI::Range(1u, 500u));
     sub->add_option("--gather-rays", o->request.gatherRays, "fg: final-gather rays per diffuse eye hit")
         ->check(CLI::Range(1u, 4096u));
     sub->add_option("--light-samples", o->request.lightSamples, "Area-light samples (shadow rays) per diffuse eye hit")
@@ -297,12 +302,14 @@ Run addRenderCommand(CLI::App& app) {
                     "only the speed differs, see `photoncl sweep`)")
         ->check(CLI::IsMember({"kd-tree", "hash-grid"}))
         ->capture_default_str();
-    sub->add_option("--max-radius", o->request.maxRadius, "Largest photon search radius (default: 5 % of the scene's diagonal)")
+    sub->add_option("--max-radius", o->request.maxRadius,
+                    "Largest photon search radius (default: 5 % of the scene's diagonal)")
         ->check(CLI::PositiveNumber);
     sub->add_option("--radius", o->request.radius,
                     "progressive: the first pass's radius (default: about 20 photons per disc at the mean density)")
         ->check(CLI::PositiveNumber);
-    sub->add_option("--alpha", o->request.alpha, "progressive: α in (0,1) of the radius schedule (Knaus & Zwicker 2011)")
+    sub->add_option("--alpha", o->request.alpha,
+                    "progressive: α in (0,1) of the radius schedule (Knaus & Zwicker 2011)")
         ->check(CLI::Range(0.01f, 0.99f))
         ->capture_default_str();
     sub->add_option("--aov", o->aov,

@@ -31,8 +31,7 @@ int runSweepCommand(SweepCliOptions& o) {
     for (std::string item; std::getline(list, item, ',');)
         if (!item.empty()) s.curves.push_back(item);
     if (!o.quiet) s.progress = [](const std::string& line) { std::fprintf(stderr, "sweep: %s\n", line.c_str()); };
-    const std::string csv =
-        (fs::path(o.outDir) / ("sweep-" + fs::path(s.scenePath).stem().string() + ".csv")).string();
+    const std::string csv = (fs::path(o.outDir) / ("sweep-" + fs::path(s.scenePath).stem().string() + ".csv")).string();
     auto write = [&](const std::vector<SweepRow>& rows) {
         std::string text = sweepCsvHeader();
         for (const SweepRow& r : rows) text += sweepCsvLine(r);

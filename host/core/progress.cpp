@@ -51,9 +51,8 @@ void Progress::print(double fraction, bool final) {
     if (final)
         std::fprintf(stderr, "%s%s: 100%% in %s\n", tty_ ? "\r" : "", label_.c_str(), formatSeconds(elapsed).c_str());
     else
-        std::fprintf(stderr, "%s%s: %5.1f%%  elapsed %s  ETA %s%s", tty_ ? "\r" : "", label_.c_str(),
-                     100.0 * fraction, formatSeconds(elapsed).c_str(), formatSeconds(eta).c_str(),
-                     tty_ ? "   " : "\n");
+        std::fprintf(stderr, "%s%s: %5.1f%%  elapsed %s  ETA %s%s", tty_ ? "\r" : "", label_.c_str(), 100.0 * fraction,
+                     formatSeconds(elapsed).c_str(), formatSeconds(eta).c_str(), tty_ ? "   " : "\n");
     std::fflush(stderr);
 }
 

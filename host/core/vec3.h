@@ -30,9 +30,7 @@ inline Vec3& operator*=(Vec3& a, float s) { return a = a * s; }
 inline bool operator==(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3 cross(Vec3 a, Vec3 b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
+inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
 inline Vec3 normalize(Vec3 a) { return a / length(a); }
 inline Vec3 vmin(Vec3 a, Vec3 b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
@@ -53,8 +51,14 @@ inline void makeBasis(Vec3 n, Vec3& t, Vec3& b) {
 struct Bounds3 {
     Vec3 lo{INFINITY, INFINITY, INFINITY};
     Vec3 hi{-INFINITY, -INFINITY, -INFINITY};
-    void extend(Vec3 p) { lo = vmin(lo, p); hi = vmax(hi, p); }
-    void extend(const Bounds3& b) { lo = vmin(lo, b.lo); hi = vmax(hi, b.hi); }
+    void extend(Vec3 p) {
+        lo = vmin(lo, p);
+        hi = vmax(hi, p);
+    }
+    void extend(const Bounds3& b) {
+        lo = vmin(lo, b.lo);
+        hi = vmax(hi, b.hi);
+    }
     bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
     Vec3 extent() const { return hi - lo; }
     Vec3 centre() const { return (lo + hi) * 0.5f; }

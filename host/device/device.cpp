@@ -21,8 +21,7 @@ std::string lower(std::string s) {
 
 // Trailing NULs and spaces appear in some drivers' info strings.
 std::string trimmed(std::string s) {
-    while (!s.empty() && (s.back() == '\0' || std::isspace(static_cast<unsigned char>(s.back()))))
-        s.pop_back();
+    while (!s.empty() && (s.back() == '\0' || std::isspace(static_cast<unsigned char>(s.back())))) s.pop_back();
     return s;
 }
 
@@ -37,8 +36,7 @@ std::string summary(const std::vector<DeviceInfo>& devices) {
     std::ostringstream s;
     s << "available devices:";
     for (const DeviceInfo& d : devices)
-        s << "\n  " << d.index << ": " << d.name << " (" << deviceTypeName(d.type) << ", "
-          << d.platform << ")";
+        s << "\n  " << d.index << ": " << d.name << " (" << deviceTypeName(d.type) << ", " << d.platform << ")";
     return s.str();
 }
 
@@ -59,25 +57,27 @@ std::vector<DeviceInfo> listDevices() {
         } catch (const cl::Error&) {
             continue;  // CL_DEVICE_NOT_FOUND: a platform with nothing usable
         }
-        for (cl::Device& d : devices) try {
-            DeviceInfo info;
-            info.index = static_cast<int>(out.size());
-            info.platform = trimmed(p.getInfo<CL_PLATFORM_NAME>());
-            info.platformVersion = trimmed(p.getInfo<CL_PLATFORM_VERSION>());
-            info.name = trimmed(d.getInfo<CL_DEVICE_NAME>());
-            info.vendor = trimmed(d.getInfo<CL_DEVICE_VENDOR>());
-            info.version = trimmed(d.getInfo<CL_DEVICE_VERSION>());
-            info.driver = trimmed(d.getInfo<CL_DRIVER_VERSION>());
-            info.type = d.getInfo<CL_DEVICE_TYPE>();
-            info.computeUnits = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
-            info.globalMem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
-            info.maxAlloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
-            info.driverMaxAlloc = info.maxAlloc;
-            info.clPlatform = p;
-            info.clDevice = d;
-            out.push_back(std::move(info));
-        } catch (const cl::Error&) {
-            // A device that cannot describe itself cannot be used either: leave it out.
+        for (cl::Device& d : devices) {
+            try {
+                DeviceInfo info;
+                info.index = static_cast<int>(out.size());
+                info.platform = trimmed(p.getInfo<CL_PLATFORM_NAME>());
+                info.platformVersion = trimmed(p.getInfo<CL_PLATFORM_VERSION>());
+                info.name = trimmed(d.getInfo<CL_DEVICE_NAME>());
+                info.vendor = trimmed(d.getInfo<CL_DEVICE_VENDOR>());
+                info.version = trimmed(d.getInfo<CL_DEVICE_VERSION>());
+                info.driver = trimmed(d.getInfo<CL_DRIVER_VERSION>());
+                info.type = d.getInfo<CL_DEVICE_TYPE>();
+                info.computeUnits = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+                info.globalMem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+                info.maxAlloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+                info.driverMaxAlloc = info.maxAlloc;
+                info.clPlatform = p;
+                info.clDevice = d;
+                out.push_back(std::move(info));
+            } catch (const cl::Error&) {
+                // A device that cannot describe itself cannot be used either: leave it out.
+            }
         }
     }
     return out;
@@ -230,14 +230,12 @@ Device Device::open(const std::string& spec) {
         if (index < devices.size()) chosen = &devices[index];
     } else {
         for (const DeviceInfo& d : devices)
-            if (lower(d.name).find(want) != std::string::npos ||
-                lower(d.platform).find(want) != std::string::npos) {
+            if (lower(d.name).find(want) != std::string::npos || lower(d.platform).find(want) != std::string::npos) {
                 chosen = &d;
                 break;
             }
     }
-    if (!chosen)
-        throw DeviceError("--device " + spec + ": no such OpenCL device; " + summary(devices));
+    if (!chosen) throw DeviceError("--device " + spec + ": no such OpenCL device; " + summary(devices));
 
     Device dev;
     dev.info_ = *chosen;
@@ -277,8 +275,7 @@ cl::Buffer Device::allocateBytes(size_t bytes, cl_mem_flags flags, const std::st
         throw DeviceError((what.empty() ? std::string("allocate: a buffer") : what) + " needs " + formatMiB(bytes) +
                           " (" + std::to_string(bytes) + " bytes), above the device's max allocation " +
                           describeMaxAlloc(info_));
-    return guard(what.empty() ? std::string("allocate") : what,
-                 [&] { return cl::Buffer(context_, flags, bytes); });
+    return guard(what.empty() ? std::string("allocate") : what, [&] { return cl::Buffer(context_, flags, bytes); });
 }
 
 double Device::elapsedSeconds(const cl::Event& e) {

@@ -32,17 +32,17 @@ namespace pcl {
 class ProgramCache;
 
 struct DeviceInfo {
-    int index = -1;            // position in listDevices(): platforms in order, devices in order
-    std::string platform;      // platform name
+    int index = -1;        // position in listDevices(): platforms in order, devices in order
+    std::string platform;  // platform name
     std::string platformVersion;
     std::string name, vendor, version, driver;
-    cl_device_type type = 0;   // CL_DEVICE_TYPE_CPU / _GPU / _ACCELERATOR
+    cl_device_type type = 0;  // CL_DEVICE_TYPE_CPU / _GPU / _ACCELERATOR
     size_t computeUnits = 0;
-    size_t globalMem = 0;      // bytes
-    size_t maxAlloc = 0;       // bytes: the largest single buffer this Device allocates: the
-                               // driver's, or the buffer cap when that is lower (Device::setBufferCap)
-    size_t driverMaxAlloc = 0; // bytes: CL_DEVICE_MAX_MEM_ALLOC_SIZE as the driver reports it
-    size_t bufferCap = 0;      // bytes: the cap from setBufferCap (--max-buffer-mib); 0: none
+    size_t globalMem = 0;       // bytes
+    size_t maxAlloc = 0;        // bytes: the largest single buffer this Device allocates: the
+                                // driver's, or the buffer cap when that is lower (Device::setBufferCap)
+    size_t driverMaxAlloc = 0;  // bytes: CL_DEVICE_MAX_MEM_ALLOC_SIZE as the driver reports it
+    size_t bufferCap = 0;       // bytes: the cap from setBufferCap (--max-buffer-mib); 0: none
     cl::Platform clPlatform;
     cl::Device clDevice;
 };
@@ -109,12 +109,9 @@ public:
     // Enqueues k over `global` work-items (local size chosen by the runtime) and returns its
     // event. A zero-sized launch is skipped (OpenCL rejects it) and returns an empty event.
     template <class... Ts, class... Args>
-    cl::Event launch(const std::string& stage, cl::KernelFunctor<Ts...>& k, const cl::NDRange& global,
-                     Args&&... args) {
+    cl::Event launch(const std::string& stage, cl::KernelFunctor<Ts...>& k, const cl::NDRange& global, Args&&... args) {
         if (isEmpty(global)) return cl::Event();
-        return guard(stage, [&] {
-            return k(cl::EnqueueArgs(queue_, global), std::forward<Args>(args)...);
-        });
+        return guard(stage, [&] { return k(cl::EnqueueArgs(queue_, global), std::forward<Args>(args)...); });
     }
     // The same with an explicit work-group size (a separate name: an NDRange argument would
     // otherwise be taken for a kernel argument by the overload above).
@@ -122,9 +119,7 @@ public:
     cl::Event launchLocal(const std::string& stage, cl::KernelFunctor<Ts...>& k, const cl::NDRange& global,
                           const cl::NDRange& local, Args&&... args) {
         if (isEmpty(global)) return cl::Event();
-        return guard(stage, [&] {
-            return k(cl::EnqueueArgs(queue_, global, local), std::forward<Args>(args)...);
-        });
+        return guard(stage, [&] { return k(cl::EnqueueArgs(queue_, global, local), std::forward<Args>(args)...); });
     }
 
     // Caps every buffer this Device allocates at `bytes` (0: no cap). info().maxAlloc becomes
@@ -156,26 +151,20 @@ public:
     cl::Buffer upload(const std::vector<T>& data, cl_mem_flags flags = CL_MEM_READ_ONLY, const std::string& what = {}) {
         cl::Buffer buf = allocate<T>(data.size(), flags, what);
         if (!data.empty())
-            guard("upload", [&] {
-                queue_.enqueueWriteBuffer(buf, CL_TRUE, 0, data.size() * sizeof(T), data.data());
-            });
+            guard("upload", [&] { queue_.enqueueWriteBuffer(buf, CL_TRUE, 0, data.size() * sizeof(T), data.data()); });
         return buf;
     }
     // The first `count` elements of `buf` (blocking read: waits for the kernels writing it).
     template <class T>
     std::vector<T> download(const cl::Buffer& buf, size_t count) {
         std::vector<T> out(count);
-        if (count)
-            guard("download", [&] {
-                queue_.enqueueReadBuffer(buf, CL_TRUE, 0, count * sizeof(T), out.data());
-            });
+        if (count) guard("download", [&] { queue_.enqueueReadBuffer(buf, CL_TRUE, 0, count * sizeof(T), out.data()); });
         return out;
     }
     // Fills `count` elements of `buf` with `value`.
     template <class T>
     void fill(cl::Buffer& buf, const T& value, size_t count) {
-        if (count)
-            guard("fill", [&] { queue_.enqueueFillBuffer(buf, value, 0, count * sizeof(T)); });
+        if (count) guard("fill", [&] { queue_.enqueueFillBuffer(buf, value, 0, count * sizeof(T)); });
     }
 
     void finish() {

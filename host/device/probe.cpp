@@ -41,8 +41,7 @@ std::vector<uint32_t> probeDeviceRngStream(Device& device, uint64_t seed, uint32
                                            uint32_t stream, size_t count) {
     auto k = device.kernel<cl_ulong, cl_uint, cl_uint, cl_uint, cl::Buffer>("probe", "probe_rng_stream");
     cl::Buffer out = device.allocate<uint32_t>(count);
-    device.launch("probe", k, cl::NDRange(count), cl_ulong(seed), cl_uint(path), cl_uint(bounce),
-                  cl_uint(stream), out);
+    device.launch("probe", k, cl::NDRange(count), cl_ulong(seed), cl_uint(path), cl_uint(bounce), cl_uint(stream), out);
     return device.download<uint32_t>(out, count);
 }
 

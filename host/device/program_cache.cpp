@@ -58,8 +58,7 @@ std::vector<std::string> splitLines(const std::string& text) {
 
 // The same expansion as scripts/embed_kernels.py: each include inlined once, #line markers
 // before and after, so embedded and on-disk sources are byte-for-byte identical.
-void expand(const fs::path& file, const fs::path& kernelDir, std::set<fs::path>& seen,
-            std::vector<std::string>& out) {
+void expand(const fs::path& file, const fs::path& kernelDir, std::set<fs::path>& seen, std::vector<std::string>& out) {
     static const std::regex include(R"re(^\s*#\s*include\s+"([^"]+)"\s*$)re");
     const std::string rel = file.lexically_relative(kernelDir).generic_string();
     std::ifstream probe(file, std::ios::binary);
@@ -121,8 +120,8 @@ std::string expandKernelFile(const fs::path& kernelDir, const std::string& stage
     const fs::path dir = fs::weakly_canonical(kernelDir);
     const fs::path file = dir / (stage + ".cl");
     if (!fs::exists(file))
-        throw DeviceError("kernel " + stage + ": " + file.string() + " not found (PHOTONCL_KERNEL_DIR=" +
-                          kernelDir.string() + ")");
+        throw DeviceError("kernel " + stage + ": " + file.string() +
+                          " not found (PHOTONCL_KERNEL_DIR=" + kernelDir.string() + ")");
     std::set<fs::path> seen;
     std::vector<std::string> lines;
     expand(file, dir, seen, lines);
@@ -145,9 +144,7 @@ std::string kernelSource(const std::string& stage, const std::optional<fs::path>
 
 ProgramCache::ProgramCache(cl::Context context, DeviceInfo device, std::optional<fs::path> kernelDir,
                            std::optional<fs::path> cacheDir)
-    : context_(std::move(context)),
-      device_(std::move(device)),
-      kernelDir_(std::move(kernelDir)),
+    : context_(std::move(context)), device_(std::move(device)), kernelDir_(std::move(kernelDir)),
       cacheDir_(std::move(cacheDir)) {
     if (cacheDir_ && cacheDir_->empty()) cacheDir_.reset();
 }
@@ -178,8 +175,7 @@ std::optional<cl::Program> ProgramCache::loadBinary(const fs::path& file, const 
     std::error_code ec;
     if (!fs::exists(file, ec)) return std::nullopt;
     const std::string data = readFile(file);
-    const bool intact = data.size() >= kHeaderSize &&
-                        std::memcmp(data.data(), kMagic, sizeof kMagic) == 0 &&
+    const bool intact = data.size() >= kHeaderSize && std::memcmp(data.data(), kMagic, sizeof kMagic) == 0 &&
                         getU64(data, 8) == data.size() - kHeaderSize &&
                         getU64(data, 16) == fnv1a64(data.data() + kHeaderSize, data.size() - kHeaderSize);
     if (intact) {
@@ -215,8 +211,7 @@ void ProgramCache::storeBinary(const fs::path& file, const cl::Program& program)
     std::string header(kMagic, sizeof kMagic);
     putU64(header, bin.size());
     putU64(header, fnv1a64(bin.data(), bin.size()));
-    const fs::path tmp = file.string() + ".tmp." + std::to_string(::getpid()) + "." +
-                         std::to_string(counter++);
+    const fs::path tmp = file.string() + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
     {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         out.write(header.data(), header.size());
@@ -255,9 +250,7 @@ void ProgramCache::prune(const std::string& stage, const fs::path& keep) {
 
 cl::Program ProgramCache::build(const std::string& stage, const std::string& options) {
     const auto start = std::chrono::steady_clock::now();
-    auto finish = [&] {
-        stats_.lastSeconds = since(start);
-    };
+    auto finish = [&] { stats_.lastSeconds = since(start); };
     const std::string source = kernelSource(stage, kernelDir_);
     const std::string opts = fullOptions(options);
     const fs::path entry = entryPathFor(stage, source, opts);
@@ -284,8 +277,7 @@ cl::Program ProgramCache::build(const std::string& stage, const std::string& opt
         while (!log.empty() && (log.back() == '\n' || log.back() == '\0')) log.pop_back();
         std::ostringstream msg;
         msg << where << ": build failed on " << device_.name << " (" << device_.platform << ", driver "
-            << device_.driver << ") with options '" << opts << "': " << clErrorName(e.err()) << " ("
-            << e.err() << ")";
+            << device_.driver << ") with options '" << opts << "': " << clErrorName(e.err()) << " (" << e.err() << ")";
         if (!log.empty()) msg << "\n" << log;
         throw DeviceError(msg.str());
     }

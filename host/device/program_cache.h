@@ -44,8 +44,7 @@ std::string expandKernelFile(const std::filesystem::path& kernelDir, const std::
 
 // The expanded source of a stage: from kernelDir when given, else embedded.
 // Throws DeviceError for an unknown stage.
-std::string kernelSource(const std::string& stage,
-                         const std::optional<std::filesystem::path>& kernelDir);
+std::string kernelSource(const std::string& stage, const std::optional<std::filesystem::path>& kernelDir);
 
 class ProgramCache {
 public:
@@ -61,9 +60,9 @@ public:
 
     // What the last builds did, for tests and `--verbose` timing.
     struct Stats {
-        int compiled = 0;  // built from source (cache miss or no cache)
-        int loaded = 0;    // built from a cached binary
-        int rejected = 0;  // cache entries found corrupt or refused by the device, deleted
+        int compiled = 0;        // built from source (cache miss or no cache)
+        int loaded = 0;          // built from a cached binary
+        int rejected = 0;        // cache entries found corrupt or refused by the device, deleted
         double lastSeconds = 0;  // wall time of the last build()
     };
     const Stats& stats() const { return stats_; }

@@ -35,8 +35,14 @@ inline Vec3 toVec3(F4 v) { return {v[0], v[1], v[2]}; }
 
 struct Box4 {
     F4 lo = splat(INFINITY), hi = splat(-INFINITY);  // empty
-    void extend(const Box4& b) { lo = min4(lo, b.lo); hi = max4(hi, b.hi); }
-    void extend(F4 p) { lo = min4(lo, p); hi = max4(hi, p); }
+    void extend(const Box4& b) {
+        lo = min4(lo, b.lo);
+        hi = max4(hi, b.hi);
+    }
+    void extend(F4 p) {
+        lo = min4(lo, p);
+        hi = max4(hi, p);
+    }
     Bounds3 bounds() const { return {toVec3(lo), toVec3(hi)}; }
     float surfaceArea() const { return bounds().surfaceArea(); }
 };
@@ -49,8 +55,7 @@ struct Bin {
 class Builder {
 public:
     Builder(const std::vector<Bounds3>& boxes, uint32_t triangleCount, const BvhBuildOptions& o)
-        : triangleCount_(triangleCount),
-          bins_(std::clamp(o.bins, 2, kMaxBins)), traversalCost_(o.traversalCost),
+        : triangleCount_(triangleCount), bins_(std::clamp(o.bins, 2, kMaxBins)), traversalCost_(o.traversalCost),
           maxLeafTriangles_(static_cast<uint32_t>(std::clamp(o.maxLeafTriangles, 1, int(kMaxLeafPrimitives)))) {
         boxes_.resize(boxes.size());
         centroids_.resize(boxes.size());
@@ -67,8 +72,8 @@ public:
         }
     }
 
-    std::unique_ptr<BinaryNode> build(uint32_t* ids, uint32_t begin, uint32_t end, int depth,
-                                      int threads, int& maxDepth) {
+    std::unique_ptr<BinaryNode> build(uint32_t* ids, uint32_t begin, uint32_t end, int depth, int threads,
+                                      int& maxDepth) {
         auto node = std::make_unique<BinaryNode>();
         maxDepth = std::max(maxDepth, depth);
         Box4 box, cbox4;
@@ -107,17 +112,14 @@ public:
             // Object median along the widest centroid axis (any split if they all coincide).
             int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
             mid = begin + medianCount(n);
-            std::nth_element(ids + begin, ids + mid, ids + end, [&](uint32_t a, uint32_t b) {
-                return centroids_[a][axis] < centroids_[b][axis];
-            });
+            std::nth_element(ids + begin, ids + mid, ids + end,
+                             [&](uint32_t a, uint32_t b) { return centroids_[a][axis] < centroids_[b][axis]; });
         }
         if (mid == begin || mid == end) mid = begin + medianCount(n);  // never an empty child
 
         if (threads > 1 && n > kParallelThreshold) {
             int leftDepth = maxDepth, rightDepth = maxDepth;
-            std::thread worker([&] {
-                node->child[0] = build(ids, begin, mid, depth + 1, threads / 2, leftDepth);
-            });
+            std::thread worker([&] { node->child[0] = build(ids, begin, mid, depth + 1, threads / 2, leftDepth); });
             node->child[1] = build(ids, mid, end, depth + 1, threads - threads / 2, rightDepth);
             worker.join();
             maxDepth = std::max(leftDepth, rightDepth);
@@ -129,8 +131,7 @@ public:
     }
 
 private:
-    static std::unique_ptr<BinaryNode> makeLeaf(std::unique_ptr<BinaryNode> node, uint32_t begin,
-                                                uint32_t n) {
+    static std::unique_ptr<BinaryNode> makeLeaf(std::unique_ptr<BinaryNode> node, uint32_t begin, uint32_t n) {
         node->first = begin;
         node->count = n;
         return node;
@@ -153,8 +154,8 @@ private:
 
     // The cheapest split: axis, last bin of the left side (axis -1 if none) and its
     // unnormalised cost A_L C_L + A_R C_R.
-    void bestSplit(const uint32_t* ids, uint32_t begin, uint32_t end, const Bounds3& cbox,
-                   int& bestAxis, int& bestBin, float& bestCost) const {
+    void bestSplit(const uint32_t* ids, uint32_t begin, uint32_t end, const Bounds3& cbox, int& bestAxis, int& bestBin,
+                   float& bestCost) const {
         Bin bins[3][kMaxBins];
         F4 scale;
         for (int a = 0; a < 3; ++a) {
@@ -198,7 +199,11 @@ private:
                 s += bins[a][i].spheres;
                 if (t + s == 0 || rightCost[i + 1] < 0.0f) continue;
                 float c = box.surfaceArea() * leafCost(t, s) + rightCost[i + 1];
-                if (c < bestCost) { bestCost = c; bestAxis = a; bestBin = i; }
+                if (c < bestCost) {
+                    bestCost = c;
+                    bestAxis = a;
+                    bestBin = i;
+                }
             }
         }
     }
@@ -213,8 +218,7 @@ private:
 
 }  // namespace
 
-BinaryBvh buildBinaryBvh(const std::vector<Bounds3>& boxes, uint32_t triangleCount,
-                         const BvhBuildOptions& options) {
+BinaryBvh buildBinaryBvh(const std::vector<Bounds3>& boxes, uint32_t triangleCount, const BvhBuildOptions& options) {
     BinaryBvh bvh;
     const auto n = static_cast<uint32_t>(boxes.size());
     bvh.order.resize(n);

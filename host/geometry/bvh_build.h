@@ -32,8 +32,7 @@ struct BinaryBvh {
 // boxes[i] bounds primitive i over the whole shutter interval. A box that is not finite (a
 // primitive with NaN coordinates: loaders drop those, but the builder must not crash) is binned
 // at its clamped centroid and still referenced exactly once.
-BinaryBvh buildBinaryBvh(const std::vector<Bounds3>& boxes, uint32_t triangleCount,
-                         const BvhBuildOptions& options);
+BinaryBvh buildBinaryBvh(const std::vector<Bounds3>& boxes, uint32_t triangleCount, const BvhBuildOptions& options);
 
 // SAH leaf cost in units of one packet test: triangles in packets of 4, spheres one each.
 inline float leafCost(uint32_t triangles, uint32_t spheres) {

@@ -18,10 +18,8 @@ struct Slot {
 class Collapser {
 public:
     Collapser(const BinaryBvh& bvh, const CollapseSource& src, std::vector<PclBvhNode>& nodes,
-              std::vector<PclTriPacket>& packets, std::vector<PclSphere>& spheres,
-              BvhStats& stats)
-        : bvh_(bvh), src_(src), nodes_(nodes), packets_(packets), spheres_(spheres),
-          stats_(stats) {}
+              std::vector<PclTriPacket>& packets, std::vector<PclSphere>& spheres, BvhStats& stats)
+        : bvh_(bvh), src_(src), nodes_(nodes), packets_(packets), spheres_(spheres), stats_(stats) {}
 
     void run() {
         nodes_.clear();
@@ -62,16 +60,13 @@ private:
     int slotsOf(const BinaryNode* b) const {
         if (!b->leaf()) return 1;
         bool tri = false, sph = false;
-        for (uint32_t i = 0; i < b->count; ++i)
-            (isTriangle(bvh_.order[b->first + i]) ? tri : sph) = true;
+        for (uint32_t i = 0; i < b->count; ++i) (isTriangle(bvh_.order[b->first + i]) ? tri : sph) = true;
         return int(tri) + int(sph);
     }
 
     // SAH weight of a box: its surface area relative to the root's (probability that a
     // random ray hitting the root hits it).
-    double weight(const Bounds3& b) const {
-        return rootArea_ > 0.0f ? double(b.surfaceArea()) / rootArea_ : 1.0;
-    }
+    double weight(const Bounds3& b) const { return rootArea_ > 0.0f ? double(b.surfaceArea()) / rootArea_ : 1.0; }
 
     // Writes one wide node for binary node b (and recursively its subtree); returns its index.
     // `stack` receives S(node) from bvh_collapse.h.
@@ -84,7 +79,10 @@ private:
         // Greedy: open the interior candidate with the largest surface area while it fits.
         std::vector<const BinaryNode*> cand;
         if (b->leaf()) cand.push_back(b);
-        else { cand.push_back(b->child[0].get()); cand.push_back(b->child[1].get()); }
+        else {
+            cand.push_back(b->child[0].get());
+            cand.push_back(b->child[1].get());
+        }
         for (;;) {
             int used = 0;
             for (auto* c : cand) used += slotsOf(c);
@@ -95,7 +93,10 @@ private:
                 if (c->leaf()) continue;
                 int grown = used - 1 + slotsOf(c->child[0].get()) + slotsOf(c->child[1].get());
                 float area = c->box.surfaceArea();
-                if (grown <= PCL_BVH_WIDTH && area > bestArea) { bestArea = area; best = int(i); }
+                if (grown <= PCL_BVH_WIDTH && area > bestArea) {
+                    bestArea = area;
+                    best = int(i);
+                }
             }
             if (best < 0) break;
             const BinaryNode* open = cand[best];
@@ -106,10 +107,12 @@ private:
         // Expand leaves into their primitive kinds, then write the slots.
         std::vector<Slot> slots;
         for (auto* c : cand) {
-            if (!c->leaf()) { slots.push_back({c, false, false}); continue; }
+            if (!c->leaf()) {
+                slots.push_back({c, false, false});
+                continue;
+            }
             bool tri = false, sph = false;
-            for (uint32_t i = 0; i < c->count; ++i)
-                (isTriangle(bvh_.order[c->first + i]) ? tri : sph) = true;
+            for (uint32_t i = 0; i < c->count; ++i) (isTriangle(bvh_.order[c->first + i]) ? tri : sph) = true;
             if (tri) slots.push_back({c, true, false});
             if (sph) slots.push_back({c, true, true});
         }
@@ -128,8 +131,12 @@ private:
                 word = s.spheres ? emitSphereLeaf(s.node, box) : emitTriangleLeaf(s.node, box);
             }
             PclBvhNode& n = nodes_[index];  // re-fetch: emitNode may have grown the vector
-            n.lox[i] = box.lo.x; n.loy[i] = box.lo.y; n.loz[i] = box.lo.z;
-            n.hix[i] = box.hi.x; n.hiy[i] = box.hi.y; n.hiz[i] = box.hi.z;
+            n.lox[i] = box.lo.x;
+            n.loy[i] = box.lo.y;
+            n.loz[i] = box.lo.z;
+            n.hix[i] = box.hi.x;
+            n.hiy[i] = box.hi.y;
+            n.hiz[i] = box.hi.z;
             n.child[i] = word;
         }
         stack = std::max(childCount, childCount - 1 + deepest);
@@ -137,8 +144,7 @@ private:
     }
 
     static uint32_t leafWord(uint32_t first, uint32_t count, bool spheres) {
-        return PCL_CHILD_LEAF | (spheres ? PCL_CHILD_SPHERES : 0u) |
-               ((count - 1) << PCL_CHILD_COUNT_SHIFT) | first;
+        return PCL_CHILD_LEAF | (spheres ? PCL_CHILD_SPHERES : 0u) | ((count - 1) << PCL_CHILD_COUNT_SHIFT) | first;
     }
 
     Bounds3 leafBox(const BinaryNode* b, bool spheres) const {
@@ -153,7 +159,10 @@ private:
     }
 
     uint32_t emitTriangleLeaf(const BinaryNode* b, Bounds3& box) {
-        struct Tri { uint32_t prim; Vec3 v0, e1, e2, motion; };
+        struct Tri {
+            uint32_t prim;
+            Vec3 v0, e1, e2, motion;
+        };
         std::vector<Tri> tris;
         for (uint32_t i = 0; i < b->count; ++i) {
             uint32_t p = bvh_.order[b->first + i];
@@ -174,12 +183,20 @@ private:
             PclTriPacket pk{};
             for (int l = 0; l < 4; ++l) pk.prim[l] = PCL_NO_HIT;  // empty lanes: zero edges, never hit
             Vec3 m = tris[i].motion;
-            pk.mx = m.x; pk.my = m.y; pk.mz = m.z;
+            pk.mx = m.x;
+            pk.my = m.y;
+            pk.mz = m.z;
             for (int lane = 0; lane < 4 && i < tris.size() && tris[i].motion == m; ++lane, ++i) {
                 const Tri& t = tris[i];
-                pk.v0x[lane] = t.v0.x; pk.v0y[lane] = t.v0.y; pk.v0z[lane] = t.v0.z;
-                pk.e1x[lane] = t.e1.x; pk.e1y[lane] = t.e1.y; pk.e1z[lane] = t.e1.z;
-                pk.e2x[lane] = t.e2.x; pk.e2y[lane] = t.e2.y; pk.e2z[lane] = t.e2.z;
+                pk.v0x[lane] = t.v0.x;
+                pk.v0y[lane] = t.v0.y;
+                pk.v0z[lane] = t.v0.z;
+                pk.e1x[lane] = t.e1.x;
+                pk.e1y[lane] = t.e1.y;
+                pk.e1z[lane] = t.e1.z;
+                pk.e2x[lane] = t.e2.x;
+                pk.e2y[lane] = t.e2.y;
+                pk.e2z[lane] = t.e2.z;
                 pk.prim[lane] = t.prim;
             }
             packets_.push_back(pk);
@@ -217,9 +234,8 @@ private:
 
 }  // namespace
 
-void collapseBvh(const BinaryBvh& bvh, const CollapseSource& source,
-                 std::vector<PclBvhNode>& nodes, std::vector<PclTriPacket>& packets,
-                 std::vector<PclSphere>& spheres, BvhStats& stats) {
+void collapseBvh(const BinaryBvh& bvh, const CollapseSource& source, std::vector<PclBvhNode>& nodes,
+                 std::vector<PclTriPacket>& packets, std::vector<PclSphere>& spheres, BvhStats& stats) {
     Collapser c(bvh, source, nodes, packets, spheres, stats);
     c.run();
     stats.nodes = nodes.size();

@@ -30,8 +30,7 @@ struct CollapseSource {
 // stats.maxStack is the most entries the traversal stack holds for any ray, assuming the
 // traversal pushes every child whose box is hit and then pops the nearest:
 //   S(node) = max(c, c - 1 + max over children S(child)),  S(leaf) = 0.
-void collapseBvh(const BinaryBvh& bvh, const CollapseSource& source,
-                 std::vector<PclBvhNode>& nodes, std::vector<PclTriPacket>& packets,
-                 std::vector<PclSphere>& spheres, BvhStats& stats);
+void collapseBvh(const BinaryBvh& bvh, const CollapseSource& source, std::vector<PclBvhNode>& nodes,
+                 std::vector<PclTriPacket>& packets, std::vector<PclSphere>& spheres, BvhStats& stats);
 
 }  // namespace pcl

@@ -48,15 +48,14 @@ RayFrame frameOf(const PclRay& r) {
 
 // Slab test of child i. Empty slots have inverted infinite boxes and always fail. The min/max
 // order matches the kernel's (bvh_hit_children) so both cull the same boxes.
-inline bool hitChild(const PclBvhNode& n, int i, const RayFrame& f, float tfarLimit,
-                     float& tnear) {
+inline bool hitChild(const PclBvhNode& n, int i, const RayFrame& f, float tfarLimit, float& tnear) {
     float nx = f.neg[0] ? n.hix[i] : n.lox[i], fx = f.neg[0] ? n.lox[i] : n.hix[i];
     float ny = f.neg[1] ? n.hiy[i] : n.loy[i], fy = f.neg[1] ? n.loy[i] : n.hiy[i];
     float nz = f.neg[2] ? n.hiz[i] : n.loz[i], fz = f.neg[2] ? n.loz[i] : n.hiz[i];
-    float t0 = std::max(std::max((nx - f.o.x) * f.inv.x, (ny - f.o.y) * f.inv.y),
-                        std::max((nz - f.o.z) * f.inv.z, f.tmin));
-    float t1 = std::min(std::min((fx - f.o.x) * f.inv.x, (fy - f.o.y) * f.inv.y),
-                        std::min((fz - f.o.z) * f.inv.z, tfarLimit));
+    float t0 =
+        std::max(std::max((nx - f.o.x) * f.inv.x, (ny - f.o.y) * f.inv.y), std::max((nz - f.o.z) * f.inv.z, f.tmin));
+    float t1 =
+        std::min(std::min((fx - f.o.x) * f.inv.x, (fy - f.o.y) * f.inv.y), std::min((fz - f.o.z) * f.inv.z, tfarLimit));
     tnear = t0;
     return t0 <= t1 * kFarScale;
 }
@@ -127,9 +126,7 @@ void traverse(const SceneGeometry& g, const RayFrame& f, Limit limit, Leaf leaf)
     }
 }
 
-inline uint32_t leafCount(uint32_t word) {
-    return ((word >> PCL_CHILD_COUNT_SHIFT) & PCL_CHILD_COUNT_MASK) + 1;
-}
+inline uint32_t leafCount(uint32_t word) { return ((word >> PCL_CHILD_COUNT_SHIFT) & PCL_CHILD_COUNT_MASK) + 1; }
 
 // Calls hitFn(t, u, v, prim) for every hit in (tmin, tmax) in the leaf; hitFn returns true to
 // stop early (any-hit).
@@ -154,9 +151,8 @@ bool intersectLeaf(const SceneGeometry& g, uint32_t word, const RayFrame& f, Hit
         for (int l = 0; l < 4; ++l) {
             if (p.prim[l] == PCL_NO_HIT) continue;
             float t, u, v;
-            if (!intersectTriangle(o, f.d, {p.v0x[l], p.v0y[l], p.v0z[l]},
-                                   {p.e1x[l], p.e1y[l], p.e1z[l]}, {p.e2x[l], p.e2y[l], p.e2z[l]},
-                                   t, u, v))
+            if (!intersectTriangle(o, f.d, {p.v0x[l], p.v0y[l], p.v0z[l]}, {p.e1x[l], p.e1y[l], p.e1z[l]},
+                                   {p.e2x[l], p.e2y[l], p.e2z[l]}, t, u, v))
                 continue;
             if (t > f.tmin && t < f.tmax && hitFn(t, u, v, p.prim[l])) return true;
         }
@@ -171,23 +167,27 @@ bool SceneGeometry::intersect(const PclRay& ray, PclHit& hit) const {
     hit.t = ray.tmax;
     hit.u = hit.v = 0.0f;
     hit.prim = PCL_NO_HIT;
-    traverse(*this, f, [&] { return hit.t; }, [&](uint32_t word) {
-        intersectLeaf(*this, word, f, [&](float t, float u, float v, uint32_t prim) {
-            if (closerHit(t, prim, hit.t, hit.prim)) hit = {t, u, v, prim};
+    traverse(
+        *this, f, [&] { return hit.t; },
+        [&](uint32_t word) {
+            intersectLeaf(*this, word, f, [&](float t, float u, float v, uint32_t prim) {
+                if (closerHit(t, prim, hit.t, hit.prim)) hit = {t, u, v, prim};
+                return false;
+            });
             return false;
         });
-        return false;
-    });
     return hit.prim != PCL_NO_HIT;
 }
 
 bool SceneGeometry::occluded(const PclRay& ray) const {
     const RayFrame f = frameOf(ray);
     bool found = false;
-    traverse(*this, f, [&] { return f.tmax; }, [&](uint32_t word) {
-        found = intersectLeaf(*this, word, f, [](float, float, float, uint32_t) { return true; });
-        return found;
-    });
+    traverse(
+        *this, f, [&] { return f.tmax; },
+        [&](uint32_t word) {
+            found = intersectLeaf(*this, word, f, [](float, float, float, uint32_t) { return true; });
+            return found;
+        });
     return found;
 }
 

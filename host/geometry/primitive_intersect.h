@@ -20,8 +20,7 @@ inline bool closerHit(float t, uint32_t prim, float bestT, uint32_t bestPrim) {
 // Möller–Trumbore (1997), two-sided. The triangle is v0 + u e1 + v e2; t is along the
 // unnormalised direction d. A zero determinant (degenerate triangle or a ray in its plane)
 // never hits. Returns false or true with t, u, v set.
-inline bool intersectTriangle(Vec3 o, Vec3 d, Vec3 v0, Vec3 e1, Vec3 e2, float& t, float& u,
-                              float& v) {
+inline bool intersectTriangle(Vec3 o, Vec3 d, Vec3 v0, Vec3 e1, Vec3 e2, float& t, float& u, float& v) {
     Vec3 p = cross(d, e2);
     float det = dot(e1, p);
     if (det == 0.0f) return false;
@@ -46,14 +45,14 @@ inline bool intersectTriangle(Vec3 o, Vec3 d, Vec3 v0, Vec3 e1, Vec3 e2, float& 
 inline bool intersectSphereRoots(Vec3 o, Vec3 d, Vec3 c, float r, float& t0, float& t1) {
     Vec3 f = o - c;
     float a = dot(d, d);
-    float b = dot(f, d);                     // half the usual b
-    Vec3 l = f - d * (b / a);                // offset of the centre from the line
-    float disc = a * (r * r - dot(l, l));    // = b^2 - a c, without cancellation
+    float b = dot(f, d);                   // half the usual b
+    Vec3 l = f - d * (b / a);              // offset of the centre from the line
+    float disc = a * (r * r - dot(l, l));  // = b^2 - a c, without cancellation
     if (!(disc >= 0.0f)) return false;
     float cc = dot(f, f) - r * r;
     float q = -b - std::copysign(std::sqrt(disc), b);
     float ta = cc / q, tb = q / a;
-    if (q == 0.0f) ta = tb;                  // ray through the centre from the centre
+    if (q == 0.0f) ta = tb;  // ray through the centre from the centre
     t0 = std::fmin(ta, tb);
     t1 = std::fmax(ta, tb);
     return true;
@@ -63,8 +62,14 @@ inline bool intersectSphereRoots(Vec3 o, Vec3 d, Vec3 c, float r, float& t0, flo
 inline bool intersectSphere(Vec3 o, Vec3 d, Vec3 c, float r, float tmin, float tmax, float& t) {
     float t0, t1;
     if (!intersectSphereRoots(o, d, c, r, t0, t1)) return false;
-    if (t0 > tmin && t0 < tmax) { t = t0; return true; }
-    if (t1 > tmin && t1 < tmax) { t = t1; return true; }
+    if (t0 > tmin && t0 < tmax) {
+        t = t0;
+        return true;
+    }
+    if (t1 > tmin && t1 < tmax) {
+        t = t1;
+        return true;
+    }
     return false;
 }
 

@@ -23,15 +23,12 @@ void pad(Bounds3& b, float scale) {
     b.lo -= Vec3(e);
     b.hi += Vec3(e);
 }
-float magnitude(const Bounds3& b) {
-    return std::max(maxComponent(vmax(vmax(b.lo, -b.lo), vmax(b.hi, -b.hi))), 1e-30f);
-}
+float magnitude(const Bounds3& b) { return std::max(maxComponent(vmax(vmax(b.lo, -b.lo), vmax(b.hi, -b.hi))), 1e-30f); }
 
 }  // namespace
 
 size_t BvhStats::bytes() const {
-    return nodes * sizeof(PclBvhNode) + packets * sizeof(PclTriPacket) +
-           spheres * sizeof(PclSphere);
+    return nodes * sizeof(PclBvhNode) + packets * sizeof(PclTriPacket) + spheres * sizeof(PclSphere);
 }
 
 double BvhStats::bytesPerTriangle() const {
@@ -53,9 +50,8 @@ SceneGeometry SceneGeometry::build(const Scene& scene, const BvhBuildOptions& op
     // A leaf word addresses its first packet or sphere with 26 bits (types.h); a triangle needs
     // at most one packet, so this bound keeps every index representable.
     if (total > PCL_CHILD_INDEX_MASK)
-        throw InputError(scene.path + ": scene: expected at most " +
-                         std::to_string(PCL_CHILD_INDEX_MASK) + " primitives (the BVH layout's limit), got " +
-                         std::to_string(total));
+        throw InputError(scene.path + ": scene: expected at most " + std::to_string(PCL_CHILD_INDEX_MASK) +
+                         " primitives (the BVH layout's limit), got " + std::to_string(total));
 
     // Per-primitive data by global id: bounds over the shutter, and what a packet lane needs.
     std::vector<Bounds3> boxes(total);
@@ -108,16 +104,19 @@ SceneGeometry SceneGeometry::build(const Scene& scene, const BvhBuildOptions& op
     src.sphere = [&](uint32_t prim) {
         const auto& s = scene.spheres[prim - triangles];
         PclSphere out{};
-        out.cx = s.centre.x; out.cy = s.centre.y; out.cz = s.centre.z;
+        out.cx = s.centre.x;
+        out.cy = s.centre.y;
+        out.cz = s.centre.z;
         out.radius = s.radius;
-        out.mx = s.motion.x; out.my = s.motion.y; out.mz = s.motion.z;
+        out.mx = s.motion.x;
+        out.my = s.motion.y;
+        out.mz = s.motion.z;
         out.prim = prim;
         return out;
     };
     collapseBvh(bvh, src, g.nodes, g.packets, g.spheres, g.stats_);
     g.stats_.binaryDepth = bvh.depth;
-    g.stats_.buildSeconds =
-        since(start);
+    g.stats_.buildSeconds = since(start);
     return g;
 }
 

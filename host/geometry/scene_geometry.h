@@ -5,14 +5,14 @@
 #include <cstdint>
 #include <vector>
 
-#include "shared/types.h"
 #include "scene/scene.h"
+#include "shared/types.h"
 
 namespace pcl {
 
 struct BvhBuildOptions {
-    int bins = 16;              // SAH bins per axis (>= 12)
-    int maxLeafTriangles = 4;   // triangles per leaf before SAH may stop splitting
+    int bins = 16;             // SAH bins per axis (>= 12)
+    int maxLeafTriangles = 4;  // triangles per leaf before SAH may stop splitting
     // Binary SAH: cost of a binary node visit relative to one packet (or sphere) test. Below 1
     // because the collapse folds about three binary levels into one 8-wide node visit; 0.5
     // splits small leaves the wide root can hold for free (cornell-spheres: one leaf of 3
@@ -22,14 +22,14 @@ struct BvhBuildOptions {
 
 struct BvhStats {
     size_t nodes = 0, packets = 0, spheres = 0, leaves = 0;
-    size_t triangles = 0;       // triangles in the tree (packet lanes in use)
-    double sahCost = 0.0;       // SAH cost of the 8-wide tree: Σ A/A_root over nodes (visit = 1)
-                                // + Σ A/A_root × items over leaves (packet or sphere test = 1)
+    size_t triangles = 0;  // triangles in the tree (packet lanes in use)
+    double sahCost = 0.0;  // SAH cost of the 8-wide tree: Σ A/A_root over nodes (visit = 1)
+                           // + Σ A/A_root × items over leaves (packet or sphere test = 1)
     double buildSeconds = 0.0;
-    int binaryDepth = 0;        // depth of the binary SAH tree before collapsing
-    int depth = 0;              // depth of the 8-wide tree (root = 1)
-    int maxStack = 0;           // deepest traversal stack any ray can need (see bvh_collapse.h)
-    size_t bytes() const;       // nodes + packets + spheres arrays
+    int binaryDepth = 0;              // depth of the binary SAH tree before collapsing
+    int depth = 0;                    // depth of the 8-wide tree (root = 1)
+    int maxStack = 0;                 // deepest traversal stack any ray can need (see bvh_collapse.h)
+    size_t bytes() const;             // nodes + packets + spheres arrays
     double bytesPerTriangle() const;  // (nodes + packets) bytes / triangles
 };
 

@@ -35,8 +35,8 @@ void Film::add(int x, int y, Vec3 radiance, double weight) {
 
 void Film::merge(const Film& other) {
     if (other.width_ != width_ || other.height_ != height_)
-        throw InputError("film merge: expected " + std::to_string(width_) + "x" + std::to_string(height_) +
-                         ", got " + std::to_string(other.width_) + "x" + std::to_string(other.height_));
+        throw InputError("film merge: expected " + std::to_string(width_) + "x" + std::to_string(height_) + ", got " +
+                         std::to_string(other.width_) + "x" + std::to_string(other.height_));
     for (size_t i = 0; i < sum_.size(); ++i) sum_[i] += other.sum_[i];
     for (size_t i = 0; i < weight_.size(); ++i) weight_[i] += other.weight_[i];
 }
@@ -45,16 +45,14 @@ Image Film::resolve() const {
     Image image(width_, height_);
     for (size_t i = 0; i < weight_.size(); ++i) {
         double w = weight_[i];
-        for (int c = 0; c < 3; ++c)
-            image.rgb[3 * i + c] = w > 0.0 ? static_cast<float>(sum_[3 * i + c] / w) : 0.0f;
+        for (int c = 0; c < 3; ++c) image.rgb[3 * i + c] = w > 0.0 ? static_cast<float>(sum_[3 * i + c] / w) : 0.0f;
     }
     return image;
 }
 
 Vec3 Film::sum(int x, int y) const {
     size_t i = index(x, y);
-    return {static_cast<float>(sum_[3 * i]), static_cast<float>(sum_[3 * i + 1]),
-            static_cast<float>(sum_[3 * i + 2])};
+    return {static_cast<float>(sum_[3 * i]), static_cast<float>(sum_[3 * i + 1]), static_cast<float>(sum_[3 * i + 2])};
 }
 
 double Film::totalWeight() const {

@@ -17,8 +17,8 @@ using Fixed = FixedPointFilm::Fixed;
     std::snprintf(range, sizeof range, "%.3g", FixedPointFilm::kMaxValue);
     char sum[32];
     std::snprintf(sum, sizeof sum, "%.6g", value);
-    throw InputError("fixed-point film: pixel (" + std::to_string(pixel % width) + ", " + std::to_string(pixel / width) +
-                     ") sums to " + sum + ", beyond the film's range ±" + range +
+    throw InputError("fixed-point film: pixel (" + std::to_string(pixel % width) + ", " +
+                     std::to_string(pixel / width) + ") sums to " + sum + ", beyond the film's range ±" + range +
                      " (2^95: 128-bit fixed point with 32 fraction bits); render fewer passes per image or scale the "
                      "scene's light down");
 }
@@ -51,8 +51,9 @@ FixedPointFilm::FixedPointFilm(int width, int height, std::vector<Fixed> sums, s
     const size_t pixels = width > 0 && height > 0 ? size_t(width) * height : 0;
     if (!pixels || sum_.size() != 3 * pixels || weight_.size() != pixels)
         throw InputError("fixed-point film: expected " + std::to_string(3 * pixels) + " sums and " +
-                         std::to_string(pixels) + " weights for " + std::to_string(width) + "x" + std::to_string(height) +
-                         ", got " + std::to_string(sum_.size()) + " and " + std::to_string(weight_.size()));
+                         std::to_string(pixels) + " weights for " + std::to_string(width) + "x" +
+                         std::to_string(height) + ", got " + std::to_string(sum_.size()) + " and " +
+                         std::to_string(weight_.size()));
 }
 
 void FixedPointFilm::addPass(const Film& pass) {
@@ -61,8 +62,10 @@ void FixedPointFilm::addPass(const Film& pass) {
                          " pass, got " + std::to_string(pass.width()) + "x" + std::to_string(pass.height()));
     const std::vector<double>& s = pass.sums();
     const std::vector<double>& w = pass.weights();
-    for (size_t i = 0; i < sum_.size(); ++i) sum_[i] = addChecked(sum_[i], quantise(s[i], width_, i / 3), width_, i / 3);
-    for (size_t i = 0; i < weight_.size(); ++i) weight_[i] = addChecked(weight_[i], quantise(w[i], width_, i), width_, i);
+    for (size_t i = 0; i < sum_.size(); ++i)
+        sum_[i] = addChecked(sum_[i], quantise(s[i], width_, i / 3), width_, i / 3);
+    for (size_t i = 0; i < weight_.size(); ++i)
+        weight_[i] = addChecked(weight_[i], quantise(w[i], width_, i), width_, i);
 }
 
 void FixedPointFilm::add(const FixedPointFilm& other) {

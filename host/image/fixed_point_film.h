@@ -26,7 +26,7 @@ public:
     // A pixel channel's |sum| must stay below this: 2^127 / 2^32 (a pass's value below it
     // rounds to an integer below 2^127; sums are checked on every addition).
     static constexpr double kMaxValue = 39614081257132168796771975168.0;  // 2^95
-    using Fixed = __int128;  // GCC/Clang; 16 bytes, two's complement
+    using Fixed = __int128;                                               // GCC/Clang; 16 bytes, two's complement
 
     FixedPointFilm() = default;
     FixedPointFilm(int width, int height);

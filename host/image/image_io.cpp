@@ -2,9 +2,9 @@
 
 #include <atomic>
 #include <cctype>
-#include <cstdlib>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -32,8 +32,8 @@ namespace {
 
 void checkImage(const std::string& path, const Image& image) {
     if (image.width <= 0 || image.height <= 0 || image.rgb.size() != image.pixelCount() * 3)
-        throw InputError(path + ": cannot write an empty or malformed image (" + std::to_string(image.width) +
-                         "x" + std::to_string(image.height) + ")");
+        throw InputError(path + ": cannot write an empty or malformed image (" + std::to_string(image.width) + "x" +
+                         std::to_string(image.height) + ")");
 }
 
 [[maybe_unused]] std::string withExtension(const std::string& path, const char* ext) {
@@ -92,7 +92,8 @@ Image readPfm(const std::string& path) {
         if (!in) throw InputError(path + ": truncated PFM pixel data");
         for (long long x = 0; x < w; ++x)
             for (int c = 0; c < 3; ++c)
-                image.rgb[(static_cast<size_t>(y) * w + x) * 3 + c] = row[static_cast<size_t>(x) * channels + (channels == 3 ? c : 0)];
+                image.rgb[(static_cast<size_t>(y) * w + x) * 3 + c] =
+                    row[static_cast<size_t>(x) * channels + (channels == 3 ? c : 0)];
     }
     return image;
 }
@@ -102,8 +103,8 @@ Image readPfm(const std::string& path) {
 #ifdef PHOTONCL_HAVE_OIIO
 namespace {
 
-void writeWithOiio(const std::string& path, const std::string& tmp, const OIIO::ImageSpec& spec,
-                   OIIO::TypeDesc inType, const void* pixels) {
+void writeWithOiio(const std::string& path, const std::string& tmp, const OIIO::ImageSpec& spec, OIIO::TypeDesc inType,
+                   const void* pixels) {
     // The format follows the final name's extension; the temporary keeps the same extension.
     auto out = OIIO::ImageOutput::create(path);
     if (!out) throw InputError(path + ": cannot write: " + OIIO::geterror());
@@ -208,15 +209,13 @@ Image readImage(const std::string& path, ImageMetadata* metadata) {
     if (!in) throw InputError(path + ": cannot read: " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     int channels = spec.nchannels;
-    if (spec.width <= 0 || spec.height <= 0 || channels <= 0)
-        throw InputError(path + ": expected a non-empty image");
+    if (spec.width <= 0 || spec.height <= 0 || channels <= 0) throw InputError(path + ": expected a non-empty image");
     std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * channels);
     if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
         throw InputError(path + ": cannot read pixels: " + in->geterror());
     Image image(spec.width, spec.height);
     for (size_t i = 0; i < image.pixelCount(); ++i)
-        for (int c = 0; c < 3; ++c)
-            image.rgb[3 * i + c] = pixels[i * channels + (channels >= 3 ? c : 0)];
+        for (int c = 0; c < 3; ++c) image.rgb[3 * i + c] = pixels[i * channels + (channels >= 3 ? c : 0)];
     if (metadata) {
         ImageMetadata m;
         m.scene = spec.get_string_attribute("photoncl:scene");
@@ -227,10 +226,12 @@ Image readImage(const std::string& path, ImageMetadata* metadata) {
         m.seed = std::strtoull(spec.get_string_attribute("photoncl:seed", "0").c_str(), nullptr, 10);
         m.seconds = spec.get_float_attribute("photoncl:seconds", 0.0f);
         // The other photoncl: string attributes (settings, photons, stage times...) come back as extras.
-        static const std::set<std::string> kNamed = {"scene", "method", "device", "version", "samples", "seed", "seconds"};
+        static const std::set<std::string> kNamed = {"scene",   "method", "device", "version",
+                                                     "samples", "seed",   "seconds"};
         for (const OIIO::ParamValue& p : spec.extra_attribs) {
             const std::string name = p.name().string();
-            if (name.rfind("photoncl:", 0) != 0 || kNamed.count(name.substr(9)) || p.type() != OIIO::TypeString) continue;
+            if (name.rfind("photoncl:", 0) != 0 || kNamed.count(name.substr(9)) || p.type() != OIIO::TypeString)
+                continue;
             m.extra.emplace_back(name.substr(9), spec.get_string_attribute(name));
         }
         *metadata = m;

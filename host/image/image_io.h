@@ -20,7 +20,7 @@ struct ImageMetadata {
     std::string version;  // photoncl version; empty: this build's PHOTONCL_VERSION
     int64_t samples = 0;  // samples (or passes) per pixel
     uint64_t seed = 0;
-    double seconds = 0.0; // render wall time
+    double seconds = 0.0;  // render wall time
     // More attributes, written as "photoncl:<key>" strings (settings, photons, passes, seconds
     // per stage). EXR only; readImage does not read them back.
     std::vector<std::pair<std::string, std::string>> extra;

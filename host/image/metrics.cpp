@@ -37,7 +37,8 @@ ImageErrors compare(const Image& a, const Image& b, double relMseEpsilon) {
 
 ZTestResult perPixelZTest(const std::vector<Image>& runs, const Image& reference, double threshold,
                           const Image* referenceVariance, double constantTolerance) {
-    if (runs.size() < 2) throw InputError("Z-test: needs at least 2 independent renders, got " + std::to_string(runs.size()));
+    if (runs.size() < 2)
+        throw InputError("Z-test: needs at least 2 independent renders, got " + std::to_string(runs.size()));
     for (const Image& run : runs)
         if (run.width != reference.width || run.height != reference.height)
             throw InputError("Z-test: render " + std::to_string(run.width) + "x" + std::to_string(run.height) +
@@ -111,8 +112,8 @@ std::string formatErrors(const ImageErrors& e) {
 
 Image boxDownsample(const Image& image, int factor) {
     if (factor < 1 || image.width % factor || image.height % factor)
-        throw InputError("cannot box-downsample a " + std::to_string(image.width) + "x" +
-                         std::to_string(image.height) + " image by " + std::to_string(factor));
+        throw InputError("cannot box-downsample a " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                         " image by " + std::to_string(factor));
     Image out(image.width / factor, image.height / factor);
     const double inv = 1.0 / (double(factor) * factor);
     for (int y = 0; y < out.height; ++y)

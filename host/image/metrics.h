@@ -9,11 +9,11 @@
 namespace pcl {
 
 struct ImageErrors {
-    double rmse = 0.0;         // sqrt(mean over pixels and channels of (a - b)^2)
-    double relMse = 0.0;       // mean of (a - b)^2 / (b^2 + epsilon), b the reference
-    double meanRatio = 0.0;    // mean(a) / mean(b) over pixels and channels (1: same total energy)
-    double maxAbsDiff = 0.0;   // max |a - b| over pixels and channels
-    size_t values = 0;         // pixel channels compared
+    double rmse = 0.0;        // sqrt(mean over pixels and channels of (a - b)^2)
+    double relMse = 0.0;      // mean of (a - b)^2 / (b^2 + epsilon), b the reference
+    double meanRatio = 0.0;   // mean(a) / mean(b) over pixels and channels (1: same total energy)
+    double maxAbsDiff = 0.0;  // max |a - b| over pixels and channels
+    size_t values = 0;        // pixel channels compared
 };
 
 // epsilon keeps relMSE finite on black reference pixels; 1e-2 is the value used in the
@@ -35,11 +35,11 @@ ImageErrors compare(const Image& a, const Image& b, double relMseEpsilon = kRelM
 // straight on) passes when they equal the reference within `constantTolerance` relative
 // (default 1e-3: references stored as half floats round at 2^-11), never by dividing by zero.
 struct ZTestResult {
-    size_t pixels = 0;        // pixels tested
-    size_t passed = 0;        // |z| < threshold
-    size_t nonFinite = 0;     // pixels where a render or the reference is NaN/Inf (counted as failed)
+    size_t pixels = 0;     // pixels tested
+    size_t passed = 0;     // |z| < threshold
+    size_t nonFinite = 0;  // pixels where a render or the reference is NaN/Inf (counted as failed)
     double threshold = 0.0;
-    double meanAbsZ = 0.0;    // over the finite pixels (≈ 0.8 for pure noise)
+    double meanAbsZ = 0.0;  // over the finite pixels (≈ 0.8 for pure noise)
     double maxAbsZ = 0.0;
     std::vector<size_t> failed;  // indices (y · width + x) of the pixels that did not pass
     double passFraction() const { return pixels ? static_cast<double>(passed) / pixels : 0.0; }

@@ -8,14 +8,13 @@
 
 namespace pcl {
 
-uint64_t eyePassSeed(uint64_t seed, uint32_t pass) {
-    return seed + uint64_t(pass) * 0x9E3779B97F4A7C15ull;
-}
+uint64_t eyePassSeed(uint64_t seed, uint32_t pass) { return seed + uint64_t(pass) * 0x9E3779B97F4A7C15ull; }
 
 PclCameraParams cameraParams(const Camera& camera, bool lensSampling, bool timeSampling, uint64_t passSeed,
                              uint32_t strata) {
     if (strata < 1 || strata > 16)
-        throw InputError("camera rays: strata " + std::to_string(strata) + ": expected 1..16 (n × n samples per pixel)");
+        throw InputError("camera rays: strata " + std::to_string(strata) +
+                         ": expected 1..16 (n × n samples per pixel)");
     if (camera.width < 1 || camera.height < 1)
         throw InputError("camera rays: image " + std::to_string(camera.width) + "×" + std::to_string(camera.height) +
                          ": expected at least one pixel");
@@ -27,7 +26,10 @@ PclCameraParams cameraParams(const Camera& camera, bool lensSampling, bool timeS
     const float tanHalfWidth = tanHalfHeight * static_cast<float>(camera.width) / static_cast<float>(camera.height);
     PclCameraParams p{};
     auto put = [](float* dst, Vec3 v) {
-        dst[0] = v.x; dst[1] = v.y; dst[2] = v.z; dst[3] = 0.0f;
+        dst[0] = v.x;
+        dst[1] = v.y;
+        dst[2] = v.z;
+        dst[3] = 0.0f;
     };
     put(p.position, camera.position);
     put(p.forward, forward);
@@ -60,12 +62,6 @@ cl::Event generateCameraRays(Device& device, const PclCameraParams& params, cl::
     auto kernel = device.kernel<PclCameraParams, cl::Buffer>("camera", "camera_rays");
     return device.launchLocal("camera", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, rays);
-}
-
-std::vector<PclRay> cameraRaysOnDevice(Device& device, const PclCameraParams& params) {
-    cl::Buffer rays = device.allocate<PclRay>(params.sampleCount, CL_MEM_READ_WRITE, "camera: rays");
-    generateCameraRays(device, params, rays);
-    return device.download<PclRay>(rays, params.sampleCount);
 }
 
 }  // namespace pcl

@@ -36,7 +36,4 @@ PclCameraParams cameraParams(const Camera& camera, const RenderPlan& plan, uint6
 // (PclRay[sampleCount], caller-allocated) out. Unit directions, tmin 0, tmax +inf.
 cl::Event generateCameraRays(Device& device, const PclCameraParams& params, cl::Buffer& rays);
 
-// For tests: one launch over params' range, downloaded.
-std::vector<PclRay> cameraRaysOnDevice(Device& device, const PclCameraParams& params);
-
 }  // namespace pcl

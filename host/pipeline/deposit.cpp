@@ -1,7 +1,6 @@
 #include "pipeline/deposit.h"
 
 #include <algorithm>
-#include <numeric>
 #include <string>
 
 #include "core/error.h"
@@ -22,8 +21,7 @@ DevicePhotonMap makeDevicePhotonMap(Device& device, size_t capacity, const std::
     return map;
 }
 
-uint64_t exclusiveScan(Device& device, const cl::Buffer& values, cl::Buffer& exclusive, size_t n,
-                       double* seconds) {
+uint64_t exclusiveScan(Device& device, const cl::Buffer& values, cl::Buffer& exclusive, size_t n, double* seconds) {
     auto scan = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint>("deposit", "deposit_scan");
     auto add = device.kernel<cl::Buffer, cl::Buffer, cl_uint>("deposit", "deposit_scan_add");
     const size_t groups = (n + kScanGroup - 1) / kScanGroup;
@@ -35,7 +33,8 @@ uint64_t exclusiveScan(Device& device, const cl::Buffer& values, cl::Buffer& exc
     if (groups > 1) {
         cl::Buffer groupOffsets = device.allocate<uint32_t>(groups, CL_MEM_READ_WRITE, "deposit: group offsets");
         total = exclusiveScan(device, sums, groupOffsets, groups, seconds);
-        events.push_back(device.launchLocal("deposit", add, photonGlobalRange(n), cl::NDRange(kPhotonGroup), exclusive, groupOffsets, cl_uint(n)));
+        events.push_back(device.launchLocal("deposit", add, photonGlobalRange(n), cl::NDRange(kPhotonGroup), exclusive,
+                                            groupOffsets, cl_uint(n)));
         device.finish();
     } else {
         total = device.download<uint32_t>(sums, 1)[0];
@@ -64,8 +63,10 @@ size_t depositPhotons(Device& device, const cl::Buffer& counts, const cl::Buffer
         const size_t limit = maxMapRecords(device.info().maxAlloc);
         if (needed > limit)
             throw InputError(map.name + " needs " + std::to_string(needed) + " records (" +
-                             formatMiB(needed * sizeof(PclPhoton)) + ") after this batch, above the device's max "
-                             "allocation " + describeMaxAlloc(device.info()) + ", which holds " + std::to_string(limit) +
+                             formatMiB(needed * sizeof(PclPhoton)) +
+                             ") after this batch, above the device's max "
+                             "allocation " +
+                             describeMaxAlloc(device.info()) + ", which holds " + std::to_string(limit) +
                              " records; emit fewer photons or raise --max-buffer-mib");
         size_t capacity = std::min(std::max<size_t>(needed, map.capacity * 2), limit);
         cl::Buffer grown = device.allocate<PclPhoton>(capacity, CL_MEM_READ_WRITE, map.name);
@@ -83,51 +84,13 @@ size_t depositPhotons(Device& device, const cl::Buffer& counts, const cl::Buffer
     }
     auto scatter = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl_uint>(
         "deposit", "deposit_scatter");
-    cl::Event e = device.launchLocal("deposit", scatter, photonGlobalRange(paths), cl::NDRange(kPhotonGroup), counts, offsets, slots,
-                                cl_uint(slotsPerPath), cl_uint(paths), map.photons, cl_uint(map.count));
+    cl::Event e = device.launchLocal("deposit", scatter, photonGlobalRange(paths), cl::NDRange(kPhotonGroup), counts,
+                                     offsets, slots, cl_uint(slotsPerPath), cl_uint(paths), map.photons,
+                                     cl_uint(map.count));
     e.wait();
     t.scatterSeconds += Device::elapsedSeconds(e);
     map.count += total;
     return size_t(total);
-}
-
-std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_t>& counts,
-                                       const std::vector<PclPhoton>& slots, uint32_t slotsPerPath,
-                                       size_t initialCapacity, uint32_t* growths) {
-    if (slots.size() != counts.size() * size_t(slotsPerPath))
-        throw InputError("depositOnDevice: " + std::to_string(slots.size()) + " slots for " +
-                         std::to_string(counts.size()) + " paths of " + std::to_string(slotsPerPath));
-    for (size_t i = 0; i < counts.size(); ++i)
-        if (counts[i] > slotsPerPath)
-            throw InputError("depositOnDevice: path " + std::to_string(i) + " claims " + std::to_string(counts[i]) +
-                             " records in " + std::to_string(slotsPerPath) + " slots");
-    const uint64_t total = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
-    DevicePhotonMap map = makeDevicePhotonMap(device, initialCapacity ? initialCapacity : size_t(total));
-    // All paths in one deposit when their slots fit one buffer; else in chunks of paths that do
-    // (a --max-buffer-mib cap): appended in path order, so the map is the same.
-    const size_t n = counts.size(), S = std::max<uint32_t>(slotsPerPath, 1);
-    size_t chunk = std::max<size_t>(n, 1);
-    if (chunk * S * sizeof(PclPhoton) > device.info().maxAlloc)
-        chunk = std::max<size_t>(device.info().maxAlloc / (S * sizeof(PclPhoton)), 1);
-    for (size_t first = 0; first < n; first += chunk) {
-        const size_t m = std::min(chunk, n - first);
-        cl::Buffer countBuf = device.upload(std::vector<uint32_t>(counts.begin() + first, counts.begin() + first + m),
-                                            CL_MEM_READ_ONLY, "photon pass: counts");
-        cl::Buffer slotBuf = device.upload(
-            std::vector<PclPhoton>(slots.begin() + first * S, slots.begin() + (first + m) * S), CL_MEM_READ_ONLY,
-            "photon pass: slots");
-        depositPhotons(device, countBuf, slotBuf, uint32_t(m), slotsPerPath, map);
-    }
-    if (growths) *growths = map.growths;
-    return device.download<PclPhoton>(map.photons, map.count);
-}
-
-std::vector<uint32_t> exclusiveScanOnDevice(Device& device, const std::vector<uint32_t>& values) {
-    if (values.empty()) return {};
-    cl::Buffer in = device.upload(values);
-    cl::Buffer out = device.allocate<uint32_t>(values.size());
-    exclusiveScan(device, in, out, values.size());
-    return device.download<uint32_t>(out, values.size());
 }
 
 }  // namespace pcl

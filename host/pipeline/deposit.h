@@ -44,13 +44,4 @@ uint64_t exclusiveScan(Device& device, const cl::Buffer& values, cl::Buffer& exc
 size_t depositPhotons(Device& device, const cl::Buffer& counts, const cl::Buffer& slots, uint32_t paths,
                       uint32_t slotsPerPath, DevicePhotonMap& map, DepositTiming* timing = nullptr);
 
-// Deposit alone, for checks and tests: counts.size() paths, slots.size() == paths × slotsPerPath.
-// The map starts with `initialCapacity` records (0: exactly the total) and is downloaded.
-std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_t>& counts,
-                                       const std::vector<PclPhoton>& slots, uint32_t slotsPerPath,
-                                       size_t initialCapacity = 0, uint32_t* growths = nullptr);
-
-// The scan alone (tests).
-std::vector<uint32_t> exclusiveScanOnDevice(Device& device, const std::vector<uint32_t>& values);
-
 }  // namespace pcl

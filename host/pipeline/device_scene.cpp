@@ -3,8 +3,7 @@
 namespace pcl {
 
 DeviceScene::DeviceScene(Device& device, const SceneGeometry& g, const SceneBuffers& b)
-    : geometry(device, g),
-      materials(device.upload(b.materials, CL_MEM_READ_ONLY, "scene: materials")),
+    : geometry(device, g), materials(device.upload(b.materials, CL_MEM_READ_ONLY, "scene: materials")),
       primInfo(device.upload(b.primInfo, CL_MEM_READ_ONLY, "scene: primitive info")),
       lights(device.upload(b.lights, CL_MEM_READ_ONLY, "scene: lights")),
       projCells(device.upload(b.projCells, CL_MEM_READ_ONLY, "scene: projection cells")) {}

@@ -7,8 +7,7 @@ namespace pcl {
 DeviceAreaLights::DeviceAreaLights(Device& device, const AreaLightTable& table)
     : cdf(device.upload(table.cdf, CL_MEM_READ_ONLY, "direct light: area light cdf")),
       lightOfPrim(device.upload(table.lightOfPrim, CL_MEM_READ_ONLY, "direct light: light of primitive")),
-      total(table.total),
-      areaLights(table.areaLights) {}
+      total(table.total), areaLights(table.areaLights) {}
 
 PclDirectParams directParams(const PclEyeParams& eye, const SceneGeometry& geometry, const SceneBuffers& buffers,
                              const AreaLightTable& table, uint32_t lightSamples, uint32_t gatherRays) {
@@ -38,32 +37,12 @@ cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceArea
 cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
                       const PclDirectParams& params, const cl::Buffer& hits, const cl::Buffer& histograms,
                       cl::Buffer& radiance) {
-    auto kernel = device.kernel<PclDirectParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
-        "direct_light", "direct_light", scene.geometry.programOptions());
+    auto kernel = device.kernel<PclDirectParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>("direct_light", "direct_light",
+                                                                                scene.geometry.programOptions());
     return device.launchLocal("direct_light", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, hits, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
                               scene.primInfo, scene.materials, scene.lights, lights.cdf, histograms, radiance);
-}
-
-std::vector<PclRadiance> directLightOnDevice(Device& device, const SceneGeometry& geometry,
-                                             const SceneBuffers& buffers, const std::vector<PclEyeHit>& hits,
-                                             const PclDirectParams& params, const std::vector<float>* histograms) {
-    if (hits.size() != params.sampleCount)
-        throw InputError("directLightOnDevice: " + std::to_string(hits.size()) + " records for " +
-                         std::to_string(params.sampleCount));
-    const size_t cells = size_t(params.histogramCells) * params.histogramCells;
-    if (cells > 0 && (!histograms || histograms->size() != hits.size() * cells))
-        throw InputError("directLightOnDevice: histogramCells " + std::to_string(params.histogramCells) +
-                         " needs records × G² histogram entries");
-    DeviceScene scene(device, geometry, buffers);
-    DeviceAreaLights lights(device, buildAreaLightTable(buffers, geometry.primitiveCount()));
-    cl::Buffer hitBuf = device.upload(hits, CL_MEM_READ_ONLY, "direct light: eye hits");
-    cl::Buffer hist = cells > 0 ? device.upload(*histograms, CL_MEM_READ_ONLY, "direct light: histograms")
-                                : device.allocate<float>(1, CL_MEM_READ_ONLY, "direct light: no histograms");
-    cl::Buffer out = device.allocate<PclRadiance>(hits.size(), CL_MEM_READ_WRITE, "direct light: radiance");
-    directLight(device, scene, lights, params, hitBuf, hist, out);
-    return device.download<PclRadiance>(out, hits.size());
 }
 
 }  // namespace pcl

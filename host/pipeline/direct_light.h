@@ -42,10 +42,4 @@ cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceArea
                       const PclDirectParams& params, const cl::Buffer& hits, const cl::Buffer& histograms,
                       cl::Buffer& radiance);
 
-// For tests: upload, run, download (histograms: the tables when params.histogramCells > 0).
-std::vector<PclRadiance> directLightOnDevice(Device& device, const SceneGeometry& geometry,
-                                             const SceneBuffers& buffers, const std::vector<PclEyeHit>& hits,
-                                             const PclDirectParams& params,
-                                             const std::vector<float>* histograms = nullptr);
-
 }  // namespace pcl

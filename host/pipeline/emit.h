@@ -15,10 +15,4 @@ namespace pcl {
 cl::Event emitPhotons(Device& device, const DeviceScene& scene, const cl::Buffer& lightFirst,
                       const PclPhotonParams& params, cl::Buffer& rays);
 
-// Emit alone, for checks and tests: upload, launch, download. params.batchSize rays.
-std::vector<PclPhotonRay> emitOnDevice(Device& device, const SceneGeometry& geometry,
-                                       const SceneBuffers& buffers,
-                                       const std::vector<uint32_t>& lightFirst,
-                                       const PclPhotonParams& params);
-
 }  // namespace pcl

@@ -7,6 +7,7 @@
 
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/math.h"
 #include "device/work_group.h"
 
 namespace pcl {
@@ -15,26 +16,16 @@ namespace {
 // cos θ, sin θ, cos φ, sin φ at the centres of the direction bytes' cells (kernels/README.md,
 // "estimate"): θ = (b + 0.5)·π/256, φ = (b as a signed byte + 0.5)·π/128, in float.
 std::vector<float> directionTable() {
-    constexpr float pi = 3.14159265358979323846f;
     std::vector<float> t(1024);
     for (uint32_t b = 0; b < 256; ++b) {
-        const float theta = (float(b) + 0.5f) * (pi / 256.0f);
-        const float phi = (float(b >= 128 ? int(b) - 256 : int(b)) + 0.5f) * (pi / 128.0f);
+        const float theta = (float(b) + 0.5f) * (kPi / 256.0f);
+        const float phi = (float(b >= 128 ? int(b) - 256 : int(b)) + 0.5f) * (kPi / 128.0f);
         t[b] = std::cos(theta);
         t[256 + b] = std::sin(theta);
         t[512 + b] = std::cos(phi);
         t[768 + b] = std::sin(phi);
     }
     return t;
-}
-
-float largestRadius(const std::vector<PclEstimateQuery>& queries) {
-    float maxRadius2 = 0.0f;
-    for (const PclEstimateQuery& q : queries) maxRadius2 = std::max(maxRadius2, q.maxRadius2);
-    if (!std::isfinite(maxRadius2))
-        throw InputError("estimate: the hash grid needs a finite search radius (a query has maxRadius2 = inf)");
-    const float r = std::sqrt(maxRadius2);
-    return r > 0.0f ? r : 1.0f;  // every radius 0: any cell size finds the photons at the query
 }
 
 }  // namespace
@@ -60,8 +51,8 @@ PhotonMapOnDevice::PhotonMapOnDevice(Device& device, const std::vector<PclPhoton
     buildSeconds_ = since(t0);
 }
 
-PhotonMapOnDevice::PhotonMapOnDevice(Device& device, const cl::Buffer& photons, size_t count,
-                                     KnnStructure structure, float maxRadius, const float lo[3])
+PhotonMapOnDevice::PhotonMapOnDevice(Device& device, const cl::Buffer& photons, size_t count, KnnStructure structure,
+                                     float maxRadius, const float lo[3])
     : structure_(structure), count_(count), maxRadius_(maxRadius), photons_(photons) {
     const auto t0 = std::chrono::steady_clock::now();
     build(device, lo);
@@ -75,7 +66,8 @@ void PhotonMapOnDevice::build(Device& device, const float lo[3]) {
         return;
     }
     if (!(maxRadius_ > 0.0f) || !std::isfinite(maxRadius_))
-        throw InputError("estimate: the hash grid needs a positive finite maxRadius, got " + std::to_string(maxRadius_));
+        throw InputError("estimate: the hash grid needs a positive finite maxRadius, got " +
+                         std::to_string(maxRadius_));
     if (count_ > (size_t(1) << 31))
         throw InputError("estimate: " + std::to_string(count_) + " photons exceed the hash grid's 32-bit table");
     PclGridParams g{};  // as hashGridParams, with the caller's bounds minimum
@@ -116,8 +108,8 @@ EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, con
     if (queryCount == 0) return timing;
 
     const std::string options = scene ? scene->geometry.programOptions() : std::string();
-    auto convert = device.kernel<PclEstimateParams, cl_float, cl::Buffer, cl::Buffer>("estimate", "estimate_knn_queries",
-                                                                                    options);
+    auto convert =
+        device.kernel<PclEstimateParams, cl_float, cl::Buffer, cl::Buffer>("estimate", "estimate_knn_queries", options);
     // The hash grid finds every photon only within its r_max: larger radii are clamped to it.
     const float searchRadius2 = map.structure() == KnnStructure::HashGrid ? map.maxRadius() * map.maxRadius()
                                                                           : std::numeric_limits<float>::infinity();
@@ -140,47 +132,18 @@ EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, con
         const size_t n = std::min(batch, queryCount - first);
         PclEstimateParams params = estimateParams(settings, uint32_t(first), uint32_t(n), maxK);
         params.maxSearchRadius2 = searchRadius2;
-        cl::Event c = device.launchLocal("estimate", convert, wholeWorkGroups(n), workGroup(),
-                                         params, cl_float(searchRadius2), queries, knnQueries);
+        cl::Event c = device.launchLocal("estimate", convert, wholeWorkGroups(n), workGroup(), params,
+                                         cl_float(searchRadius2), queries, knnQueries);
         DeviceKnnOutput knn;
         timing.knnSeconds += map.search(device, knnQueries, n, maxK, knn);
-        cl::Event e = device.launchLocal("estimate", estimate, wholeWorkGroups(n), workGroup(),
-                                         params, queries, map.photons(), knn.counts, knn.indices, knn.dist2,
-                                         knn.radius2, nodes, packets, spheres, dirTable, results);
+        cl::Event e = device.launchLocal("estimate", estimate, wholeWorkGroups(n), workGroup(), params, queries,
+                                         map.photons(), knn.counts, knn.indices, knn.dist2, knn.radius2, nodes, packets,
+                                         spheres, dirTable, results);
         e.wait();
         timing.estimateSeconds += Device::elapsedSeconds(c) + Device::elapsedSeconds(e);
         ++timing.batches;
     }
     return timing;
-}
-
-EstimateResult estimateOnDevice(Device& device, const PhotonMapOnDevice& map,
-                                const std::vector<PclEstimateQuery>& queries, const EstimateSettings& settings,
-                                const DeviceScene* sceneForVisibility) {
-    const uint32_t maxK = estimateMaxK(queries);
-    if (map.structure() == KnnStructure::HashGrid)
-        for (size_t i = 0; i < queries.size(); ++i)
-            if (!(std::sqrt(queries[i].maxRadius2) <= map.maxRadius()))
-                throw InputError("estimate: query " + std::to_string(i) + " has radius " +
-                                 std::to_string(std::sqrt(queries[i].maxRadius2)) +
-                                 ", above the hash grid's maxRadius " + std::to_string(map.maxRadius()));
-    EstimateResult r;
-    cl::Buffer q = device.upload(queries, CL_MEM_READ_ONLY, "estimate: queries");
-    cl::Buffer out = device.allocate<PclEstimate>(queries.size(), CL_MEM_READ_WRITE, "estimate: results");
-    r.timing = estimateBuffers(device, map, q, queries.size(), maxK, settings, sceneForVisibility, out);
-    r.values = device.download<PclEstimate>(out, queries.size());
-    r.buildSeconds = map.buildSeconds();
-    return r;
-}
-
-EstimateResult estimateOnDevice(Device& device, const std::vector<PclPhoton>& map,
-                                const std::vector<PclEstimateQuery>& queries, const EstimateSettings& settings,
-                                const DeviceScene* sceneForVisibility) {
-    estimateMaxK(queries);
-    validateEstimateSettings(settings);
-    const float rMax = settings.structure == KnnStructure::HashGrid ? largestRadius(queries) : 0.0f;
-    const PhotonMapOnDevice built(device, map, settings.structure, rMax);
-    return estimateOnDevice(device, built, queries, settings, sceneForVisibility);
 }
 
 }  // namespace pcl

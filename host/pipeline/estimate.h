@@ -8,11 +8,10 @@
 // The CPU twin is host/reference/estimate.h.
 //
 //   PhotonMapOnDevice map(device, photons, KnnStructure::KdTree, rMax);  // built once
-//   EstimateResult e = estimateOnDevice(device, map, queries, settings, &deviceScene);
-//   e.values[q].r, .g, .b (W/m²), .used, .radius2
-//
-// or, on queries and results already on the device (the renderer):
 //   estimateBuffers(device, map, queryBuffer, n, maxK, settings, &deviceScene, resultBuffer);
+//   // resultBuffer: PclEstimate[n], .r, .g, .b (W/m²), .used, .radius2
+//
+// Host vectors in and out, for the checks and the tests: estimateOnDevice in check/on_device.h.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -34,12 +33,11 @@ public:
     // Uploads `map` and builds `structure`. maxRadius: the largest search radius any query will
     // ask (the hash grid's cells are 2 maxRadius; queries above it are an InputError there);
     // the kd-tree ignores it.
-    PhotonMapOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStructure structure,
-                      float maxRadius);
+    PhotonMapOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStructure structure, float maxRadius);
     // A map already on the device: `photons` holds `count` records in map order. The hash grid
     // needs the map's bounds minimum `lo` (its origin; every photon ≥ lo).
-    PhotonMapOnDevice(Device& device, const cl::Buffer& photons, size_t count, KnnStructure structure,
-                      float maxRadius, const float lo[3]);
+    PhotonMapOnDevice(Device& device, const cl::Buffer& photons, size_t count, KnnStructure structure, float maxRadius,
+                      const float lo[3]);
 
     KnnStructure structure() const { return structure_; }
     size_t size() const { return count_; }
@@ -67,7 +65,7 @@ struct EstimateTiming {
     double knnSeconds = 0.0;       // device time of the kNN searches
     double estimateSeconds = 0.0;  // device time of the estimate kernels (query conversion included)
     size_t batches = 0;
-    size_t batchQueries = 0;       // queries per batch (the last may hold fewer)
+    size_t batchQueries = 0;  // queries per batch (the last may hold fewer)
 };
 
 // Queries per batch so the kNN's index and distance buffers (queries × maxK × 8 bytes) stay
@@ -84,24 +82,5 @@ size_t estimateBatchQueries(const Device& device, uint32_t maxK);
 EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, const cl::Buffer& queries,
                                size_t queryCount, uint32_t maxK, const EstimateSettings& settings,
                                const DeviceScene* scene, cl::Buffer& results);
-
-struct EstimateResult {
-    std::vector<PclEstimate> values;  // per query: irradiance rgb (W/m²), radius2, used, found
-    EstimateTiming timing;
-    double buildSeconds = 0.0;        // estimateOnDevice: the structure's build (upload included)
-    size_t queries() const { return values.size(); }
-};
-
-// Upload, estimate, download on a map already built.
-EstimateResult estimateOnDevice(Device& device, const PhotonMapOnDevice& map,
-                                const std::vector<PclEstimateQuery>& queries, const EstimateSettings& settings,
-                                const DeviceScene* sceneForVisibility);
-
-// The whole thing from a map in deposit order: builds settings.structure (the hash grid for the
-// largest query radius) and estimates.
-EstimateResult estimateOnDevice(Device& device, const std::vector<PclPhoton>& map,
-                                const std::vector<PclEstimateQuery>& queries, const EstimateSettings& settings,
-                                const DeviceScene* sceneForVisibility);
-
 
 }  // namespace pcl

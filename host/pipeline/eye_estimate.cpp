@@ -14,24 +14,25 @@ cl::Event eyeEstimateQueries(Device& device, const PclEyeEstimateParams& params,
 
 cl::Event eyeEstimateResolve(Device& device, const PclEyeEstimateParams& params, const cl::Buffer& hits,
                              const cl::Buffer& irradiance, cl::Buffer& radiance) {
-    auto kernel = device.kernel<PclEyeEstimateParams, cl::Buffer, cl::Buffer, cl::Buffer>("eye_estimate",
-                                                                                          "eye_estimate_resolve");
+    auto kernel =
+        device.kernel<PclEyeEstimateParams, cl::Buffer, cl::Buffer, cl::Buffer>("eye_estimate", "eye_estimate_resolve");
     return device.launchLocal("eye_estimate", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, hits, irradiance, radiance);
 }
 
-static void validate(const PclEyeEstimateParams& p) {
+void validateEyeEstimateParams(const PclEyeEstimateParams& p) {
     if (p.k < 1 || p.k > PCL_KNN_MAX_K)
         throw InputError("eye estimate: k " + std::to_string(p.k) + ": expected 1.." + std::to_string(PCL_KNN_MAX_K));
     if (!(p.maxRadius2 >= 0.0f))
         throw InputError("eye estimate: maxRadius² " + std::to_string(p.maxRadius2) + ": expected ≥ 0");
 }
 
-double estimateAtEyeHits(Device& device, PclEyeEstimateParams params, const cl::Buffer& hits,
-                         IrradianceSource& source, cl::Buffer& radiance) {
-    validate(params);
+double estimateAtEyeHits(Device& device, PclEyeEstimateParams params, const cl::Buffer& hits, IrradianceSource& source,
+                         cl::Buffer& radiance) {
+    validateEyeEstimateParams(params);
     params.irradianceStride = source.strideFloats;
-    cl::Buffer queries = device.allocate<PclEstimateQuery>(params.sampleCount, CL_MEM_READ_WRITE, "eye estimate: queries");
+    cl::Buffer queries =
+        device.allocate<PclEstimateQuery>(params.sampleCount, CL_MEM_READ_WRITE, "eye estimate: queries");
     double seconds = 0.0;
     cl::Event e = eyeEstimateQueries(device, params, hits, queries);
     device.finish();
@@ -43,26 +44,6 @@ double estimateAtEyeHits(Device& device, PclEyeEstimateParams params, const cl::
     device.finish();
     if (e()) seconds += Device::elapsedSeconds(e);
     return seconds;
-}
-
-EyeEstimateResult estimateAtEyeHitsOnDevice(Device& device, const std::vector<PclEyeHit>& hits,
-                                            const PclEyeEstimateParams& params, IrradianceSource& source) {
-    if (hits.size() != params.sampleCount)
-        throw InputError("estimateAtEyeHitsOnDevice: " + std::to_string(hits.size()) + " records for " +
-                         std::to_string(params.sampleCount));
-    validate(params);
-    PclEyeEstimateParams p = params;
-    p.irradianceStride = source.strideFloats;
-    cl::Buffer hitBuf = device.upload(hits, CL_MEM_READ_ONLY, "eye estimate: eye hits");
-    cl::Buffer queries = device.allocate<PclEstimateQuery>(hits.size(), CL_MEM_READ_WRITE, "eye estimate: queries");
-    cl::Buffer radiance = device.allocate<PclRadiance>(hits.size(), CL_MEM_READ_WRITE, "eye estimate: radiance");
-    eyeEstimateQueries(device, p, hitBuf, queries);
-    cl::Buffer irradiance = source.evaluate(device, queries, hits.size());
-    eyeEstimateResolve(device, p, hitBuf, irradiance, radiance);
-    EyeEstimateResult r;
-    r.queries = device.download<PclEstimateQuery>(queries, hits.size());
-    r.radiance = device.download<PclRadiance>(radiance, hits.size());
-    return r;
 }
 
 }  // namespace pcl

@@ -26,19 +26,16 @@ cl::Event eyeEstimateResolve(Device& device, const PclEyeEstimateParams& params,
 
 // Queries, source, resolve on buffers (params.irradianceStride taken from the source); returns
 // device seconds. Used for both the caustic map and direct visualisation.
-double estimateAtEyeHits(Device& device, PclEyeEstimateParams params, const cl::Buffer& hits,
-                         IrradianceSource& source, cl::Buffer& radiance);
+double estimateAtEyeHits(Device& device, PclEyeEstimateParams params, const cl::Buffer& hits, IrradianceSource& source,
+                         cl::Buffer& radiance);
 inline double causticRadiance(Device& device, const PclEyeEstimateParams& params, const cl::Buffer& hits,
                               IrradianceSource& causticMap, cl::Buffer& radiance) {
     return estimateAtEyeHits(device, params, hits, causticMap, radiance);
 }
 
-// For tests: upload the hits, run, download queries and radiance.
-struct EyeEstimateResult {
-    std::vector<PclEstimateQuery> queries;
-    std::vector<PclRadiance> radiance;
-};
-EyeEstimateResult estimateAtEyeHitsOnDevice(Device& device, const std::vector<PclEyeHit>& hits,
-                                            const PclEyeEstimateParams& params, IrradianceSource& source);
+// InputError when params.k is outside 1..PCL_KNN_MAX_K or maxRadius2 is negative or NaN; run by
+// estimateAtEyeHits. Public for check/on_device.h's estimateAtEyeHitsOnDevice, which launches
+// the two kernels itself (to download the queries) and must refuse the same parameters.
+void validateEyeEstimateParams(const PclEyeEstimateParams& params);
 
 }  // namespace pcl

@@ -20,28 +20,17 @@ PclEyeParams eyeParams(const PclCameraParams& camera, const SceneGeometry& geome
     return p;
 }
 
-cl::Event traceEyePaths(Device& device, const DeviceScene& scene, const PclEyeParams& params,
-                        const cl::Buffer& rays, cl::Buffer& hits) {
+cl::Event traceEyePaths(Device& device, const DeviceScene& scene, const PclEyeParams& params, const cl::Buffer& rays,
+                        cl::Buffer& hits) {
     if (params.samplesPerPixel == 0 || params.maxDepth < 1 || params.maxDepth > 64)
         throw InputError("eye paths: samplesPerPixel " + std::to_string(params.samplesPerPixel) + ", maxDepth " +
                          std::to_string(params.maxDepth) + ": expected ≥ 1 and 1..64");
-    auto kernel = device.kernel<PclEyeParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                                cl::Buffer>("eye_paths", "eye_paths", scene.geometry.programOptions());
+    auto kernel =
+        device.kernel<PclEyeParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+            "eye_paths", "eye_paths", scene.geometry.programOptions());
     return device.launchLocal("eye_paths", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, rays, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
                               scene.primInfo, scene.materials, hits);
-}
-
-std::vector<PclEyeHit> eyePathsOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                        const std::vector<PclRay>& rays, const PclEyeParams& params) {
-    if (rays.size() != params.sampleCount)
-        throw InputError("eyePathsOnDevice: " + std::to_string(rays.size()) + " rays for " +
-                         std::to_string(params.sampleCount) + " samples");
-    DeviceScene scene(device, geometry, buffers);
-    cl::Buffer rayBuf = device.upload(rays, CL_MEM_READ_ONLY, "eye paths: rays");
-    cl::Buffer hits = device.allocate<PclEyeHit>(rays.size(), CL_MEM_READ_WRITE, "eye paths: hits");
-    traceEyePaths(device, scene, params, rayBuf, hits);
-    return device.download<PclEyeHit>(hits, rays.size());
 }
 
 }  // namespace pcl

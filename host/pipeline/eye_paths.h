@@ -28,11 +28,7 @@ PclEyeParams eyeParams(const PclCameraParams& camera, const SceneGeometry& geome
 
 // Enqueues eye_paths over params.sampleCount rays: rays (PclRay, from generateCameraRays with
 // the same firstSample) in, hits (PclEyeHit[sampleCount], caller-allocated) out.
-cl::Event traceEyePaths(Device& device, const DeviceScene& scene, const PclEyeParams& params,
-                        const cl::Buffer& rays, cl::Buffer& hits);
-
-// For tests: upload rays (rays.size() == params.sampleCount), trace, download.
-std::vector<PclEyeHit> eyePathsOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                        const std::vector<PclRay>& rays, const PclEyeParams& params);
+cl::Event traceEyePaths(Device& device, const DeviceScene& scene, const PclEyeParams& params, const cl::Buffer& rays,
+                        cl::Buffer& hits);
 
 }  // namespace pcl

@@ -10,8 +10,10 @@ PclGatherParams gatherParams(const PclDirectParams& direct, uint32_t gatherRays,
         throw InputError("final gather: 0 gather rays: expected at least 1 (direct visualisation reads the global "
                          "map at the eye hits instead)");
     if (direct.gatherRays != gatherRays)
-        throw InputError("final gather: " + std::to_string(gatherRays) + " gather rays, but direct light weighs its "
-                         "samples against " + std::to_string(direct.gatherRays) + ": expected the same N");
+        throw InputError("final gather: " + std::to_string(gatherRays) +
+                         " gather rays, but direct light weighs its "
+                         "samples against " +
+                         std::to_string(direct.gatherRays) + ": expected the same N");
     if (k < 1 || k > PCL_KNN_MAX_K)
         throw InputError("final gather: k " + std::to_string(k) + ": expected 1.." + std::to_string(PCL_KNN_MAX_K));
     if (!(maxRadius2 >= 0.0f))
@@ -34,9 +36,7 @@ PclGatherParams gatherParams(const PclDirectParams& direct, uint32_t gatherRays,
     return p;
 }
 
-static size_t gatherRayCount(const PclGatherParams& p) {
-    return size_t(p.sampleCount) * p.gatherRays;
-}
+static size_t gatherRayCount(const PclGatherParams& p) { return size_t(p.sampleCount) * p.gatherRays; }
 
 cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
                           const PclGatherParams& params, const cl::Buffer& hits, cl::Buffer& queries,
@@ -56,13 +56,13 @@ cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const Device
                          " gather rays in one launch: expected below 2^32 (launch fewer records)");
     if (params.histogramCells > PCL_GATHER_MAX_CELLS)
         throw InputError("final gather: histogramCells " + std::to_string(params.histogramCells) + ": expected 0..16");
-    auto kernel = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+    auto kernel = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "final_gather", "final_gather_trace", scene.geometry.programOptions());
     return device.launchLocal("final_gather", kernel, photonGlobalRange(gatherRayCount(params)),
                               cl::NDRange(kPhotonGroup), params, hits, scene.geometry.nodes, scene.geometry.packets,
-                              scene.geometry.spheres, scene.primInfo, scene.materials, scene.lights,
-                              lights.lightOfPrim, histograms, queries, gathered);
+                              scene.geometry.spheres, scene.primInfo, scene.materials, scene.lights, lights.lightOfPrim,
+                              histograms, queries, gathered);
 }
 
 cl::Buffer buildGatherHistograms(Device& device, const PhotonMapOnDevice& global, const PclGatherParams& params,
@@ -89,8 +89,8 @@ cl::Event resolveGather(Device& device, const PclGatherParams& params, const cl:
                         const cl::Buffer& gathered, const cl::Buffer& irradiance, cl::Buffer& radiance) {
     auto kernel = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "final_gather", "final_gather_resolve", "");
-    return device.launchLocal("final_gather", kernel, photonGlobalRange(params.sampleCount),
-                              cl::NDRange(kPhotonGroup), params, hits, gathered, irradiance, radiance);
+    return device.launchLocal("final_gather", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
+                              params, hits, gathered, irradiance, radiance);
 }
 
 GatherTiming finalGather(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
@@ -121,45 +121,6 @@ GatherTiming finalGather(Device& device, const DeviceScene& scene, const DeviceA
     device.finish();
     if (e()) t.resolveSeconds = Device::elapsedSeconds(e);
     return t;
-}
-
-GatherResult finalGatherOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                 const std::vector<PclEyeHit>& hits, const PclGatherParams& params,
-                                 IrradianceSource& source, const PhotonMapOnDevice* global,
-                                 std::vector<float>* histogramsOut) {
-    if (hits.size() != params.sampleCount)
-        throw InputError("finalGatherOnDevice: " + std::to_string(hits.size()) + " records for " +
-                         std::to_string(params.sampleCount));
-    DeviceScene scene(device, geometry, buffers);
-    DeviceAreaLights lights(device, buildAreaLightTable(buffers, geometry.primitiveCount()));
-    PclGatherParams p = params;
-    p.irradianceStride = source.strideFloats;
-    const size_t n = gatherRayCount(p);
-    cl::Buffer hitBuf = device.upload(hits, CL_MEM_READ_ONLY, "final gather: eye hits");
-    cl::Buffer queries = device.allocate<PclEstimateQuery>(n, CL_MEM_READ_WRITE, "final gather: queries");
-    cl::Buffer gathered = device.allocate<PclGatherHit>(n, CL_MEM_READ_WRITE, "final gather: gathered rays");
-    cl::Buffer radiance = device.allocate<PclRadiance>(hits.size(), CL_MEM_READ_WRITE, "final gather: radiance");
-    GatherResult r;
-    cl::Buffer histograms = device.allocate<float>(1, CL_MEM_READ_ONLY, "final gather: no histograms");
-    if (p.histogramCells > 0) {
-        if (!global) throw InputError("finalGatherOnDevice: histogramCells > 0 needs the global map");
-        histograms = buildGatherHistograms(device, *global, p, hitBuf);
-        if (histogramsOut)
-            *histogramsOut = device.download<float>(histograms, hits.size() * p.histogramCells * p.histogramCells);
-    }
-    cl::Event e = traceGatherRays(device, scene, lights, p, hitBuf, histograms, queries, gathered);
-    device.finish();
-    if (e()) r.timing.traceSeconds = Device::elapsedSeconds(e);
-    const double before = source.seconds;
-    cl::Buffer irradiance = source.evaluate(device, queries, n);
-    r.timing.irradianceSeconds = source.seconds - before;
-    e = resolveGather(device, p, hitBuf, gathered, irradiance, radiance);
-    device.finish();
-    if (e()) r.timing.resolveSeconds = Device::elapsedSeconds(e);
-    r.queries = device.download<PclEstimateQuery>(queries, n);
-    r.gathered = device.download<PclGatherHit>(gathered, n);
-    r.radiance = device.download<PclRadiance>(radiance, hits.size());
-    return r;
 }
 
 }  // namespace pcl

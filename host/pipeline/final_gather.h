@@ -75,18 +75,4 @@ GatherTiming finalGather(Device& device, const DeviceScene& scene, const DeviceA
                          PclGatherParams params, const cl::Buffer& hits, const cl::Buffer& histograms,
                          IrradianceSource& source, cl::Buffer& radiance);
 
-struct GatherResult {
-    std::vector<PclEstimateQuery> queries;  // sampleCount × N
-    std::vector<PclGatherHit> gathered;     // sampleCount × N
-    std::vector<PclRadiance> radiance;      // sampleCount
-    GatherTiming timing;
-};
-// For tests: upload, run, download everything.
-// With params.histogramCells > 0 the tables are built from `global` (required then), and
-// downloaded into `histograms` when given.
-GatherResult finalGatherOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                 const std::vector<PclEyeHit>& hits, const PclGatherParams& params,
-                                 IrradianceSource& source, const PhotonMapOnDevice* global = nullptr,
-                                 std::vector<float>* histograms = nullptr);
-
 }  // namespace pcl

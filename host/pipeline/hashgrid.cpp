@@ -57,7 +57,8 @@ DeviceHashGrid buildHashGrid(Device& device, const cl::Buffer& photons, size_t c
     }
     const cl::NDRange local(kPhotonGroup);
     auto keys = device.kernel<PclGridParams, cl::Buffer, cl::Buffer, cl::Buffer>("hashgrid", "hashgrid_keys");
-    cl::Event e = device.launchLocal("hashgrid", keys, photonGlobalRange(count), local, params, photons, g.keys, g.order);
+    cl::Event e =
+        device.launchLocal("hashgrid", keys, photonGlobalRange(count), local, params, photons, g.keys, g.order);
     e.wait();
     g.keySeconds = Device::elapsedSeconds(e);
 
@@ -77,18 +78,6 @@ DeviceHashGrid buildHashGrid(Device& device, const cl::Buffer& photons, size_t c
     r.wait();
     g.rangeSeconds = Device::elapsedSeconds(r) + Device::elapsedSeconds(p);
     return g;
-}
-
-HashGridTables hashGridOnDevice(Device& device, const std::vector<PclPhoton>& photons, float maxRadius) {
-    HashGridTables t;
-    t.params = hashGridParams(photons, maxRadius);
-    cl::Buffer buf = device.upload(photons, CL_MEM_READ_ONLY, "hash grid: photons");
-    DeviceHashGrid g = buildHashGrid(device, buf, photons.size(), t.params);
-    t.keys = device.download<uint32_t>(g.keys, g.count);
-    t.order = device.download<uint32_t>(g.order, g.count);
-    t.cellStart = device.download<uint32_t>(g.cellStart, t.params.tableSize);
-    t.cellEnd = device.download<uint32_t>(g.cellEnd, t.params.tableSize);
-    return t;
 }
 
 }  // namespace pcl

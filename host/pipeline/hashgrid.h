@@ -21,24 +21,14 @@ PclGridParams hashGridParams(const std::vector<PclPhoton>& photons, float maxRad
 // (x, y, z, photon index as the bits of w): knn_hashgrid reads only it and the two tables.
 struct DeviceHashGrid {
     PclGridParams params{};
-    size_t count = 0;                 // photons
-    cl::Buffer keys, order;           // sorted hashes and the photon indices in that order
-    cl::Buffer cellStart, cellEnd;    // tableSize entries each
-    cl::Buffer points;                // count float4
+    size_t count = 0;                                          // photons
+    cl::Buffer keys, order;                                    // sorted hashes and the photon indices in that order
+    cl::Buffer cellStart, cellEnd;                             // tableSize entries each
+    cl::Buffer points;                                         // count float4
     double keySeconds = 0, sortSeconds = 0, rangeSeconds = 0;  // device time by step
 };
 
 // Builds the grid of `count` photons already on the device (params.photonCount must be count).
 DeviceHashGrid buildHashGrid(Device& device, const cl::Buffer& photons, size_t count, const PclGridParams& params);
-
-// The grid's tables downloaded, for checks and tests.
-struct HashGridTables {
-    PclGridParams params{};
-    std::vector<uint32_t> keys;       // hashes in sorted order
-    std::vector<uint32_t> order;      // photon indices sorted by (hash, index)
-    std::vector<uint32_t> cellStart, cellEnd;  // per hash; 0, 0 where empty
-};
-
-HashGridTables hashGridOnDevice(Device& device, const std::vector<PclPhoton>& photons, float maxRadius);
 
 }  // namespace pcl

@@ -12,28 +12,17 @@ DeviceGeometry::DeviceGeometry(Device& device, const SceneGeometry& g)
     stackSize = std::max(16, (g.stats().maxStack + 15) / 16 * 16);
 }
 
-std::string DeviceGeometry::programOptions() const {
-    return "-DPCL_BVH_STACK_SIZE=" + std::to_string(stackSize);
-}
+std::string DeviceGeometry::programOptions() const { return "-DPCL_BVH_STACK_SIZE=" + std::to_string(stackSize); }
 
-void intersectBuffers(Device& device, const DeviceGeometry& geometry, const cl::Buffer& rays,
-                      cl::Buffer& hits, size_t n, bool anyHit) {
+void intersectBuffers(Device& device, const DeviceGeometry& geometry, const cl::Buffer& rays, cl::Buffer& hits,
+                      size_t n, bool anyHit) {
     auto kernel = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint>(
         "intersect", anyHit ? "intersect_any" : "intersect_closest", geometry.programOptions());
     for (size_t first = 0; first < n; first += kIntersectChunk) {
         size_t count = std::min(kIntersectChunk, n - first);
-        device.launch("intersect", kernel, cl::NDRange(count), rays, geometry.nodes, geometry.packets,
-                      geometry.spheres, hits, static_cast<cl_uint>(first), static_cast<cl_uint>(count));
+        device.launch("intersect", kernel, cl::NDRange(count), rays, geometry.nodes, geometry.packets, geometry.spheres,
+                      hits, static_cast<cl_uint>(first), static_cast<cl_uint>(count));
     }
-}
-
-std::vector<PclHit> intersectOnDevice(Device& device, const SceneGeometry& geometry,
-                                      const std::vector<PclRay>& rays, bool anyHit) {
-    DeviceGeometry dg(device, geometry);
-    cl::Buffer rayBuf = device.upload(rays, CL_MEM_READ_ONLY, "intersect: rays");
-    cl::Buffer hitBuf = device.allocate<PclHit>(rays.size(), CL_MEM_WRITE_ONLY, "intersect: hits");
-    intersectBuffers(device, dg, rayBuf, hitBuf, rays.size(), anyHit);
-    return device.download<PclHit>(hitBuf, rays.size());
 }
 
 }  // namespace pcl

@@ -26,11 +26,7 @@ constexpr size_t kIntersectChunk = 1 << 18;
 
 // Traces n rays from `rays` into `hits` (both device buffers), closest hit or any hit.
 // Enqueues only; a blocking download (or device.finish()) waits for it.
-void intersectBuffers(Device& device, const DeviceGeometry& geometry, const cl::Buffer& rays,
-                      cl::Buffer& hits, size_t n, bool anyHit);
-
-// Convenience for tests and checks: upload, trace, download.
-std::vector<PclHit> intersectOnDevice(Device& device, const SceneGeometry& geometry,
-                                      const std::vector<PclRay>& rays, bool anyHit);
+void intersectBuffers(Device& device, const DeviceGeometry& geometry, const cl::Buffer& rays, cl::Buffer& hits,
+                      size_t n, bool anyHit);
 
 }  // namespace pcl

@@ -5,8 +5,7 @@
 namespace pcl {
 
 std::shared_ptr<IrradianceSource> estimateIrradianceSource(const PhotonMapOnDevice& map, uint32_t maxK,
-                                                           const EstimateSettings& settings,
-                                                           const DeviceScene* scene) {
+                                                           const EstimateSettings& settings, const DeviceScene* scene) {
     auto src = std::make_shared<IrradianceSource>();
     std::ostringstream name;
     name << "estimate (" << (map.structure() == KnnStructure::KdTree ? "kd-tree" : "hash grid") << ", "

@@ -44,10 +44,8 @@ bool kdTreeUses64BitKeys(size_t n, int finishSize) {
     return false;
 }
 
-DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing,
-                         int finishSize) {
-    if (n >= (size_t(1) << 31))
-        throw InputError("buildKdTree: " + std::to_string(n) + " photons (at most 2^31 - 1)");
+DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing, int finishSize) {
+    if (n >= (size_t(1) << 31)) throw InputError("buildKdTree: " + std::to_string(n) + " photons (at most 2^31 - 1)");
     DeviceKdTree tree;
     tree.count = n;
     tree.photons = device.allocate<PclPhoton>(n, CL_MEM_READ_WRITE, "kd-tree: nodes");
@@ -60,7 +58,8 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     auto init = device.kernel<cl_uint, cl::Buffer>(stage, "kdtree_init", opts);
     auto boundsInit = device.kernel<cl::Buffer, cl_uint, cl_uint>(stage, "kdtree_bounds_init", opts);
     auto bounds = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_bounds", opts);
-    auto rankKeys = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_rank_keys", opts);
+    auto rankKeys =
+        device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_rank_keys", opts);
     auto rankScatter = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer>(stage, "kdtree_rank_scatter", opts);
     // Per key width (0: 32-bit keys, 1: 64-bit): keys, segments, assign.
     using KeysKernel = cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl_uint,
@@ -77,12 +76,13 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
                                       cl::Buffer, cl::Buffer>(stage, "kdtree_keys", o));
         segments.push_back(
             device.kernel<cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_segments", o));
-        assign.push_back(device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint,
-                                       cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
-            stage, "kdtree_assign", o));
+        assign.push_back(
+            device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint, cl::Buffer,
+                          cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_assign", o));
     }
-    auto finish = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer,
-                                cl::Buffer>(stage, "kdtree_finish", opts);
+    auto finish =
+        device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(
+            stage, "kdtree_finish", opts);
 
     const cl_mem_flags rw = CL_MEM_READ_WRITE;
     cl::Buffer sub = device.allocate<uint32_t>(n, rw, "kd-tree: subtrees");
@@ -104,7 +104,8 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     double sortSeconds = 0.0;
     const int rankBits = bitLength(n - 1);
     for (cl_uint axis = 0; axis < 3; ++axis) {  // (n = 1 too: its one rank, 0, must be written)
-        events.push_back(device.launchLocal(stage, rankKeys, wholeWorkGroups(n), group, photons, N, axis, keys, values));
+        events.push_back(
+            device.launchLocal(stage, rankKeys, wholeWorkGroups(n), group, photons, N, axis, keys, values));
         sortPairsOnDevice(device, keys, values, n, 32, 0, &sortSeconds, &workspace[0]);
         events.push_back(device.launchLocal(stage, rankScatter, wholeWorkGroups(n), group, values, N, axis, ranks));
     }
@@ -112,15 +113,15 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
         const uint64_t count = std::min<uint64_t>(first + 1, n - first);  // nodes on this level
         const int keyBits = rankBits + bitLength(count);
         const int w = keyBits > 32 ? 1 : 0;
-        events.push_back(device.launchLocal(stage, keysK[w], wholeWorkGroups(n), group, ranks, sub, N, boxes, cl_uint(first),
-                                            cl_uint(count), cl_uint(rankBits), keys, values));
+        events.push_back(device.launchLocal(stage, keysK[w], wholeWorkGroups(n), group, ranks, sub, N, boxes,
+                                            cl_uint(first), cl_uint(count), cl_uint(rankBits), keys, values));
         sortPairsOnDevice(device, keys, values, n, w ? 64 : 32, keyBits, &sortSeconds, &workspace[w]);
         events.push_back(device.launchLocal(stage, segments[w], wholeWorkGroups(n), group, keys, N, cl_uint(count),
                                             cl_uint(rankBits), segStart, segEnd));
         ++tree.sortedLevels;
         if (subtreeSize(first, n) <= uint64_t(finishSize)) {  // the leftmost subtree is the level's largest
-            events.push_back(device.launchLocal(stage, finish, wholeWorkGroups(count), group, photons, values, segStart, segEnd,
-                                                cl_uint(first), cl_uint(count), tree.photons, tree.index));
+            events.push_back(device.launchLocal(stage, finish, wholeWorkGroups(count), group, photons, values, segStart,
+                                                segEnd, cl_uint(first), cl_uint(count), tree.photons, tree.index));
             break;
         }
         events.push_back(device.launchLocal(stage, assign[w], wholeWorkGroups(n), group, photons, keys, values, N,
@@ -129,8 +130,8 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
         const uint64_t childFirst = 2 * first + 1;
         if (childFirst >= n) continue;
         const uint64_t childCount = std::min<uint64_t>(2 * count, n - childFirst);
-        events.push_back(device.launchLocal(stage, boundsInit, wholeWorkGroups(childCount), group, boxes, cl_uint(childFirst),
-                                            cl_uint(childCount)));
+        events.push_back(device.launchLocal(stage, boundsInit, wholeWorkGroups(childCount), group, boxes,
+                                            cl_uint(childFirst), cl_uint(childCount)));
         events.push_back(device.launchLocal(stage, bounds, wholeWorkGroups(n), group, photons, sub, N, boxes));
     }
     device.finish();
@@ -140,16 +141,6 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
         for (const cl::Event& e : events) timing->otherSeconds += Device::elapsedSeconds(e);
     }
     return tree;
-}
-
-KdTree buildKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& photons, KdTreeTiming* timing,
-                           int finishSize) {
-    cl::Buffer in = device.upload(photons, CL_MEM_READ_ONLY, "kd-tree: photons");
-    DeviceKdTree t = buildKdTree(device, in, photons.size(), timing, finishSize);
-    KdTree out;
-    out.photons = device.download<PclPhoton>(t.photons, t.count);
-    out.index = device.download<uint32_t>(t.index, t.count);
-    return out;
 }
 
 }  // namespace pcl

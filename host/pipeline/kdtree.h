@@ -19,10 +19,10 @@
 namespace pcl {
 
 struct DeviceKdTree {
-    cl::Buffer photons;   // PclPhoton[count], heap order, axis bits set
-    cl::Buffer index;     // uint32[count]: heap position → photon index in the input map
+    cl::Buffer photons;  // PclPhoton[count], heap order, axis bits set
+    cl::Buffer index;    // uint32[count]: heap position → photon index in the input map
     size_t count = 0;
-    uint32_t levels = 0;  // ⌊log2 count⌋ + 1 (0 for an empty map)
+    uint32_t levels = 0;        // ⌊log2 count⌋ + 1 (0 for an empty map)
     uint32_t sortedLevels = 0;  // levels built by a radix sort (the rest by kdtree_finish)
 };
 
@@ -43,14 +43,5 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
 // sort keys (and so a second, 64-bit sort workspace).
 int kdTreeFinishSize(cl_device_type type);
 bool kdTreeUses64BitKeys(size_t n, int finishSize);
-
-struct KdTree {
-    std::vector<PclPhoton> photons;  // heap order, axis bits set
-    std::vector<uint32_t> index;     // heap position → input photon index
-};
-
-// Upload, build, download.
-KdTree buildKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& photons, KdTreeTiming* timing = nullptr,
-                           int finishSize = -1);
 
 }  // namespace pcl

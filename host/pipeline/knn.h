@@ -5,9 +5,13 @@
 // (host/reference/knn.cpp) returns: the same indices in the same order and the same squared
 // distances.
 //
-//   std::vector<PclKnnQuery> qs = ...;              // x, y, z, maxRadius2, k (1..500)
-//   KnnResult r = knnOnDevice(device, map, KnnStructure::HashGrid, qs);
-//   for (uint32_t j = 0; j < r.counts[q]; ++j) use(r.indices[q * r.stride + j], r.dist2[q * r.stride + j]);
+//   KnnKdTree tree = packKdTree(device, buildKdTree(device, photons, n));  // built once
+//   DeviceKnnOutput out;               // queries: PclKnnQuery x, y, z, maxRadius2, k (1..500)
+//   knnSearchKdTree(device, tree, queries, queryCount, maxK, out);
+//   // per query q: out.counts[q] neighbours, out.indices / out.dist2 [q * out.stride + j]
+//
+// Host vectors in and out, for the checks and the tests: knnOnDevice and the others in
+// check/on_device.h.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -20,17 +24,6 @@
 #include "shared/types.h"
 
 namespace pcl {
-
-struct KnnResult {
-    uint32_t stride = 0;              // slots per query: the largest k of the queries
-    std::vector<uint32_t> counts;     // per query: neighbours found (≤ its k)
-    std::vector<uint32_t> indices;    // queries × stride: photon indices, ascending (d², index); PCL_NO_HIT past count
-    std::vector<float> dist2;         // queries × stride: squared distances; 0 past count
-    std::vector<float> radius2;       // per query: the largest squared distance returned, 0 if none
-    double searchSeconds = 0.0;       // device time of the search kernel
-    double buildSeconds = 0.0;        // knnOnDevice: wall time to build the structure (upload included)
-    size_t queries() const { return counts.size(); }
-};
 
 // The search kernels' outputs on the device.
 struct DeviceKnnOutput {
@@ -52,39 +45,21 @@ KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree);
 // 256, 500 holding maxK. InputError outside 1..PCL_KNN_MAX_K.
 uint32_t knnHeapCapacity(uint32_t maxK);
 
-// Queries per search launch for the *OnDevice conveniences (and the memory plan): as many as
-// keep every buffer of the batch (queries 32 B, indices and dist2 4·maxK B each per query) under
-// maxAlloc and the batch's buffers together under a quarter of globalMem; whole work-groups of
-// 64. A smaller maxAlloc (--max-buffer-mib) only splits the work: the results are the same.
+// Queries per search launch for the memory plan (and the host-vector searches of
+// check/on_device.h): as many as keep every buffer of the batch (queries 32 B, indices and dist2
+// 4·maxK B each per query) under maxAlloc and the batch's buffers together under a quarter of
+// globalMem; whole work-groups of 64. A smaller maxAlloc (--max-buffer-mib) only splits the
+// work: the results are the same.
 size_t knnQueryBatch(size_t maxAlloc, size_t globalMem, uint32_t maxK);
 
 // The searches on structures and queries already on the device (the kd-tree from
 // pipeline/kdtree's buildKdTree, packed); `out` is allocated for
 // queryCount × maxK. Return the kernel's device seconds. The hash-grid search needs every
-// query's radius ≤ cellSize / 2 (the caller checks; knnHashGridOnDevice does).
+// query's radius ≤ cellSize / 2 (the caller checks).
 double knnSearchKdTree(Device& device, const KnnKdTree& tree, const cl::Buffer& queries, size_t queryCount,
                        uint32_t maxK, DeviceKnnOutput& out);
 double knnSearchHashGrid(Device& device, const DeviceHashGrid& grid, const cl::Buffer& queries, size_t queryCount,
                          uint32_t maxK, DeviceKnnOutput& out);
-
-// A built structure searched for host queries in batches of knnQueryBatch, so no buffer passes
-// the device's max allocation (capped or not): per batch upload, search, download. The same
-// bits as one launch. searchSeconds sums the launches; buildSeconds is left 0. The hash grid
-// needs every radius ≤ cellSize / 2 (the caller checks).
-KnnResult knnSearchOnDevice(Device& device, const KnnKdTree& tree, const std::vector<PclKnnQuery>& queries);
-KnnResult knnSearchOnDevice(Device& device, const DeviceHashGrid& grid, const std::vector<PclKnnQuery>& queries);
-
-// Host-side conveniences: upload, search, download.
-KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNodes,
-                            const std::vector<uint32_t>& nodeIndex, const std::vector<PclKnnQuery>& queries);
-// Builds the grid for r_max = the largest query radius, then searches.
-KnnResult knnHashGridOnDevice(Device& device, const std::vector<PclPhoton>& map, const std::vector<PclKnnQuery>& queries);
-
-// The whole thing from a photon map in deposit order: builds the structure on the device
-// (buildKdTree, or buildHashGrid for r_max = the largest query radius) and searches. Indices
-// refer to `map`.
-KnnResult knnOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStructure structure,
-                      const std::vector<PclKnnQuery>& queries);
 
 // Largest k over the queries; InputError when a k is 0 or above PCL_KNN_MAX_K or a radius is
 // negative or NaN.

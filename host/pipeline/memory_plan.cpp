@@ -11,15 +11,15 @@
 #include "pipeline/deposit.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
-#include "prep/photon_allocation.h"
 #include "pipeline/sort.h"
 #include "pipeline/trace_photons.h"
+#include "prep/photon_allocation.h"
 
 namespace pcl {
 namespace {
 
 constexpr size_t kMiB = size_t(1) << 20;
-constexpr size_t kScanGroup = 256;  // deposit_scan's work-group (pipeline/deposit.cpp)
+constexpr size_t kScanGroup = 256;            // deposit_scan's work-group (pipeline/deposit.cpp)
 constexpr size_t kMinBatch = kWorkGroupSize;  // one work-group: the smallest batch the plan shrinks to
 
 size_t ceilDiv(size_t a, size_t b) { return (a + b - 1) / b; }
@@ -32,10 +32,8 @@ size_t nextPowerOfTwo(size_t n) {
 
 std::string gib(size_t bytes) {
     char buf[48];
-    if (bytes >= (size_t(1) << 30))
-        std::snprintf(buf, sizeof buf, "%.2f GiB", double(bytes) / double(size_t(1) << 30));
-    else
-        return formatMiB(bytes);
+    if (bytes >= (size_t(1) << 30)) std::snprintf(buf, sizeof buf, "%.2f GiB", double(bytes) / double(size_t(1) << 30));
+    else return formatMiB(bytes);
     return buf;
 }
 
@@ -54,7 +52,8 @@ public:
             const char* name;
             uint32_t kind, paths;
             size_t records;
-        } maps[2] = {{"global", PCL_PASS_GLOBAL, req.globalPaths, req.globalRecords ? req.globalRecords : req.globalPaths},
+        } maps[2] = {{"global", PCL_PASS_GLOBAL, req.globalPaths,
+                      req.globalRecords ? req.globalRecords : req.globalPaths},
                      {"caustic", PCL_PASS_CAUSTIC, req.causticPaths,
                       req.causticRecords ? req.causticRecords : req.causticPaths}};
         for (const Map& m : maps)
@@ -91,8 +90,8 @@ public:
     }
 
 private:
-    void add(const std::string& phase, const std::string& what, size_t count, size_t elementBytes,
-             size_t batches = 0, size_t perBatch = 0, size_t records = 0) {
+    void add(const std::string& phase, const std::string& what, size_t count, size_t elementBytes, size_t batches = 0,
+             size_t perBatch = 0, size_t records = 0) {
         PlannedBuffer b;
         b.phase = phase;
         b.what = what;
@@ -325,8 +324,7 @@ MemoryPlan planMemory(const MemoryRequest& request, const MemoryLimits& limits) 
             advice = "emit fewer photons (a map of at most " +
                      std::to_string(size_t(double(worst->records) * double(limits.maxAlloc) / double(worst->bytes))) +
                      " records fits)";
-        else
-            advice = "simplify the scene";
+        else advice = "simplify the scene";
         plan.problems.push_back(p.name + ": " + worst->what + " needs " + formatMiB(worst->bytes) + " (" +
                                 std::to_string(worst->count) + " × " + std::to_string(worst->elementBytes) +
                                 " bytes), " + limit + "; " + advice + " or " + raiseCap(limits, worst->bytes));
@@ -354,8 +352,7 @@ std::string formatMemoryPlan(const MemoryPlan& plan) {
     s << "memory plan on " << plan.limits.device << ": max allocation " << plan.limits.maxAllocSource;
     if (plan.limits.globalMem)
         s << ", global memory " << gib(plan.limits.globalMem) << " (budget " << gib(plan.budget) << " per phase)\n";
-    else
-        s << ", global memory unknown (not checked)\n";
+    else s << ", global memory unknown (not checked)\n";
     std::snprintf(line, sizeof line, "  %-20s %-28s %12s %11s  %s\n", "phase", "buffer", "elements", "MiB", "launches");
     s << line;
     for (const PlannedBuffer& b : plan.buffers) {
@@ -385,8 +382,8 @@ std::string formatMemoryPlan(const MemoryPlan& plan) {
         s << "  maps are planned at one record per photon emitted; the pass may store more or fewer, and a map that "
              "outgrows the max allocation fails when it grows\n";
     if (plan.fits())
-        s << "  fits: every buffer under the max allocation" << (plan.limits.globalMem ? ", every phase under the budget" : "")
-          << "\n";
+        s << "  fits: every buffer under the max allocation"
+          << (plan.limits.globalMem ? ", every phase under the budget" : "") << "\n";
     else
         for (const std::string& p : plan.problems) s << "  DOES NOT FIT: " << p << "\n";
     return s.str();

@@ -30,12 +30,12 @@ namespace pcl {
 
 // What a device allows, from its DeviceInfo (or made up: analyze without a device).
 struct MemoryLimits {
-    size_t maxAlloc = 0;                      // the largest single buffer (the cap when lower)
-    size_t globalMem = 0;                     // bytes of global memory
-    cl_device_type type = CL_DEVICE_TYPE_CPU; // decides the photon batch, sort and kd-tree shapes
-    std::string device;                       // its name, for the table
-    std::string maxAllocSource;               // describeMaxAlloc(): "64.0 MiB (cap from --max-buffer-mib)"
-    bool capped = false;                      // maxAlloc comes from --max-buffer-mib
+    size_t maxAlloc = 0;                       // the largest single buffer (the cap when lower)
+    size_t globalMem = 0;                      // bytes of global memory
+    cl_device_type type = CL_DEVICE_TYPE_CPU;  // decides the photon batch, sort and kd-tree shapes
+    std::string device;                        // its name, for the table
+    std::string maxAllocSource;                // describeMaxAlloc(): "64.0 MiB (cap from --max-buffer-mib)"
+    bool capped = false;                       // maxAlloc comes from --max-buffer-mib
 };
 MemoryLimits memoryLimits(const DeviceInfo& info);
 
@@ -53,11 +53,11 @@ struct MemoryRequest {
     // Records in each map once the pass is done; 0: one per emitted path (the least a map of
     // that many photons holds; the map buffer itself starts at initialMapCapacity and grows).
     size_t globalRecords = 0, causticRecords = 0;
-    bool kdTree = true;      // a kd-tree built (and packed for the search) per map
-    bool hashGrid = false;   // a hash grid built per map
-    size_t queries = 0;      // kNN queries searched per map (0: no search planned)
-    uint32_t k = 50;         // neighbours per query (the output stride)
-    size_t queryBatch = 0;   // queries per launch; 0: knnQueryBatch under the limits
+    bool kdTree = true;     // a kd-tree built (and packed for the search) per map
+    bool hashGrid = false;  // a hash grid built per map
+    size_t queries = 0;     // kNN queries searched per map (0: no search planned)
+    uint32_t k = 50;        // neighbours per query (the output stride)
+    size_t queryBatch = 0;  // queries per launch; 0: knnQueryBatch under the limits
 };
 
 // The request for a photon pass run with these options (paths per map from lightFirstPhoton,
@@ -66,29 +66,29 @@ MemoryRequest photonPassMemoryRequest(const SceneGeometry& geometry, const Scene
                                       const PhotonPassOptions& options);
 
 struct PlannedBuffer {
-    std::string phase;        // "scene", "global photon pass", "global kd-tree", "global search", ...
-    std::string what;         // the allocation label the stage uses ("photon pass: slots")
-    size_t count = 0;         // elements
+    std::string phase;  // "scene", "global photon pass", "global kd-tree", "global search", ...
+    std::string what;   // the allocation label the stage uses ("photon pass: slots")
+    size_t count = 0;   // elements
     size_t elementBytes = 0;
-    size_t bytes = 0;         // max(count, 1) × elementBytes: what Device::allocate asks for
-    size_t batches = 0;       // launches the divisible work is split into; 0: indivisible
-    size_t perBatch = 0;      // paths or queries per launch (divisible buffers)
-    size_t records = 0;       // photon records the buffer scales with (map-sized buffers), for advice
+    size_t bytes = 0;     // max(count, 1) × elementBytes: what Device::allocate asks for
+    size_t batches = 0;   // launches the divisible work is split into; 0: indivisible
+    size_t perBatch = 0;  // paths or queries per launch (divisible buffers)
+    size_t records = 0;   // photon records the buffer scales with (map-sized buffers), for advice
 };
 
 struct MemoryPhase {
-    std::string name;         // buffers alive together: a phase's own plus "scene" and the structures kept
+    std::string name;  // buffers alive together: a phase's own plus "scene" and the structures kept
     size_t bytes = 0;
 };
 
 struct MemoryPlan {
     MemoryLimits limits;
-    size_t budget = 0;                 // globalMem less headroom: what one phase may hold
-    uint32_t photonBatch = 0;          // paths per photon-pass launch (PhotonPassOptions::batchSize)
-    size_t queryBatch = 0;             // queries per kNN launch
+    size_t budget = 0;         // globalMem less headroom: what one phase may hold
+    uint32_t photonBatch = 0;  // paths per photon-pass launch (PhotonPassOptions::batchSize)
+    size_t queryBatch = 0;     // queries per kNN launch
     std::vector<PlannedBuffer> buffers;
     std::vector<MemoryPhase> phases;
-    std::vector<std::string> problems; // why it cannot run as asked; empty: it fits
+    std::vector<std::string> problems;  // why it cannot run as asked; empty: it fits
     bool fits() const { return problems.empty(); }
     size_t peakBytes() const;
     // The planned buffer with this label in this phase (nullptr if none).

@@ -10,8 +10,8 @@
 #include "pipeline/deposit.h"
 #include "pipeline/device_scene.h"
 #include "pipeline/emit.h"
-#include "prep/photon_allocation.h"
 #include "pipeline/trace_photons.h"
+#include "prep/photon_allocation.h"
 
 namespace pcl {
 namespace {
@@ -40,17 +40,20 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
     const uint64_t passSeed = photonPassSeed(options.seed, options.pass);
     PclPhotonParams params = makePhotonParams(geometry, buffers, passKind, passSeed, options.maxDepth, 0, 0);
     const uint32_t slotsPerPath = photonSlotsPerPath(params);
-    const uint32_t batch = std::min(total, options.batchSize ? options.batchSize : defaultPhotonBatch(device, slotsPerPath));
+    const uint32_t batch =
+        std::min(total, options.batchSize ? options.batchSize : defaultPhotonBatch(device, slotsPerPath));
     s.batchSize = batch;
 
     cl::Buffer lightFirst = device.upload(first, CL_MEM_READ_ONLY, "photon pass: light offsets");
     cl::Buffer rays = device.allocate<PclPhotonRay>(batch, CL_MEM_READ_WRITE, "photon pass: rays");
-    cl::Buffer slots = device.allocate<PclPhoton>(size_t(batch) * slotsPerPath, CL_MEM_READ_WRITE, "photon pass: slots");
+    cl::Buffer slots =
+        device.allocate<PclPhoton>(size_t(batch) * slotsPerPath, CL_MEM_READ_WRITE, "photon pass: slots");
     cl::Buffer counts = device.allocate<uint32_t>(batch, CL_MEM_READ_WRITE, "photon pass: counts");
     cl::Buffer ends = device.allocate<uint32_t>(batch, CL_MEM_READ_WRITE, "photon pass: ends");
     const std::string mapName = passKind == PCL_PASS_CAUSTIC ? "caustic" : "global";
     DevicePhotonMap map = makeDevicePhotonMap(
-        device, options.initialCapacity ? options.initialCapacity : initialMapCapacity(device.info().maxAlloc, passKind, total),
+        device,
+        options.initialCapacity ? options.initialCapacity : initialMapCapacity(device.info().maxAlloc, passKind, total),
         "photon pass: " + mapName + " map");
 
     for (uint32_t firstPhoton = 0; firstPhoton < total; firstPhoton += batch) {
@@ -87,15 +90,17 @@ std::string PhotonPassStats::summary() const {
     char buf[768];
     auto line = [](const char* name, const PhotonPassKindStats& s) {
         char l[512];
-        std::snprintf(l, sizeof l,
-                      "%s: %llu paths in %u batches of %u, %llu records (%u growths); ends: %llu escaped, %llu absorbed, "
-                      "%llu stored, %llu at max depth; flux %.6g %.6g %.6g W\n",
-                      name, (unsigned long long)s.emitted, s.batches, s.batchSize, (unsigned long long)s.deposits, s.growths,
-                      (unsigned long long)s.escaped, (unsigned long long)s.absorbed, (unsigned long long)s.stored,
-                      (unsigned long long)s.maxDepth, s.emittedFlux[0], s.emittedFlux[1], s.emittedFlux[2]);
+        std::snprintf(
+            l, sizeof l,
+            "%s: %llu paths in %u batches of %u, %llu records (%u growths); ends: %llu escaped, %llu absorbed, "
+            "%llu stored, %llu at max depth; flux %.6g %.6g %.6g W\n",
+            name, (unsigned long long)s.emitted, s.batches, s.batchSize, (unsigned long long)s.deposits, s.growths,
+            (unsigned long long)s.escaped, (unsigned long long)s.absorbed, (unsigned long long)s.stored,
+            (unsigned long long)s.maxDepth, s.emittedFlux[0], s.emittedFlux[1], s.emittedFlux[2]);
         return std::string(l);
     };
-    std::snprintf(buf, sizeof buf, "device seconds: emit %.4f, trace %.4f, deposit %.4f; longest launch %.4f; wall %.4f s\n",
+    std::snprintf(buf, sizeof buf,
+                  "device seconds: emit %.4f, trace %.4f, deposit %.4f; longest launch %.4f; wall %.4f s\n",
                   emitSeconds, traceSeconds, depositSeconds, longestLaunchSeconds, wallSeconds);
     return line("global", global) + line("caustic", caustic) + buf;
 }

@@ -8,8 +8,8 @@
 
 #include "device/device.h"
 #include "geometry/scene_geometry.h"
-#include "prep/scene_buffers.h"
 #include "pipeline/trace_photons.h"
+#include "prep/scene_buffers.h"
 #include "shared/types.h"
 
 namespace pcl {
@@ -23,21 +23,21 @@ struct PhotonPassOptions {
     uint32_t pass = 0;                 // progressive pass index (mixed into the seed)
     bool buildGlobal = true;
     bool buildCaustic = true;
-    size_t initialCapacity = 0;        // records per map before growth; 0: an estimate
+    size_t initialCapacity = 0;  // records per map before growth; 0: an estimate
 };
 
 // Per map (pass kind).
 struct PhotonPassKindStats {
-    uint64_t emitted = 0;              // paths emitted
+    uint64_t emitted = 0;                                          // paths emitted
     uint64_t escaped = 0, absorbed = 0, maxDepth = 0, stored = 0;  // ends by PCL_END_* cause (stored:
-                                                                    // caustic paths ended at a hit they deposited at)
-    uint64_t bounces = 0;              // Σ bounce field of ends: segments traced
-    uint64_t deposits = 0;             // records in the map
-    double emittedFlux[3] = {0, 0, 0}; // Σ flux of the emitted photons (computed as emit does)
+                                                                   // caustic paths ended at a hit they deposited at)
+    uint64_t bounces = 0;                                          // Σ bounce field of ends: segments traced
+    uint64_t deposits = 0;                                         // records in the map
+    double emittedFlux[3] = {0, 0, 0};  // Σ flux of the emitted photons (computed as emit does)
     uint32_t batches = 0;
-    uint32_t batchSize = 0;            // paths per batch (launch)
-    uint32_t growths = 0;              // map buffer growth events
-    size_t capacity = 0;               // final buffer capacity (records)
+    uint32_t batchSize = 0;  // paths per batch (launch)
+    uint32_t growths = 0;    // map buffer growth events
+    size_t capacity = 0;     // final buffer capacity (records)
 };
 
 struct PhotonPassStats {

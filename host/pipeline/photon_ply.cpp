@@ -20,9 +20,9 @@ namespace fs = std::filesystem;
 namespace pcl {
 namespace {
 
-const char* const kProperties[] = {"float x",  "float y",  "float z",  "float r",     "float g",     "float b",
-                                   "float dx", "float dy", "float dz", "float nx",    "float ny",    "float nz",
-                                   "uchar map", "uchar bounce"};
+const char* const kProperties[] = {"float x",  "float y",  "float z",   "float r",     "float g",
+                                   "float b",  "float dx", "float dy",  "float dz",    "float nx",
+                                   "float ny", "float nz", "uchar map", "uchar bounce"};
 constexpr int kFloats = 12;
 constexpr size_t kBinaryVertexBytes = kFloats * 4 + 2;
 

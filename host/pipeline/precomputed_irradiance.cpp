@@ -15,7 +15,6 @@ namespace {
 
 const char* const kStage = "precomputed_irradiance";
 
-
 }  // namespace
 
 std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, uint32_t every, size_t lookupQueries) {
@@ -49,17 +48,18 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
     const size_t count = n == 0 ? 0 : (n - 1) / options.every + 1;
     const size_t others = n - count;
     cl::Buffer points = device.allocate<PclIrradiancePoint>(count, CL_MEM_READ_WRITE, "precomputed irradiance: points");
-    cl::Buffer queries = device.allocate<PclEstimateQuery>(count, CL_MEM_READ_WRITE, "precomputed irradiance: estimate queries");
+    cl::Buffer queries =
+        device.allocate<PclEstimateQuery>(count, CL_MEM_READ_WRITE, "precomputed irradiance: estimate queries");
     cl::Buffer cover = device.allocate<float>(count, CL_MEM_READ_WRITE, "precomputed irradiance: covers");
-    cl::Buffer otherPhotons = device.allocate<PclPhoton>(others, CL_MEM_READ_WRITE, "precomputed irradiance: other photons");
+    cl::Buffer otherPhotons =
+        device.allocate<PclPhoton>(others, CL_MEM_READ_WRITE, "precomputed irradiance: other photons");
     auto select = device.kernel<cl::Buffer, cl_uint, cl_uint, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
         kStage, "precomputed_irradiance_select");
     auto unselected =
         device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_unselected");
-    const cl::Event selected =
-        device.launchLocal(kStage, select, wholeWorkGroups(count), workGroup(), photons, cl_uint(n),
-                           cl_uint(options.every), cl_float(options.maxRadius * options.maxRadius),
-                           cl_uint(options.k), points, queries);
+    const cl::Event selected = device.launchLocal(
+        kStage, select, wholeWorkGroups(count), workGroup(), photons, cl_uint(n), cl_uint(options.every),
+        cl_float(options.maxRadius * options.maxRadius), cl_uint(options.k), points, queries);
     const cl::Event split = device.launchLocal(kStage, unselected, wholeWorkGroups(n), workGroup(), photons, cl_uint(n),
                                                cl_uint(options.every), otherPhotons);
     device.finish();
@@ -71,7 +71,8 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
         const PhotonMapOnDevice otherMap(device, otherPhotons, others, options.estimate.structure, options.maxRadius,
                                          lo ? lo : zero);
         timing.mapSeconds = otherMap.buildSeconds();
-        cl::Buffer estimates = device.allocate<PclEstimate>(count, CL_MEM_READ_WRITE, "precomputed irradiance: estimates");
+        cl::Buffer estimates =
+            device.allocate<PclEstimate>(count, CL_MEM_READ_WRITE, "precomputed irradiance: estimates");
         timing.estimate =
             estimateBuffers(device, otherMap, queries, count, options.k, options.estimate, scene, estimates);
         const float scale = float(options.every) / float(options.every - 1);
@@ -92,13 +93,14 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const std::vector<PclPh
     float lo[3] = {0.0f, 0.0f, 0.0f};
     if (!map.empty()) {
         lo[0] = map[0].x, lo[1] = map[0].y, lo[2] = map[0].z;
-        for (const PclPhoton& p : map) lo[0] = std::min(lo[0], p.x), lo[1] = std::min(lo[1], p.y), lo[2] = std::min(lo[2], p.z);
+        for (const PclPhoton& p : map)
+            lo[0] = std::min(lo[0], p.x), lo[1] = std::min(lo[1], p.y), lo[2] = std::min(lo[2], p.z);
     }
     return precomputeIrradiance(device, device.upload(map), map.size(), options, scene, lo);
 }
 
-DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, const cl::Buffer& cover,
-                                        size_t count, float minNormalCos) {
+DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, const cl::Buffer& cover, size_t count,
+                                        float minNormalCos) {
     if (count >= (size_t(1) << 30))
         throw InputError("precomputed irradiance: " + std::to_string(count) +
                          " points exceed the 2^30 of the stored photon index");
@@ -114,9 +116,9 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
     if (count) {
         // The photon kd-tree builder orders the points (it reads only position; the normal word
         // rides along), then the pack copies each point into its heap slot with the split axis.
-        cl::Buffer asPhotons = device.allocate<PclPhoton>(count, CL_MEM_READ_WRITE, "precomputed irradiance: tree input");
-        auto toPhotons =
-            device.kernel<cl::Buffer, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_as_photons");
+        cl::Buffer asPhotons =
+            device.allocate<PclPhoton>(count, CL_MEM_READ_WRITE, "precomputed irradiance: tree input");
+        auto toPhotons = device.kernel<cl::Buffer, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_as_photons");
         device.launchLocal(kStage, toPhotons, wholeWorkGroups(count), workGroup(), points, cl_uint(count), asPhotons);
         const DeviceKdTree tree = buildKdTree(device, asPhotons, count);
         auto pack = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>(
@@ -163,25 +165,6 @@ double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl
                                      out.irradiance, out.chosen);
     e.wait();
     return Device::elapsedSeconds(e);
-}
-
-IrradianceLookupResult lookupIrradianceOnDevice(Device& device, const DeviceIrradianceMap& map,
-                                                const std::vector<PclEstimateQuery>& queries) {
-    for (size_t i = 0; i < queries.size(); ++i) {
-        const PclEstimateQuery& q = queries[i];
-        if (!(q.maxRadius2 >= 0.0f))
-            throw InputError("precomputed irradiance: query " + std::to_string(i) + " has maxRadius2 = " +
-                             std::to_string(q.maxRadius2) + ", expected ≥ 0");
-        if (!std::isfinite(q.nx) || !std::isfinite(q.ny) || !std::isfinite(q.nz))
-            throw InputError("precomputed irradiance: query " + std::to_string(i) + " has a non-finite normal");
-    }
-    IrradianceLookupResult r;
-    cl::Buffer q = device.upload(queries);
-    DeviceIrradianceLookup out;
-    r.seconds = lookupIrradiance(device, map, q, queries.size(), out);
-    r.irradiance = device.download<float>(out.irradiance, queries.size() * 4);
-    r.chosen = device.download<uint32_t>(out.chosen, queries.size());
-    return r;
 }
 
 }  // namespace pcl

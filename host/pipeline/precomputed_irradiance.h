@@ -25,6 +25,9 @@
 //   DeviceIrradianceLookup out;
 //   lookupIrradiance(device, irr, queryBuffer, queryCount, out);      // PclEstimateQuery, k unused
 //   // out.irradiance: float4 (r, g, b, d²) per query; out.chosen: the photon index or PCL_NO_HIT
+//
+// Host vectors in and out, for the checks and the tests: lookupIrradianceOnDevice in
+// check/on_device.h.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -39,21 +42,21 @@
 namespace pcl {
 
 struct IrradianceTiming {
-    double selectSeconds = 0.0;   // device: selection, the estimate queries, the others' map
-    double mapSeconds = 0.0;      // wall: the others' search structure (PhotonMapOnDevice)
-    EstimateTiming estimate;      // device: the estimates at the stored points
-    double treeSeconds = 0.0;     // wall: the lookup kd-tree (build and pack)
+    double selectSeconds = 0.0;  // device: selection, the estimate queries, the others' map
+    double mapSeconds = 0.0;     // wall: the others' search structure (PhotonMapOnDevice)
+    EstimateTiming estimate;     // device: the estimates at the stored points
+    double treeSeconds = 0.0;    // wall: the lookup kd-tree (build and pack)
 };
 
 // The stored points on the device.
 struct DeviceIrradianceMap {
-    cl::Buffer points;            // PclIrradiancePoint[count] in selection order: point j is photon j·m
-    cl::Buffer cover;             // float[count], selection order: (f r)², r² each point's estimate's
-    cl::Buffer nodes;             // the same points in left-balanced heap order (node h's children
-                                  // 2h+1, 2h+2), split axis in bits 30..31 of `photon`
-    cl::Buffer nodeCover;         // float[count], heap order
+    cl::Buffer points;     // PclIrradiancePoint[count] in selection order: point j is photon j·m
+    cl::Buffer cover;      // float[count], selection order: (f r)², r² each point's estimate's
+    cl::Buffer nodes;      // the same points in left-balanced heap order (node h's children
+                           // 2h+1, 2h+2), split axis in bits 30..31 of `photon`
+    cl::Buffer nodeCover;  // float[count], heap order
     size_t count = 0;
-    float minNormalCos = 0.9f;    // the lookup's normal threshold
+    float minNormalCos = 0.9f;  // the lookup's normal threshold
     IrradianceTiming timing;
 };
 
@@ -87,8 +90,8 @@ std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, u
 // (c) alone: the lookup tree over `count` points and their covers (squared radii) already on
 // the device (irradiance filled in, `photon` below 2^30 and distinct: it breaks ties). The map
 // keeps both buffers.
-DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, const cl::Buffer& cover,
-                                        size_t count, float minNormalCos);
+DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, const cl::Buffer& cover, size_t count,
+                                        float minNormalCos);
 // Upload and build; an empty `cover` lets every point answer any query within its radius (∞).
 DeviceIrradianceMap uploadIrradiancePoints(Device& device, const std::vector<PclIrradiancePoint>& points,
                                            float minNormalCos, const std::vector<float>& cover = {});
@@ -99,8 +102,8 @@ std::vector<float> downloadIrradianceCover(Device& device, const DeviceIrradianc
 
 // (d) lookups on the device.
 struct DeviceIrradianceLookup {
-    cl::Buffer irradiance;        // float4 per query: r, g, b (W/m²), d² to the chosen point; 0s if none
-    cl::Buffer chosen;            // uint per query: the chosen point's photon index, PCL_NO_HIT if none
+    cl::Buffer irradiance;  // float4 per query: r, g, b (W/m²), d² to the chosen point; 0s if none
+    cl::Buffer chosen;      // uint per query: the chosen point's photon index, PCL_NO_HIT if none
     size_t queries = 0;
 };
 
@@ -110,16 +113,5 @@ struct DeviceIrradianceLookup {
 // already holds queryCount); returns the kernel's device seconds.
 double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl::Buffer& queries, size_t queryCount,
                         DeviceIrradianceLookup& out);
-
-struct IrradianceLookupResult {
-    std::vector<float> irradiance;  // queries × 4: r, g, b, d²
-    std::vector<uint32_t> chosen;   // per query
-    double seconds = 0.0;           // device time of the lookup kernel
-};
-
-// Upload the queries, look up, download. InputError when a radius is negative or NaN or a
-// normal is not finite.
-IrradianceLookupResult lookupIrradianceOnDevice(Device& device, const DeviceIrradianceMap& map,
-                                                const std::vector<PclEstimateQuery>& queries);
 
 }  // namespace pcl

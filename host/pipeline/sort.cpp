@@ -7,7 +7,6 @@
 #include <utility>
 
 #include "core/error.h"
-#include "device/work_group.h"
 
 namespace pcl {
 namespace {
@@ -39,8 +38,8 @@ SortShape sortShape(cl_device_type type) {
 }
 
 std::string options(int keyBits, const SortShape& s) {
-    return std::string(keyBits == 64 ? "-DPCL_SORT_KEY64=1 " : "") + "-DPCL_SORT_RADIX_BITS=" +
-           std::to_string(s.radixBits) + " -DPCL_SORT_GROUP=" + std::to_string(s.group) +
+    return std::string(keyBits == 64 ? "-DPCL_SORT_KEY64=1 " : "") +
+           "-DPCL_SORT_RADIX_BITS=" + std::to_string(s.radixBits) + " -DPCL_SORT_GROUP=" + std::to_string(s.group) +
            " -DPCL_SORT_ITEMS=" + std::to_string(s.items);
 }
 
@@ -52,8 +51,8 @@ size_t sortHistogramEntries(cl_device_type type, size_t n) {
     return ((n + tile - 1) / tile) << shape.radixBits;
 }
 
-void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, size_t n, int keyBits,
-                       int sortBits, double* seconds, SortWorkspace* workspace) {
+void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, size_t n, int keyBits, int sortBits,
+                       double* seconds, SortWorkspace* workspace) {
     if (keyBits != 32 && keyBits != 64)
         throw InputError("sortPairsOnDevice: keys of " + std::to_string(keyBits) + " bits (32 or 64 expected)");
     if (sortBits == 0) sortBits = keyBits;
@@ -101,8 +100,8 @@ void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, siz
         const cl_uint mask = (1u << std::min(kRadixBits, sortBits - p * kRadixBits)) - 1u;
         events.push_back(device.launchLocal("sort", histogram, global, group, *kin, cl_uint(n), shift, mask, ws.hist));
         events.push_back(device.launchLocal("sort", scan, cl::NDRange(kSortGroup), group, ws.hist, cl_uint(histSize)));
-        events.push_back(device.launchLocal("sort", scatter, global, group, *kin, *vin, cl_uint(n), shift, mask, ws.hist,
-                                            *kout, *vout));
+        events.push_back(device.launchLocal("sort", scatter, global, group, *kin, *vin, cl_uint(n), shift, mask,
+                                            ws.hist, *kout, *vout));
         std::swap(kin, kout);
         std::swap(vin, vout);
     }
@@ -138,17 +137,6 @@ void sortPairsOnDevice(Device& device, std::vector<uint64_t>& keys, std::vector<
     sortPairsOnDevice(device, k, v, keys.size(), 64, sortBits);
     keys = device.download<uint64_t>(k, keys.size());
     values = device.download<uint32_t>(v, values.size());
-}
-
-void floatSortKeysOnDevice(Device& device, const std::vector<float>& x, std::vector<uint32_t>& keys,
-                           std::vector<uint32_t>& values) {
-    const size_t n = x.size();
-    cl::Buffer in = device.upload(x);
-    cl::Buffer k = device.allocate<uint32_t>(n), v = device.allocate<uint32_t>(n);
-    auto flip = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>("sort", "sort_float_keys");
-    device.launchLocal("sort", flip, wholeWorkGroups(n), workGroup(), in, cl_uint(n), k, v);
-    keys = device.download<uint32_t>(k, n);
-    values = device.download<uint32_t>(v, n);
 }
 
 }  // namespace pcl

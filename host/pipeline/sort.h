@@ -19,9 +19,9 @@ namespace pcl {
 // caller that sorts repeatedly (the kd-tree build, level by level) allocates them once.
 struct SortWorkspace {
     cl::Buffer keys, values, hist;
-    size_t capacity = 0;   // elements the key/value scratch holds
+    size_t capacity = 0;  // elements the key/value scratch holds
     size_t histCapacity = 0;
-    int keyBits = 0;       // width of the scratch keys (32 or 64)
+    int keyBits = 0;  // width of the scratch keys (32 or 64)
 };
 
 // Sorts the first n (key, value) pairs of `keys` (uint32 elements when keyBits == 32, uint64
@@ -29,8 +29,8 @@ struct SortWorkspace {
 // for keyBits) limits the sort to the low sortBits bits: pairs are ordered by key & (2^sortBits
 // − 1), higher key bits are ignored (they still move with their key); ⌈sortBits/4⌉ passes. n < 2^31. Adds the device time to *seconds when given. Throws
 // InputError on a bad width, DeviceError on a device failure.
-void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, size_t n, int keyBits,
-                       int sortBits = 0, double* seconds = nullptr, SortWorkspace* workspace = nullptr);
+void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, size_t n, int keyBits, int sortBits = 0,
+                       double* seconds = nullptr, SortWorkspace* workspace = nullptr);
 
 // Entries of the tile histogram a sort of n pairs allocates on a device of this type (the
 // memory plan's prediction; the pass shape follows the type and PHOTONCL_SORT_SHAPE).
@@ -38,12 +38,6 @@ size_t sortHistogramEntries(cl_device_type type, size_t n);
 
 // Vector conveniences: upload, sort, download.
 void sortPairsOnDevice(Device& device, std::vector<uint32_t>& keys, std::vector<uint32_t>& values);
-void sortPairsOnDevice(Device& device, std::vector<uint64_t>& keys, std::vector<uint32_t>& values,
-                       int sortBits = 64);
-
-// Order-preserving float → key flip on the device (sort_float_keys): keys[i] from x[i],
-// values[i] = i.
-void floatSortKeysOnDevice(Device& device, const std::vector<float>& x, std::vector<uint32_t>& keys,
-                           std::vector<uint32_t>& values);
+void sortPairsOnDevice(Device& device, std::vector<uint64_t>& keys, std::vector<uint32_t>& values, int sortBits = 64);
 
 }  // namespace pcl

@@ -25,20 +25,7 @@ uint32_t photonSlotsPerPath(const PclPhotonParams& params);
 // Enqueues trace_photons_global or trace_photons_caustic (by params.pass) over
 // params.batchSize paths: rays in, slots (batchSize × photonSlotsPerPath), counts and ends
 // (batchSize each) out.
-cl::Event tracePhotons(Device& device, const DeviceScene& scene, const PclPhotonParams& params,
-                       const cl::Buffer& rays, cl::Buffer& slots, cl::Buffer& counts, cl::Buffer& ends);
-
-struct PhotonTraceResult {
-    uint32_t slotsPerPath = 0;
-    std::vector<PclPhoton> slots;   // paths × slotsPerPath; slot k of path i valid for k < counts[i]
-    std::vector<uint32_t> counts;   // records deposited per path
-    std::vector<uint32_t> ends;     // bounce | PCL_END_* << 8 per path
-};
-
-// Trace alone, for checks and tests: rays.size() must equal params.batchSize. Slots past a
-// path's count are zeroed here (the kernel leaves them unwritten) so results compare byte-wise.
-PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geometry,
-                                       const SceneBuffers& buffers, const std::vector<PclPhotonRay>& rays,
-                                       const PclPhotonParams& params);
+cl::Event tracePhotons(Device& device, const DeviceScene& scene, const PclPhotonParams& params, const cl::Buffer& rays,
+                       cl::Buffer& slots, cl::Buffer& counts, cl::Buffer& ends);
 
 }  // namespace pcl

@@ -26,12 +26,13 @@ uint32_t estimateFilterCode(EstimateFilter f);  // PCL_FILTER_*
 
 struct EstimateSettings {
     EstimateFilter filter = EstimateFilter::Cone;
-    float coneK = 1.1f;              // cone: k_c ≥ 1 (w = 1 − d/(k_c r))
-    float minNormalCos = 0.9f;       // a photon counts when n_p·n_q ≥ this
-    bool visibility = false;         // reject photons whose lifted segment to the query is occluded
-                                     // (needs the scene: DeviceScene / SceneGeometry)
-    float rayEpsilon = 1e-6f;        // visibility lift h = rayEpsilon + 0.25 r: SceneBuffers::rayEpsilon
-    KnnStructure structure = KnnStructure::KdTree;  // estimateOnDevice's map structure
+    float coneK = 1.1f;                             // cone: k_c ≥ 1 (w = 1 − d/(k_c r))
+    float minNormalCos = 0.9f;                      // a photon counts when n_p·n_q ≥ this
+    bool visibility = false;                        // reject photons whose lifted segment to the query is occluded
+                                                    // (needs the scene: DeviceScene / SceneGeometry)
+    float rayEpsilon = 1e-6f;                       // visibility lift h = rayEpsilon + 0.25 r: SceneBuffers::rayEpsilon
+    KnnStructure structure = KnnStructure::KdTree;  // the map structure precomputeIrradiance builds
+                                                    // (and estimateOnDevice, check/on_device.h)
 };
 
 // InputError when coneK < 1 or not finite, minNormalCos is NaN or rayEpsilon is negative/NaN.
@@ -44,8 +45,7 @@ double estimateFilterNorm(EstimateFilter f, float coneK);
 double estimateGaussianScale();
 
 // The kernel's parameters for a batch (norm and gaussianScale rounded to float).
-PclEstimateParams estimateParams(const EstimateSettings& s, uint32_t firstQuery, uint32_t queryCount,
-                                 uint32_t stride);
+PclEstimateParams estimateParams(const EstimateSettings& s, uint32_t firstQuery, uint32_t queryCount, uint32_t stride);
 
 // Largest k over the queries; InputError when a k is outside 1..PCL_KNN_MAX_K, a radius is
 // negative or NaN, or a normal is not finite.

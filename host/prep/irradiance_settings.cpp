@@ -9,8 +9,7 @@ namespace pcl {
 
 void validatePrecomputedIrradianceOptions(const PrecomputedIrradianceOptions& o) {
     if (o.every < 2)  // the estimates search the photons not selected: there must be some
-        throw InputError("precomputed irradiance: every = " + std::to_string(o.every) +
-                         ", expected a photon step ≥ 2");
+        throw InputError("precomputed irradiance: every = " + std::to_string(o.every) + ", expected a photon step ≥ 2");
     if (!(o.coverFactor > 0.0f))
         throw InputError("precomputed irradiance: coverFactor = " + std::to_string(o.coverFactor) +
                          ", expected a positive factor (or infinity)");

@@ -9,12 +9,12 @@
 namespace pcl {
 
 struct PrecomputedIrradianceOptions {
-    uint32_t every = 4;           // m ≥ 2: photons 0, m, 2m, … of the global map get a stored point
-    uint32_t k = 50;              // photons per estimate at a stored point (from the other photons)
-    float maxRadius = 0.0f;       // those estimates' r_max
-    float coverFactor = 2.0f;     // f: a point answers queries within f × its estimate's radius (∞: any)
-    EstimateSettings estimate;    // filter, normal test, visibility, structure of the others' map;
-                                  // estimate.minNormalCos is also the lookup's normal threshold
+    uint32_t every = 4;         // m ≥ 2: photons 0, m, 2m, … of the global map get a stored point
+    uint32_t k = 50;            // photons per estimate at a stored point (from the other photons)
+    float maxRadius = 0.0f;     // those estimates' r_max
+    float coverFactor = 2.0f;   // f: a point answers queries within f × its estimate's radius (∞: any)
+    EstimateSettings estimate;  // filter, normal test, visibility, structure of the others' map;
+                                // estimate.minNormalCos is also the lookup's normal threshold
 };
 
 // InputError when every < 2, coverFactor is not positive (or NaN), k is outside 1..PCL_KNN_MAX_K, maxRadius is not positive and

@@ -32,13 +32,12 @@ std::vector<uint32_t> lightFirstPhoton(const SceneBuffers& buffers, uint32_t pho
 
 // The flux rgb that the photons of a pass carry in total, computed as emit does it (per photon
 // Φ_c / n_i or (Φ_c f_i) / n_i in float, times n_i, summed in double).
-void emittedFlux(const SceneBuffers& buffers, const std::vector<uint32_t>& first, uint32_t passKind,
-                 double flux[3]);
+void emittedFlux(const SceneBuffers& buffers, const std::vector<uint32_t>& first, uint32_t passKind, double flux[3]);
 
 // The params of one batch: photons [firstPhoton, firstPhoton + batchSize) of a pass of kind
 // passKind (PCL_PASS_GLOBAL / PCL_PASS_CAUSTIC) with pass seed passSeed.
-PclPhotonParams makePhotonParams(const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                 uint32_t passKind, uint64_t passSeed, uint32_t maxDepth,
-                                 uint32_t firstPhoton, uint32_t batchSize, bool storeGlobal = true);
+PclPhotonParams makePhotonParams(const SceneGeometry& geometry, const SceneBuffers& buffers, uint32_t passKind,
+                                 uint64_t passSeed, uint32_t maxDepth, uint32_t firstPhoton, uint32_t batchSize,
+                                 bool storeGlobal = true);
 
 }  // namespace pcl

@@ -13,9 +13,9 @@ namespace {
 // What the plan needs to know of one primitive.
 struct Prim {
     bool diffuse, specular, pureSpecular, glossy, sphere;
-    bool litInside;       // sphere: a light sits inside it, so its inside sees itself (the furnace)
-    Vec3 n, p;            // triangle: unit normal and a vertex (the plane); sphere: unused
-    bool leavesPlane;     // triangle moving off its own plane over the shutter
+    bool litInside;    // sphere: a light sits inside it, so its inside sees itself (the furnace)
+    Vec3 n, p;         // triangle: unit normal and a vertex (the plane); sphere: unused
+    bool leavesPlane;  // triangle moving off its own plane over the shutter
     uint32_t material;
 };
 
@@ -97,9 +97,7 @@ std::string names(const Scene& scene, const std::vector<Prim>& prims, bool (*pic
     return s;
 }
 
-std::string plural(size_t n, const char* what) {
-    return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
-}
+std::string plural(size_t n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); }
 
 }  // namespace
 
@@ -135,12 +133,9 @@ LightPaths classifyLightPaths(const Scene& scene, const SceneGeometry& geometry,
     // LE
     lp.visibleEmitters = facing > 0;
     std::string why;
-    if (lp.areaTriangles == 0)
-        why = "no emitting surfaces (point, spot and directional lights are not visible)";
-    else if (facing == 0)
-        why = "no emitting triangle faces the camera";
-    else
-        why = std::to_string(facing) + " of " + plural(lp.areaTriangles, "emitting triangle") + " face the camera";
+    if (lp.areaTriangles == 0) why = "no emitting surfaces (point, spot and directional lights are not visible)";
+    else if (facing == 0) why = "no emitting triangle faces the camera";
+    else why = std::to_string(facing) + " of " + plural(lp.areaTriangles, "emitting triangle") + " face the camera";
     lp.list.push_back({"LE", "emitters seen directly", lp.visibleEmitters, why});
 
     // LDE
@@ -152,8 +147,7 @@ LightPaths classifyLightPaths(const Scene& scene, const SceneGeometry& geometry,
 
     // LS+E
     lp.specularOfLights = lit && lp.markedCells > 0;
-    if (lp.specularPrims == 0)
-        why = "no specular surfaces";
+    if (lp.specularPrims == 0) why = "no specular surfaces";
     else if (lp.markedCells == 0)
         why = "no light reaches a specular surface (" + specNames + "): projection maps empty";
     else
@@ -163,7 +157,7 @@ LightPaths classifyLightPaths(const Scene& scene, const SceneGeometry& geometry,
 
     // LDS+E
     lp.diffuseInSpecular = lp.direct && lp.diffuseSeesSpecular;
-    why = lp.diffuseInSpecular ? "specular surfaces (" + specNames + ") see lit diffuse ones"
+    why = lp.diffuseInSpecular    ? "specular surfaces (" + specNames + ") see lit diffuse ones"
           : lp.specularPrims == 0 ? "no specular surfaces"
           : lp.diffusePrims == 0  ? "no diffuse surfaces"
                                   : "specular and diffuse surfaces lie in one plane";
@@ -171,24 +165,20 @@ LightPaths classifyLightPaths(const Scene& scene, const SceneGeometry& geometry,
 
     // LS+DE
     lp.caustics = lp.specularOfLights && lp.diffusePrims > 0 && lp.diffuseSeesSpecular;
-    why = !lp.specularOfLights  ? "no light reaches a specular surface"
-          : lp.diffusePrims == 0 ? "no diffuse surface to receive them"
+    why = !lp.specularOfLights      ? "no light reaches a specular surface"
+          : lp.diffusePrims == 0    ? "no diffuse surface to receive them"
           : !lp.diffuseSeesSpecular ? "specular and diffuse surfaces lie in one plane"
                                     : "lights reach " + specNames + ", which see diffuse surfaces";
     lp.list.push_back({"LS+DE", "caustics", lp.caustics, why});
 
     // LD(S|D)*DE
     lp.indirectDiffuse = lp.direct && (lp.diffuseSeesDiffuse || lp.diffuseSeesSpecular);
-    if (lp.diffusePrims == 0)
-        why = "no diffuse surfaces";
+    if (lp.diffusePrims == 0) why = "no diffuse surfaces";
     else if (lp.diffuseSeesDiffuse)
         why = plural(lp.diffusePrims, "diffuse primitive") + " not all in one plane see each other";
-    else if (lp.diffuseSeesSpecular)
-        why = "diffuse surfaces light each other through specular ones (LDS+DE)";
-    else if (lp.diffusePrims == 1)
-        why = "a single diffuse primitive and no specular surface to return its light";
-    else
-        why = "all diffuse primitives lie in one plane and no specular surface returns their light";
+    else if (lp.diffuseSeesSpecular) why = "diffuse surfaces light each other through specular ones (LDS+DE)";
+    else if (lp.diffusePrims == 1) why = "a single diffuse primitive and no specular surface to return its light";
+    else why = "all diffuse primitives lie in one plane and no specular surface returns their light";
     lp.list.push_back({"LD(S|D)*DE", "indirect diffuse", lp.indirectDiffuse, why});
     return lp;
 }
@@ -200,8 +190,7 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
     plan.globalPhotons = plan.globalMap ? settings.globalPhotons : 0;
     if (plan.globalMap)
         plan.reasons.push_back("diffuse interreflection is present (LD(S|D)*DE): final gathering reads it");
-    else if (lp.diffusePrims == 0)
-        plan.reasons.push_back("no diffuse surfaces: no photon would ever be stored");
+    else if (lp.diffusePrims == 0) plan.reasons.push_back("no diffuse surfaces: no photon would ever be stored");
     else
         plan.reasons.push_back("no diffuse interreflection (LD(S|D)*DE absent): direct light by shadow rays" +
                                std::string(lp.caustics ? " and caustics" : "") + " cover every diffuse path");
@@ -215,8 +204,7 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
     if (plan.causticMap)
         plan.reasons.push_back("caustics (LS+DE): lights reach specular surfaces (" + std::to_string(lp.markedCells) +
                                " projection-map cells) that see diffuse ones");
-    else if (lp.specularPrims == 0)
-        plan.reasons.push_back("no specular surfaces");
+    else if (lp.specularPrims == 0) plan.reasons.push_back("no specular surfaces");
     else if (lp.markedCells == 0)
         plan.reasons.push_back("no light reaches a specular surface (every projection map is empty)");
     else
@@ -253,9 +241,9 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
     }
 
     plan.areaLightSampling = lp.areaTriangles > 0;
-    plan.reasons.push_back(plan.areaLightSampling
-                               ? plural(lp.areaTriangles, "emitting triangle") + ": soft shadows by sampling points on them"
-                               : "point, spot and directional lights only: one shadow ray each");
+    plan.reasons.push_back(plan.areaLightSampling ? plural(lp.areaTriangles, "emitting triangle") +
+                                                        ": soft shadows by sampling points on them"
+                                                  : "point, spot and directional lights only: one shadow ray each");
 
     plan.glossySampling = lp.glossyPrims > 0;
     plan.reasons.push_back(plan.glossySampling
@@ -267,7 +255,8 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
 std::string formatPlan(const Scene& scene, const LightPaths& lp, const RenderPlan& plan) {
     std::string out;
     char buf[512];
-    std::snprintf(buf, sizeof buf, "scene %s: %zu light entr%s (%zu emitting triangles), %zu diffuse / %zu specular "
+    std::snprintf(buf, sizeof buf,
+                  "scene %s: %zu light entr%s (%zu emitting triangles), %zu diffuse / %zu specular "
                   "(%zu purely specular, %zu glossy) primitives\n",
                   scene.path.c_str(), lp.lights, lp.lights == 1 ? "y" : "ies", lp.areaTriangles, lp.diffusePrims,
                   lp.specularPrims, lp.pureSpecularPrims, lp.glossyPrims);

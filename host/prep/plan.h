@@ -28,24 +28,23 @@ struct LightPath {
     std::string notation;  // e.g. "LS+DE"
     std::string name;      // e.g. "caustics"
     bool present = false;
-    std::string why;       // the rule that decided it, with the scene's objects
+    std::string why;  // the rule that decided it, with the scene's objects
 };
 
 // What the scene holds that decides the plan (primitives counted, not materials, so an
 // unused material changes nothing).
 struct LightPaths {
-    bool visibleEmitters = false;  // LE
-    bool direct = false;           // LDE
-    bool specularOfLights = false; // LS+E
-    bool diffuseInSpecular = false;// LDS+E
-    bool caustics = false;         // LS+DE
-    bool indirectDiffuse = false;  // LD(S|D)*DE
+    bool visibleEmitters = false;    // LE
+    bool direct = false;             // LDE
+    bool specularOfLights = false;   // LS+E
+    bool diffuseInSpecular = false;  // LDS+E
+    bool caustics = false;           // LS+DE
+    bool indirectDiffuse = false;    // LD(S|D)*DE
     // Facts behind them.
-    size_t lights = 0, areaTriangles = 0, diffusePrims = 0, specularPrims = 0, pureSpecularPrims = 0,
-           glossyPrims = 0;
-    uint32_t markedCells = 0;      // projection-map cells over all lights (specular surfaces, mixed included)
+    size_t lights = 0, areaTriangles = 0, diffusePrims = 0, specularPrims = 0, pureSpecularPrims = 0, glossyPrims = 0;
+    uint32_t markedCells = 0;  // projection-map cells over all lights (specular surfaces, mixed included)
     bool diffuseSeesDiffuse = false, diffuseSeesSpecular = false;
-    std::vector<LightPath> list;   // the classes above, in order, with reasons
+    std::vector<LightPath> list;  // the classes above, in order, with reasons
 };
 
 struct PlanSettings {

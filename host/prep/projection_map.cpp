@@ -23,8 +23,8 @@
 //  * directional lights: all rays of a disc patch are parallel to the axis, so the patch hits a
 //    ball iff its footprint on the disc plane comes within ρ of the ball centre's projection; the
 //    footprint is covered by a circle found the same way as the cones.
-#include "core/math.h"
 #include "prep/projection_map.h"
+#include "core/math.h"
 
 #include <algorithm>
 #include <cmath>
@@ -33,12 +33,12 @@ namespace pcl {
 namespace {
 
 constexpr int kGrid = static_cast<int>(PCL_PROJ_GRID);
-constexpr int kEdgeSamples = 16;        // border samples per cell edge
-constexpr double kGapFactor = 1.5;      // arc length between border samples ≤ 1.5 × chord angle
-constexpr int kMeshGroups = 256;        // balls per large specular mesh
-constexpr size_t kSplitTriangles = 512; // meshes up to this many triangles get split balls
-constexpr size_t kSplitBalls = 4096;    // ... up to this many balls in all
-constexpr size_t kAimBudget = 200000;   // lights × emitter pieces × balls: bounds the marking work
+constexpr int kEdgeSamples = 16;         // border samples per cell edge
+constexpr double kGapFactor = 1.5;       // arc length between border samples ≤ 1.5 × chord angle
+constexpr int kMeshGroups = 256;         // balls per large specular mesh
+constexpr size_t kSplitTriangles = 512;  // meshes up to this many triangles get split balls
+constexpr size_t kSplitBalls = 4096;     // ... up to this many balls in all
+constexpr size_t kAimBudget = 200000;    // lights × emitter pieces × balls: bounds the marking work
 
 struct D3 {
     double x = 0, y = 0, z = 0;
@@ -176,8 +176,7 @@ int splitsFor(double r, double target) {
 // Triangles of small meshes are split until their balls are about 1/32 of the scene's radius
 // (a large glossy floor would otherwise be one ball holding the lights); large meshes get at
 // most kMeshGroups balls, each around a run of consecutive triangles.
-std::vector<Ball> specularBalls(const Scene& scene, const SceneBuffers& buffers,
-                                bool (*target)(const PclMaterial&)) {
+std::vector<Ball> specularBalls(const Scene& scene, const SceneBuffers& buffers, bool (*target)(const PclMaterial&)) {
     auto specular = [&](int material) {
         return material >= 0 && material < static_cast<int>(buffers.materials.size()) &&
                target(buffers.materials[material]);
@@ -272,9 +271,8 @@ Cone cellCone(const PclLight& light, const Frame& f, const SpotWarp& spot, int c
     for (int i = 0; i < count; ++i) {
         const Rect& r = rects[i];
         std::vector<D3> border;
-        forBorder(r.a0, r.a1, b0, b1, [&](double s1, double s2) {
-            border.push_back(warpDirection(light, f, spot, s1, s2, r.piece));
-        });
+        forBorder(r.a0, r.a1, b0, b1,
+                  [&](double s1, double s2) { border.push_back(warpDirection(light, f, spot, s1, s2, r.piece)); });
         double widest = 0.0, gap = 0.0;
         for (size_t k = 0; k < border.size(); ++k) {
             widest = std::max(widest, angle(cone.axis, border[k]));
@@ -379,13 +377,11 @@ std::vector<uint32_t> markCells(const PclLight& light, const std::vector<Ball>& 
             // angle(axis, dir) ≤ half + a.half  ⇔  axis·dir ≥ cos(half + a.half) on [0, π]
             auto meets = [&](const std::vector<Aim>& aims) {
                 for (const Aim& a : aims)
-                    if (cone.half + a.half >= kPiD ||
-                        dot(cone.axis, a.dir) >= ch * a.cosHalf - sh * a.sinHalf - 1e-12)
+                    if (cone.half + a.half >= kPiD || dot(cone.axis, a.dir) >= ch * a.cosHalf - sh * a.sinHalf - 1e-12)
                         return true;
                 return false;
             };
-            if (meets(coarse) && (fine.empty() || meets(fine)))
-                cells.push_back(static_cast<uint32_t>(cy * kGrid + cx));
+            if (meets(coarse) && (fine.empty() || meets(fine))) cells.push_back(static_cast<uint32_t>(cy * kGrid + cx));
         }
     return cells;
 }

@@ -1,8 +1,8 @@
 #include "prep/scene_buffers.h"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 
 #include "core/error.h"
 #include "core/math.h"
@@ -60,12 +60,12 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
             Vec3 p1 = mesh.positions[mesh.indices[3 * ref.index + 1]];
             Vec3 p2 = mesh.positions[mesh.indices[3 * ref.index + 2]];
             Vec3 n = normalize(cross(p1 - p0, p2 - p0));
-            info = {n.x, n.y, n.z, static_cast<uint32_t>(mesh.material), mesh.motion.x, mesh.motion.y,
-                    mesh.motion.z, 0.0f};
+            info = {n.x,           n.y,           n.z,           static_cast<uint32_t>(mesh.material),
+                    mesh.motion.x, mesh.motion.y, mesh.motion.z, 0.0f};
         } else {
             const Sphere& s = scene.spheres[ref.object];
-            info = {s.centre.x, s.centre.y, s.centre.z, static_cast<uint32_t>(s.material), s.motion.x,
-                    s.motion.y, s.motion.z, s.radius};
+            info = {s.centre.x, s.centre.y, s.centre.z, static_cast<uint32_t>(s.material),
+                    s.motion.x, s.motion.y, s.motion.z, s.radius};
         }
     }
 
@@ -79,8 +79,8 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
     // 1e-4 of its diagonal (the stability suite's self-intersection test: 1 % of rays spawned
     // from triangles 1e4 times their size from the origin re-hit them).
     const Vec3 lo = bounds.lo, hi = bounds.hi;
-    const float maxAbs = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y),
-                                   std::abs(hi.z)});
+    const float maxAbs =
+        std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
     b.rayEpsilon = std::max({1e-6f, 1e-4f * diagonal, 32.0f * std::numeric_limits<float>::epsilon() * maxAbs});
     b.hasMotion = scene.hasMotion();
 

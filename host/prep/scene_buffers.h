@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "geometry/scene_geometry.h"
-#include "shared/types.h"
 #include "scene/scene.h"
+#include "shared/types.h"
 
 namespace pcl {
 
@@ -18,7 +18,7 @@ struct SceneBuffers {
     std::vector<uint32_t> projCells;    // marked projection-map cells, per light [projFirst, +projCount)
     Vec3 sceneCentre{0.0f};             // bounding sphere of the geometry over the shutter
     float sceneRadius = 0.0f;
-    float rayEpsilon = 1e-6f;           // spawn offset: 1e-4 of the bounds' diagonal, at least 1e-6
+    float rayEpsilon = 1e-6f;  // spawn offset: 1e-4 of the bounds' diagonal, at least 1e-6
     bool hasMotion = false;
 };
 

@@ -32,8 +32,12 @@ PclRay RayCamera::generateRay(int x, int y, const CameraSample& s) const {
         dir = normalize(focus - origin);
     }
     PclRay ray{};
-    ray.ox = origin.x; ray.oy = origin.y; ray.oz = origin.z;
-    ray.dx = dir.x; ray.dy = dir.y; ray.dz = dir.z;
+    ray.ox = origin.x;
+    ray.oy = origin.y;
+    ray.oz = origin.z;
+    ray.dx = dir.x;
+    ray.dy = dir.y;
+    ray.dz = dir.z;
     ray.tmin = 0.0f;
     ray.tmax = std::numeric_limits<float>::infinity();
     ray.time = shutterOpen_ ? s.time : 0.0f;

@@ -1,8 +1,8 @@
 // Camera rays of the reference path tracer: pinhole or thin lens (pbrt-v4 §5.2), a jittered
 // point in the pixel, and a shutter time for motion blur.
 #pragma once
-#include "shared/types.h"
 #include "scene/scene.h"
+#include "shared/types.h"
 
 namespace pcl {
 

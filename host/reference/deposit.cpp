@@ -14,8 +14,7 @@ void depositPhotonsReference(const std::vector<uint32_t>& counts, const std::vec
     const size_t base = map.size();
     map.resize(base + offsets.back());  // grown before the scatter, never truncated
     for (size_t i = 0; i < counts.size(); ++i)
-        for (uint32_t k = 0; k < counts[i]; ++k)
-            map[base + offsets[i] + k] = slots[i * slotsPerPath + k];
+        for (uint32_t k = 0; k < counts[i]; ++k) map[base + offsets[i] + k] = slots[i * slotsPerPath + k];
 }
 
 }  // namespace pcl

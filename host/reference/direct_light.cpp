@@ -67,8 +67,8 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
             rng_block(seed, h.pixel, h.sample * M + m, 0, PCL_RNG_STREAM_LIGHT, w);
             const float u0 = rng_u01(w[0]);
             // The first light whose cumulative probability exceeds u0.
-            const size_t l = std::min<size_t>(std::upper_bound(table.cdf.begin(), table.cdf.end(), u0) - table.cdf.begin(),
-                                              params.lightCount - 1);
+            const size_t l = std::min<size_t>(
+                std::upper_bound(table.cdf.begin(), table.cdf.end(), u0) - table.cdf.begin(), params.lightCount - 1);
             const PclLight& L = buffers.lights[l];
             if (L.type != PCL_LIGHT_TRIANGLE) continue;
             float b0, b1;

@@ -23,9 +23,7 @@ Vec3 inFrame(Vec3 axis, float cosTheta, float phi) {
 
 }  // namespace
 
-uint64_t referencePhotonPassSeed(uint64_t seed, uint32_t pass) {
-    return seed + uint64_t(pass) * 0x9E3779B97F4A7C15ull;
-}
+uint64_t referencePhotonPassSeed(uint64_t seed, uint32_t pass) { return seed + uint64_t(pass) * 0x9E3779B97F4A7C15ull; }
 
 uint32_t referenceLightOfPhoton(const std::vector<uint32_t>& first, uint32_t j) {
     // The last i with first[i] <= j (lights with no photons have first[i] == first[i+1]).
@@ -67,8 +65,7 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
     const bool caustic = params.pass == PCL_PASS_CAUSTIC;
 
     // Numbers of bounce 0: u0 projection cell, (u1, u2) position, u3 time, (u4, u5) direction.
-    PclRng rng = rng_start(referenceParamsSeed(params), j, 0,
-                           caustic ? PCL_RNG_STREAM_CAUSTIC : PCL_RNG_STREAM_PHOTON);
+    PclRng rng = rng_start(referenceParamsSeed(params), j, 0, caustic ? PCL_RNG_STREAM_CAUSTIC : PCL_RNG_STREAM_PHOTON);
     float u[6];
     for (float& x : u) x = rng_next(&rng);
     const float time = params.hasMotion ? u[3] : 0.0f;
@@ -100,8 +97,8 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
         case PCL_LIGHT_TRIANGLE: {
             float b0, b1;
             sampleUniformTriangle(u[1], u[2], b0, b1);
-            origin = vec(light.p) + vec(light.e1) * b1 + vec(light.e2) * (1.0f - b0 - b1) +
-                     vec(light.motion) * time + axis * params.rayEpsilon;
+            origin = vec(light.p) + vec(light.e1) * b1 + vec(light.e2) * (1.0f - b0 - b1) + vec(light.motion) * time +
+                     axis * params.rayEpsilon;
             direction = sampleCosineHemisphere(axis, s1, s2);  // Malley: one-sided Lambertian
             break;
         }
@@ -121,17 +118,20 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
     const float n = float(first[li + 1] - first[li]);
     const float f = caustic ? float(light.projCount) / float(PCL_PROJ_GRID * PCL_PROJ_GRID) : 1.0f;
     PclPhotonRay r{};
-    r.ox = origin.x; r.oy = origin.y; r.oz = origin.z;
+    r.ox = origin.x;
+    r.oy = origin.y;
+    r.oz = origin.z;
     r.time = time;
-    r.dx = direction.x; r.dy = direction.y; r.dz = direction.z;
+    r.dx = direction.x;
+    r.dy = direction.y;
+    r.dz = direction.z;
     r.light = li;
     for (int c = 0; c < 3; ++c) r.power[c] = light.power[c] * f / n;
     r.power[3] = 0.0f;
     return r;
 }
 
-std::vector<PclPhotonRay> emitPhotonsReference(const SceneBuffers& buffers,
-                                               const std::vector<uint32_t>& first,
+std::vector<PclPhotonRay> emitPhotonsReference(const SceneBuffers& buffers, const std::vector<uint32_t>& first,
                                                const PclPhotonParams& params, unsigned threads) {
     std::vector<PclPhotonRay> rays(params.batchSize);
     referenceParallelFor(params.batchSize, threads, [&](size_t i) {

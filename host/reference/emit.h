@@ -24,8 +24,7 @@ uint32_t referenceLightOfPhoton(const std::vector<uint32_t>& lightFirstPhoton, u
 std::vector<double> referenceAllocationWeights(const SceneBuffers& buffers, uint32_t pass);
 
 // Photon j (global index) of the pass described by params.
-PclPhotonRay emitPhotonReference(const SceneBuffers& buffers,
-                                 const std::vector<uint32_t>& lightFirstPhoton,
+PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<uint32_t>& lightFirstPhoton,
                                  const PclPhotonParams& params, uint32_t j);
 
 // The whole batch: element i is photon params.firstPhoton + i. threads 0: all cores.

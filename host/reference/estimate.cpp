@@ -4,12 +4,11 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/math.h"
 #include "reference/parallel_for.h"
 
 namespace pcl {
 namespace {
-
-constexpr float kPiF = 3.14159265358979323846f;
 
 struct V3 {
     float x, y, z;
@@ -19,10 +18,10 @@ float dot(V3 a, float bx, float by, float bz) { return a.x * bx + a.y * by + a.z
 
 // Incoming direction: the centre of the (θ, φ) byte cell; φ byte read as signed.
 V3 decodeDirection(uint32_t packed) {
-    const float theta = (float(packed & 255u) + 0.5f) * (kPiF / 256.0f);
+    const float theta = (float(packed & 255u) + 0.5f) * (kPi / 256.0f);
     const uint32_t pb = (packed >> 8) & 255u;
     const int32_t ps = pb >= 128u ? int32_t(pb) - 256 : int32_t(pb);
-    const float phi = (float(ps) + 0.5f) * (kPiF / 128.0f);
+    const float phi = (float(ps) + 0.5f) * (kPi / 128.0f);
     const float st = std::sin(theta);
     return {st * std::cos(phi), st * std::sin(phi), std::cos(theta)};
 }
@@ -60,16 +59,14 @@ float referenceFilterWeight(const PclEstimateParams& p, float u2) {
     switch (p.filter) {
         case PCL_FILTER_CONE: return 1.0f - std::sqrt(u2) / p.coneK;
         case PCL_FILTER_EPANECHNIKOV: return 1.0f - u2;
-        case PCL_FILTER_GAUSSIAN:
-            return 1.0f - (1.0f - std::exp(u2 * (-0.5f * PCL_GAUSSIAN_BETA))) * p.gaussianScale;
+        case PCL_FILTER_GAUSSIAN: return 1.0f - (1.0f - std::exp(u2 * (-0.5f * PCL_GAUSSIAN_BETA))) * p.gaussianScale;
         default: return 1.0f;
     }
 }
 
 PclEstimate referenceEstimateFromNeighbours(const std::vector<PclPhoton>& map, const PclEstimateQuery& q,
-                                            const uint32_t* indices, const float* dist2, uint32_t count,
-                                            float radius2, const EstimateSettings& settings,
-                                            const SceneGeometry* geometry) {
+                                            const uint32_t* indices, const float* dist2, uint32_t count, float radius2,
+                                            const EstimateSettings& settings, const SceneGeometry* geometry) {
     if (settings.visibility && !geometry)
         throw InputError("estimate (reference): the visibility test needs the scene geometry, got none");
     const PclEstimateParams p = estimateParams(settings, 0, 1, count);
@@ -104,7 +101,7 @@ PclEstimate referenceEstimateFromNeighbours(const std::vector<PclPhoton>& map, c
     }
     PclEstimate e{};
     if (used > 0) {
-        const float denom = (p.norm * kPiF) * r2;
+        const float denom = (p.norm * kPi) * r2;
         e.r = sum[0] / denom;
         e.g = sum[1] / denom;
         e.b = sum[2] / denom;
@@ -125,9 +122,9 @@ std::vector<PclKnnQuery> estimateKnnQueries(const std::vector<PclEstimateQuery>&
 }
 
 std::vector<PclEstimate> referenceEstimateWithKnn(const std::vector<PclPhoton>& map,
-                                                  const std::vector<PclEstimateQuery>& queries,
-                                                  const ReferenceKnn& knn, const EstimateSettings& settings,
-                                                  const SceneGeometry* geometry, unsigned threads) {
+                                                  const std::vector<PclEstimateQuery>& queries, const ReferenceKnn& knn,
+                                                  const EstimateSettings& settings, const SceneGeometry* geometry,
+                                                  unsigned threads) {
     validateEstimateSettings(settings);
     if (knn.counts.size() != queries.size())
         throw InputError("estimate (reference): " + std::to_string(knn.counts.size()) + " kNN results for " +
@@ -140,9 +137,9 @@ std::vector<PclEstimate> referenceEstimateWithKnn(const std::vector<PclPhoton>& 
         // Fewer than k found: the disc is the search radius's (as estimate.cl; the hash grid's own
         // limit is not known here, the query's radius is).
         const float cap2 = queries[i].maxRadius2;
-        const float r2 = count == 0 ? 0.0f
+        const float r2 = count == 0                                    ? 0.0f
                          : count < queries[i].k && std::isfinite(cap2) ? cap2
-                                                                        : knn.dist2[base + count - 1];
+                                                                       : knn.dist2[base + count - 1];
         out[i] = referenceEstimateFromNeighbours(map, queries[i], knn.indices.data() + base, knn.dist2.data() + base,
                                                  count, r2, settings, geometry);
     });

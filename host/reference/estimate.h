@@ -22,16 +22,15 @@ float referenceFilterWeight(const PclEstimateParams& p, float u2);
 // radius2 = the last one's d²). For callers with their own search (precomputed irradiance).
 // geometry is required when settings.visibility is on.
 PclEstimate referenceEstimateFromNeighbours(const std::vector<PclPhoton>& map, const PclEstimateQuery& query,
-                                            const uint32_t* indices, const float* dist2, uint32_t count,
-                                            float radius2, const EstimateSettings& settings,
-                                            const SceneGeometry* geometry);
+                                            const uint32_t* indices, const float* dist2, uint32_t count, float radius2,
+                                            const EstimateSettings& settings, const SceneGeometry* geometry);
 
 // Every query from a brute-force result already computed for these queries (knn.stride may
 // exceed a query's k: its first k slots are the answer for k).
 std::vector<PclEstimate> referenceEstimateWithKnn(const std::vector<PclPhoton>& map,
-                                                  const std::vector<PclEstimateQuery>& queries,
-                                                  const ReferenceKnn& knn, const EstimateSettings& settings,
-                                                  const SceneGeometry* geometry, unsigned threads = 0);
+                                                  const std::vector<PclEstimateQuery>& queries, const ReferenceKnn& knn,
+                                                  const EstimateSettings& settings, const SceneGeometry* geometry,
+                                                  unsigned threads = 0);
 
 // Brute-force kNN and the estimate. threads: 0 = all cores.
 std::vector<PclEstimate> referenceEstimate(const std::vector<PclPhoton>& map,

@@ -15,8 +15,12 @@ std::vector<PclEstimateQuery> referenceEyeEstimateQueries(const std::vector<PclE
         q[i].k = params.k;
         q[i].nz = 1.0f;
         if (h.flags & PCL_EYE_DIFFUSE) {
-            q[i].x = h.x; q[i].y = h.y; q[i].z = h.z;
-            q[i].nx = h.nx; q[i].ny = h.ny; q[i].nz = h.nz;
+            q[i].x = h.x;
+            q[i].y = h.y;
+            q[i].z = h.z;
+            q[i].nx = h.nx;
+            q[i].ny = h.ny;
+            q[i].nz = h.nz;
             q[i].maxRadius2 = params.maxRadius2;
         }
     }

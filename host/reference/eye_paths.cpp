@@ -34,12 +34,20 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
         const float pd = eyeDiffuseProbability(m);
         if (pd < 0.0f) break;
         if (sampler.vertex(v, PathVertexDims::kLobe) < pd) {
-            h.x = p.x; h.y = p.y; h.z = p.z;
-            h.nx = nf.x; h.ny = nf.y; h.nz = nf.z;
+            h.x = p.x;
+            h.y = p.y;
+            h.z = p.z;
+            h.nx = nf.x;
+            h.ny = nf.y;
+            h.nz = nf.z;
             h.prim = hit.prim;
-            h.wox = -d.x; h.woy = -d.y; h.woz = -d.z;
+            h.wox = -d.x;
+            h.woy = -d.y;
+            h.woz = -d.z;
             const Vec3 t = T / Vec3(pd);
-            h.throughput[0] = t.x; h.throughput[1] = t.y; h.throughput[2] = t.z;
+            h.throughput[0] = t.x;
+            h.throughput[1] = t.y;
+            h.throughput[2] = t.z;
             for (int c = 0; c < 3; ++c) h.albedo[c] = m.rhoD[c];
             h.material = mat;
             h.depth = v;
@@ -54,7 +62,9 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
         o = p + nf * (dot(dNew, nf) > 0.0f ? buffers.rayEpsilon : -buffers.rayEpsilon);
         d = dNew;
     }
-    h.emitted[0] = Le.x; h.emitted[1] = Le.y; h.emitted[2] = Le.z;
+    h.emitted[0] = Le.x;
+    h.emitted[1] = Le.y;
+    h.emitted[2] = Le.z;
     bool finite = true;
     for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(h.throughput[c]) && std::isfinite(h.emitted[c]);
     if (!finite) {

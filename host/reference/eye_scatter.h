@@ -40,9 +40,7 @@ inline bool eyeSpecularScatter(const PclMaterial& m, Vec3 d, Vec3 n, float uF, f
     weight = eyeVec(m.rhoS);
     const Vec3 mirror = d - nf * (2.0f * dot(d, nf));
     switch (m.specular) {
-        case PCL_SPECULAR_MIRROR:
-            dNew = mirror;
-            return true;
+        case PCL_SPECULAR_MIRROR: dNew = mirror; return true;
         case PCL_SPECULAR_GLOSSY: {
             dNew = samplePhongLobe(mirror, m.exponent, uA, uB);
             const float cosOut = dot(dNew, nf);
@@ -63,8 +61,7 @@ inline bool eyeSpecularScatter(const PclMaterial& m, Vec3 d, Vec3 n, float uF, f
             }
             return true;
         }
-        default:
-            return false;
+        default: return false;
     }
 }
 
@@ -109,8 +106,14 @@ inline float eyeCellProbability(const float* cdf, uint32_t c) { return c == 0 ? 
 
 inline PclRay eyeRay(Vec3 o, Vec3 d, float tmax, float time) {
     PclRay r{};
-    r.ox = o.x; r.oy = o.y; r.oz = o.z; r.tmin = 0.0f;
-    r.dx = d.x; r.dy = d.y; r.dz = d.z; r.tmax = tmax;
+    r.ox = o.x;
+    r.oy = o.y;
+    r.oz = o.z;
+    r.tmin = 0.0f;
+    r.dx = d.x;
+    r.dy = d.y;
+    r.dz = d.z;
+    r.tmax = tmax;
     r.time = time;
     return r;
 }

@@ -5,10 +5,10 @@
 #include <limits>
 
 #include "reference/estimate.h"
-#include "reference/knn.h"
-#include "reference/trace_photons.h"
 #include "reference/eye_scatter.h"
+#include "reference/knn.h"
 #include "reference/parallel_for.h"
+#include "reference/trace_photons.h"
 #include "shared/rng.h"
 
 namespace pcl {
@@ -44,7 +44,9 @@ std::vector<float> referenceGatherHistograms(const std::vector<PclPhoton>& map, 
     std::vector<PclKnnQuery> queries(hits.size());
     for (size_t i = 0; i < hits.size(); ++i) {
         queries[i] = PclKnnQuery{};
-        queries[i].x = hits[i].x; queries[i].y = hits[i].y; queries[i].z = hits[i].z;
+        queries[i].x = hits[i].x;
+        queries[i].y = hits[i].y;
+        queries[i].z = hits[i].z;
         queries[i].maxRadius2 = (hits[i].flags & PCL_EYE_DIFFUSE) ? params.maxRadius2 : 0.0f;
         queries[i].k = params.k;
     }
@@ -130,11 +132,17 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
         if (pd < 0.0f) break;
         rng_block(seed, h.pixel, bounceWord, b + 1, PCL_RNG_STREAM_GATHER, w);
         if (rng_u01(w[0]) < pd) {
-            q.x = p.x; q.y = p.y; q.z = p.z;
-            q.nx = nf.x; q.ny = nf.y; q.nz = nf.z;
+            q.x = p.x;
+            q.y = p.y;
+            q.z = p.z;
+            q.nx = nf.x;
+            q.ny = nf.y;
+            q.nz = nf.z;
             q.maxRadius2 = params.maxRadius2;
             const Vec3 wt = T * (eyeVec(m.rhoD) / Vec3(kPi)) / Vec3(pd);
-            out.weight[0] = wt.x; out.weight[1] = wt.y; out.weight[2] = wt.z;
+            out.weight[0] = wt.x;
+            out.weight[1] = wt.y;
+            out.weight[2] = wt.z;
             break;
         }
         if (b == params.maxSpecular) break;

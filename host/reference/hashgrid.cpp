@@ -40,7 +40,8 @@ uint32_t referenceGridHashOfCell(int32_t ix, int32_t iy, int32_t iz, uint32_t ta
 }
 
 uint32_t referenceGridHash(const PclGridParams& g, float x, float y, float z) {
-    return referenceGridHashOfCell(referenceGridCoord(x, g.ox, g.invCellSize), referenceGridCoord(y, g.oy, g.invCellSize),
+    return referenceGridHashOfCell(referenceGridCoord(x, g.ox, g.invCellSize),
+                                   referenceGridCoord(y, g.oy, g.invCellSize),
                                    referenceGridCoord(z, g.oz, g.invCellSize), g.tableSize);
 }
 
@@ -53,9 +54,8 @@ ReferenceHashGrid referenceHashGrid(const std::vector<PclPhoton>& photons, float
     r.order.resize(n);
     std::iota(r.order.begin(), r.order.end(), 0u);
     // (hash, index) as one 64-bit key: a plain sort gives the order without relying on stability.
-    std::sort(r.order.begin(), r.order.end(), [&](uint32_t a, uint32_t b) {
-        return (uint64_t(hash[a]) << 32 | a) < (uint64_t(hash[b]) << 32 | b);
-    });
+    std::sort(r.order.begin(), r.order.end(),
+              [&](uint32_t a, uint32_t b) { return (uint64_t(hash[a]) << 32 | a) < (uint64_t(hash[b]) << 32 | b); });
     r.keys.resize(n);
     for (size_t i = 0; i < n; ++i) r.keys[i] = hash[r.order[i]];
     r.cellStart.assign(r.params.tableSize, 0u);

@@ -12,11 +12,11 @@
 namespace pcl {
 
 struct ReferenceKnn {
-    uint32_t stride = 0;             // slots per query: the largest k
-    std::vector<uint32_t> counts;    // per query
-    std::vector<uint32_t> indices;   // queries × stride; PCL_NO_HIT past count
-    std::vector<float> dist2;        // queries × stride; 0 past count
-    std::vector<float> radius2;      // per query
+    uint32_t stride = 0;            // slots per query: the largest k
+    std::vector<uint32_t> counts;   // per query
+    std::vector<uint32_t> indices;  // queries × stride; PCL_NO_HIT past count
+    std::vector<float> dist2;       // queries × stride; 0 past count
+    std::vector<float> radius2;     // per query
 };
 
 // threads: 0 = all cores.

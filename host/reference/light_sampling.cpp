@@ -49,21 +49,20 @@ LightSampler::LightSampler(const Scene& scene, const SceneGeometry& geometry) : 
     for (uint32_t l = 0; l < scene.lights.size(); ++l) {
         const Light& light = scene.lights[l];
         switch (light.type) {
-        case LightType::Point:
-            emitters_.push_back({Kind::Point, l, 0, 0.0f});
-            power.push_back(4.0f * kPi * luminance(light.intensity));
-            break;
-        case LightType::Spot:
-            emitters_.push_back({Kind::Spot, l, 0, 0.0f});
-            power.push_back(2.0f * kPi * luminance(light.intensity) *
-                            (1.0f - 0.5f * (light.cosInner + light.cosOuter)));
-            break;
-        case LightType::Directional:
-            emitters_.push_back({Kind::Directional, l, 0, 0.0f});
-            power.push_back(kPi * radius * radius * luminance(light.irradiance));
-            break;
-        case LightType::Area:
-            break;  // its mesh's emissive triangles are already in the list
+            case LightType::Point:
+                emitters_.push_back({Kind::Point, l, 0, 0.0f});
+                power.push_back(4.0f * kPi * luminance(light.intensity));
+                break;
+            case LightType::Spot:
+                emitters_.push_back({Kind::Spot, l, 0, 0.0f});
+                power.push_back(2.0f * kPi * luminance(light.intensity) *
+                                (1.0f - 0.5f * (light.cosInner + light.cosOuter)));
+                break;
+            case LightType::Directional:
+                emitters_.push_back({Kind::Directional, l, 0, 0.0f});
+                power.push_back(kPi * radius * radius * luminance(light.irradiance));
+                break;
+            case LightType::Area: break;  // its mesh's emissive triangles are already in the list
         }
     }
     double total = 0.0;
@@ -137,8 +136,7 @@ bool LightSampler::sampleLi(Vec3 p, float time, float uSelect, float u1, float u
     if (!(dist2 > 0.0f)) return false;
     out.wi = d / std::sqrt(dist2);
     Vec3 I = light.intensity;
-    if (e.kind == Kind::Spot)
-        I *= smoothstep(light.cosOuter, light.cosInner, dot(-out.wi, normalize(light.direction)));
+    if (e.kind == Kind::Spot) I *= smoothstep(light.cosOuter, light.cosInner, dot(-out.wi, normalize(light.direction)));
     out.Li = I / dist2;  // inverse square law: E = I cos θ / r² once the BSDF term adds cos θ
     return maxComponent(out.Li) > 0.0f;
 }

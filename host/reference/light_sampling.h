@@ -14,13 +14,13 @@
 namespace pcl {
 
 struct LightSample {
-    Vec3 Li;               // incident radiance (area) or I/r², E (delta lights), before the BSDF
-    Vec3 wi;               // unit direction from the shading point toward the light
-    Vec3 point;            // the point on the light (unused for directional lights)
-    Vec3 normal{0.0f};     // the light's surface normal there (zero for delta lights)
-    float pdf = 0.0f;      // solid-angle density incl. the light choice; delta lights: the choice probability
+    Vec3 Li;            // incident radiance (area) or I/r², E (delta lights), before the BSDF
+    Vec3 wi;            // unit direction from the shading point toward the light
+    Vec3 point;         // the point on the light (unused for directional lights)
+    Vec3 normal{0.0f};  // the light's surface normal there (zero for delta lights)
+    float pdf = 0.0f;   // solid-angle density incl. the light choice; delta lights: the choice probability
     bool delta = false;
-    bool infinite = false; // directional: the shadow ray runs to infinity
+    bool infinite = false;  // directional: the shadow ray runs to infinity
 };
 
 class LightSampler {
@@ -55,9 +55,9 @@ private:
 
     const Scene& scene_;
     std::vector<Emitter> emitters_;
-    std::vector<double> cdf_;            // cumulative power, normalised to end at 1
-    std::vector<float> probability_;     // per emitter
-    std::vector<int32_t> emitterOfPrim_; // global primitive id → emitter, -1 if it does not emit
+    std::vector<double> cdf_;             // cumulative power, normalised to end at 1
+    std::vector<float> probability_;      // per emitter
+    std::vector<int32_t> emitterOfPrim_;  // global primitive id → emitter, -1 if it does not emit
 };
 
 }  // namespace pcl

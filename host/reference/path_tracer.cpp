@@ -139,11 +139,11 @@ Film PathTracer::render(PathTracerStats* stats) const {
 
     if (stats) {
         stats->seconds = since(start);
-        stats->samples = static_cast<uint64_t>(width) * height * static_cast<uint64_t>(std::max(0, settings_.samplesPerPixel));
+        stats->samples = static_cast<uint64_t>(width) * height *
+                         static_cast<uint64_t>(std::max(0, settings_.samplesPerPixel));
         stats->discardedSamples = discarded.load();
     }
     return film;
 }
-
 
 }  // namespace pcl

@@ -20,12 +20,12 @@ namespace pcl {
 
 struct PathTracerSettings {
     int samplesPerPixel = 16;
-    int firstSample = 0;          // render samples [firstSample, firstSample + samplesPerPixel):
-                                  // shards of one render merge into exactly the single-run film
-    int maxDepth = 64;            // bounces after the camera ray; Russian roulette ends paths long before
-    int rouletteDepth = 3;        // Russian roulette from this bounce on
+    int firstSample = 0;    // render samples [firstSample, firstSample + samplesPerPixel):
+                            // shards of one render merge into exactly the single-run film
+    int maxDepth = 64;      // bounces after the camera ray; Russian roulette ends paths long before
+    int rouletteDepth = 3;  // Russian roulette from this bounce on
     uint64_t seed = 0;
-    int threads = 0;              // 0: std::thread::hardware_concurrency()
+    int threads = 0;  // 0: std::thread::hardware_concurrency()
     // false: BSDF sampling only, no light sampling and no MIS; delta lights then contribute
     // nothing. An independent estimator of the same image, for tests of the MIS weights.
     bool lightSampling = true;
@@ -35,9 +35,9 @@ struct PathTracerSettings {
 };
 
 struct PathTracerStats {
-    double seconds = 0.0;          // wall time of render()
-    uint64_t samples = 0;          // camera paths traced
-    uint64_t discardedSamples = 0; // NaN/Inf path values dropped (expected 0)
+    double seconds = 0.0;           // wall time of render()
+    uint64_t samples = 0;           // camera paths traced
+    uint64_t discardedSamples = 0;  // NaN/Inf path values dropped (expected 0)
     double samplesPerSecond() const { return seconds > 0.0 ? static_cast<double>(samples) / seconds : 0.0; }
 };
 
@@ -52,8 +52,7 @@ public:
     Vec3 Li(PclRay ray, Sampler& sampler) const;
 
 private:
-    Vec3 sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3 wo, Sampler& sampler,
-                      uint32_t vertex) const;
+    Vec3 sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3 wo, Sampler& sampler, uint32_t vertex) const;
 
     const Scene& scene_;
     const SceneGeometry& geometry_;

@@ -9,9 +9,9 @@
 
 namespace pcl {
 
-PclPhotonParams referencePhotonParams(const SceneBuffers& buffers, const SceneGeometry& geometry,
-                                      uint64_t passSeed, uint32_t pass, uint32_t firstPhoton,
-                                      uint32_t batchSize, uint32_t maxDepth, bool storeGlobal) {
+PclPhotonParams referencePhotonParams(const SceneBuffers& buffers, const SceneGeometry& geometry, uint64_t passSeed,
+                                      uint32_t pass, uint32_t firstPhoton, uint32_t batchSize, uint32_t maxDepth,
+                                      bool storeGlobal) {
     PclPhotonParams p{};
     p.seedLo = static_cast<uint32_t>(passSeed);
     p.seedHi = static_cast<uint32_t>(passSeed >> 32);
@@ -41,8 +41,8 @@ std::vector<PclPhoton> referencePhotonMap(const SceneBuffers& buffers, const Sce
     std::vector<PclPhoton> map;
     for (uint32_t start = 0; start < total; start += settings.batchSize) {
         const uint32_t n = std::min(settings.batchSize, total - start);
-        const PclPhotonParams params = referencePhotonParams(buffers, geometry, seed, pass, start, n,
-                                                             settings.maxDepth, settings.storeGlobal);
+        const PclPhotonParams params =
+            referencePhotonParams(buffers, geometry, seed, pass, start, n, settings.maxDepth, settings.storeGlobal);
         const std::vector<PclPhotonRay> rays = emitPhotonsReference(buffers, first, params, settings.threads);
         const ReferencePhotonBatch batch = tracePhotonsReference(buffers, geometry, params, rays, settings.threads);
         depositPhotonsReference(batch.counts, batch.slots, batch.slotsPerPath, map);

@@ -15,13 +15,13 @@ namespace pcl {
 
 struct ReferencePhotonPassSettings {
     uint64_t seed = 0;
-    uint32_t pass = 0;              // progressive pass index, mixed into the seed
+    uint32_t pass = 0;  // progressive pass index, mixed into the seed
     uint32_t globalPhotons = 100000;
     uint32_t causticPhotons = 0;    // 0: no caustic map; needs projection cells on the lights
     uint32_t maxDepth = 16;         // 1..255
     uint32_t batchSize = 1u << 16;  // paths traced per batch (bounds the slot memory)
     bool storeGlobal = true;
-    unsigned threads = 0;           // 0: all cores
+    unsigned threads = 0;  // 0: all cores
 };
 
 struct ReferencePhotonStats {
@@ -36,9 +36,9 @@ struct ReferencePhotonMaps {
 };
 
 // Params of one batch. pass: PCL_PASS_GLOBAL or PCL_PASS_CAUSTIC.
-PclPhotonParams referencePhotonParams(const SceneBuffers& buffers, const SceneGeometry& geometry,
-                                      uint64_t passSeed, uint32_t pass, uint32_t firstPhoton,
-                                      uint32_t batchSize, uint32_t maxDepth, bool storeGlobal = true);
+PclPhotonParams referencePhotonParams(const SceneBuffers& buffers, const SceneGeometry& geometry, uint64_t passSeed,
+                                      uint32_t pass, uint32_t firstPhoton, uint32_t batchSize, uint32_t maxDepth,
+                                      bool storeGlobal = true);
 
 // lightFirstPhoton for `photons` photons of the given pass (largest-remainder allocation).
 std::vector<uint32_t> referenceLightFirstPhoton(const SceneBuffers& buffers, uint32_t pass, uint32_t photons);

@@ -54,7 +54,8 @@ void referenceEstimateIrradiancePoints(const std::vector<PclPhoton>& map, std::v
     std::vector<PclEstimateQuery> queries;
     queries.reserve(points.size());
     const float maxRadius2 = options.maxRadius * options.maxRadius;
-    for (const PclIrradiancePoint& p : points) queries.push_back(referenceIrradianceEstimateQuery(p, maxRadius2, options.k));
+    for (const PclIrradiancePoint& p : points)
+        queries.push_back(referenceIrradianceEstimateQuery(p, maxRadius2, options.k));
     const std::vector<PclEstimate> e = referenceEstimate(others, queries, options.estimate, geometry, threads);
     const float scale = float(options.every) / float(options.every - 1);
     for (size_t j = 0; j < points.size(); ++j)

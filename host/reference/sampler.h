@@ -19,8 +19,7 @@ struct CameraDims {
 };
 struct PathVertexDims {
     static constexpr uint32_t kFirst = 8, kPerVertex = 8;
-    static constexpr uint32_t kLightSelect = 0, kLightPoint = 1, kLobe = 3, kDirection = 4,
-                              kRoulette = 6;
+    static constexpr uint32_t kLightSelect = 0, kLightPoint = 1, kLobe = 3, kDirection = 4, kRoulette = 6;
 };
 
 class Sampler {

@@ -14,10 +14,18 @@ constexpr float kInvPi = 1.0f / kPi;
 // Shirley–Chiu concentric map of the square onto the unit disk (area-preserving, low distortion).
 inline void sampleConcentricDisk(float u1, float u2, float& x, float& y) {
     float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
-    if (a == 0.0f && b == 0.0f) { x = y = 0.0f; return; }
+    if (a == 0.0f && b == 0.0f) {
+        x = y = 0.0f;
+        return;
+    }
     float r, phi;
-    if (std::abs(a) > std::abs(b)) { r = a; phi = (kPi / 4.0f) * (b / a); }
-    else { r = b; phi = kPi / 2.0f - (kPi / 4.0f) * (a / b); }
+    if (std::abs(a) > std::abs(b)) {
+        r = a;
+        phi = (kPi / 4.0f) * (b / a);
+    } else {
+        r = b;
+        phi = kPi / 2.0f - (kPi / 4.0f) * (a / b);
+    }
     x = r * std::cos(phi);
     y = r * std::sin(phi);
 }

@@ -7,9 +7,7 @@ namespace {
 
 // Offset scale: float spacing near |p| is ~ 6e-8 |p|; stepping ~ 1e-4 relative (at least 1e-4
 // absolute) clears the rounding error of the hit point by a wide margin.
-float offsetScale(Vec3 p) {
-    return 1e-4f * std::max(1.0f, maxComponent(vmax(p, -p)));
-}
+float offsetScale(Vec3 p) { return 1e-4f * std::max(1.0f, maxComponent(vmax(p, -p))); }
 
 }  // namespace
 
@@ -57,8 +55,12 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
 PclRay spawnRay(Vec3 p, Vec3 n, Vec3 d, float time, float tmax) {
     Vec3 o = p + n * (dot(n, d) >= 0.0f ? offsetScale(p) : -offsetScale(p));
     PclRay r{};
-    r.ox = o.x; r.oy = o.y; r.oz = o.z;
-    r.dx = d.x; r.dy = d.y; r.dz = d.z;
+    r.ox = o.x;
+    r.oy = o.y;
+    r.oz = o.z;
+    r.dx = d.x;
+    r.dy = d.y;
+    r.dz = d.z;
     r.tmin = 0.0f;
     r.tmax = tmax;
     r.time = time;
@@ -70,7 +72,9 @@ PclRay spawnShadowRay(Vec3 p, Vec3 n, Vec3 target, Vec3 targetN, float time) {
     Vec3 o = rayOrigin(r);
     Vec3 end = target + targetN * (dot(targetN, o - target) >= 0.0f ? offsetScale(target) : -offsetScale(target));
     Vec3 d = end - o;
-    r.dx = d.x; r.dy = d.y; r.dz = d.z;
+    r.dx = d.x;
+    r.dy = d.y;
+    r.dz = d.z;
     return r;
 }
 

@@ -9,9 +9,9 @@
 namespace pcl {
 
 struct SurfacePoint {
-    Vec3 p;                // world position
-    Vec3 ng;               // geometric normal, unit: the emitting / outside side (not flipped toward the ray)
-    Vec3 ns;               // shading normal, unit, on the same side as ng
+    Vec3 p;   // world position
+    Vec3 ng;  // geometric normal, unit: the emitting / outside side (not flipped toward the ray)
+    Vec3 ns;  // shading normal, unit, on the same side as ng
     const Material* material = nullptr;
     uint32_t prim = PCL_NO_HIT;
     float time = 0.0f;

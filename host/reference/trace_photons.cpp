@@ -16,8 +16,7 @@ Vec3 vec(const float v[4]) { return {v[0], v[1], v[2]}; }
 }  // namespace
 
 // ---- Step 2 of the spec: Russian roulette on a mixed surface, then the new direction --------
-ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 power,
-                                        const float u[4]) {
+ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 power, const float u[4]) {
     ReferenceScatter s;
     const Vec3 rhoD = vec(m.rhoD), rhoS = vec(m.rhoS);
     const Vec3 nf = dot(d, n) < 0.0f ? n : -n;  // the side the photon arrives on
@@ -128,8 +127,8 @@ uint32_t referenceEncodeNormal(Vec3 n) {
 
 // ---- One path ---------------------------------------------------------------------------
 uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
-                                  const PclPhotonParams& params, const PclPhotonRay& ray, uint32_t i,
-                                  PclPhoton* slots, uint32_t& count, std::vector<ReferencePhotonHit>* hits) {
+                                  const PclPhotonParams& params, const PclPhotonRay& ray, uint32_t i, PclPhoton* slots,
+                                  uint32_t& count, std::vector<ReferencePhotonHit>* hits) {
     const bool caustic = params.pass == PCL_PASS_CAUSTIC;
     const uint64_t seed = uint64_t(params.seedLo) | (uint64_t(params.seedHi) << 32);
     const uint32_t j = params.firstPhoton + i;
@@ -143,7 +142,9 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
 
     auto deposit = [&](Vec3 p, Vec3 nf, uint32_t b, uint32_t extra) {
         PclPhoton& ph = slots[count++];
-        ph.x = p.x; ph.y = p.y; ph.z = p.z;
+        ph.x = p.x;
+        ph.y = p.y;
+        ph.z = p.z;
         ph.rgbe = referenceEncodeRgbe(power);
         ph.packed = referenceEncodeDirection(-d) | (b - 1) << PCL_PHOTON_BOUNCE_SHIFT | flags | extra;
         ph.normal = referenceEncodeNormal(nf);
@@ -151,8 +152,14 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
 
     for (uint32_t b = 1;; ++b) {
         PclRay r{};
-        r.ox = o.x; r.oy = o.y; r.oz = o.z; r.tmin = 0.0f;
-        r.dx = d.x; r.dy = d.y; r.dz = d.z; r.tmax = INFINITY;
+        r.ox = o.x;
+        r.oy = o.y;
+        r.oz = o.z;
+        r.tmin = 0.0f;
+        r.dx = d.x;
+        r.dy = d.y;
+        r.dz = d.z;
+        r.tmax = INFINITY;
         r.time = time;
         PclHit hit;
         if (!geometry.intersect(r, hit)) return b | PCL_END_ESCAPED << 8;
@@ -161,7 +168,8 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         const PclPrimInfo& info = buffers.primInfo[hit.prim];
         const Vec3 n = hit.prim < params.triangleCount
                            ? Vec3(info.a, info.b, info.c)
-                           : (p - (Vec3(info.a, info.b, info.c) + Vec3(info.mx, info.my, info.mz) * time)) / info.radius;
+                           : (p - (Vec3(info.a, info.b, info.c) + Vec3(info.mx, info.my, info.mz) * time)) /
+                                 info.radius;
         const PclMaterial& m = buffers.materials[info.material];
         const Vec3 nf = dot(d, n) < 0.0f ? n : -n;  // the side the photon arrives on
 
@@ -187,8 +195,7 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         if (hits) hits->push_back({b, s.kind, s.pDiffuse, s.pSpecular, power, s.power, hit.prim, p, d, n, s.direction});
         // A caustic path ending here: STORED when this hit deposited, else ABSORBED.
         const uint32_t endHere = depositedHere ? PCL_END_STORED : PCL_END_ABSORBED;
-        if (s.kind == ReferenceScatter::Absorbed || s.kind == ReferenceScatter::GlossyBelow)
-            return b | endHere << 8;
+        if (s.kind == ReferenceScatter::Absorbed || s.kind == ReferenceScatter::GlossyBelow) return b | endHere << 8;
         if (caustic && s.kind == ReferenceScatter::Diffuse) return b | endHere << 8;  // no longer LS+D
         flags |= s.kind == ReferenceScatter::Diffuse ? PCL_PHOTON_AFTER_DIFFUSE : PCL_PHOTON_AFTER_SPECULAR;
         power = s.power;
@@ -202,8 +209,8 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
 }
 
 ReferencePhotonBatch tracePhotonsReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
-                                           const PclPhotonParams& params,
-                                           const std::vector<PclPhotonRay>& rays, unsigned threads) {
+                                           const PclPhotonParams& params, const std::vector<PclPhotonRay>& rays,
+                                           unsigned threads) {
     ReferencePhotonBatch out;
     const size_t n = std::min<size_t>(params.batchSize, rays.size());
     out.slotsPerPath = params.maxDepth;  // one record per hit at most, in either pass

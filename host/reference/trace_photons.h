@@ -13,16 +13,16 @@
 namespace pcl {
 
 struct ReferencePhotonBatch {
-    uint32_t slotsPerPath = 0;        // S: maxDepth (either pass: at most one record per hit)
-    std::vector<PclPhoton> slots;     // path i owns [i S, i S + S); the first counts[i] are used
-    std::vector<uint32_t> counts;     // deposits per path
-    std::vector<uint32_t> ends;       // bounce | cause << 8
+    uint32_t slotsPerPath = 0;     // S: maxDepth (either pass: at most one record per hit)
+    std::vector<PclPhoton> slots;  // path i owns [i S, i S + S); the first counts[i] are used
+    std::vector<uint32_t> counts;  // deposits per path
+    std::vector<uint32_t> ends;    // bounce | cause << 8
 };
 
 // What happened at one hit, for tests (energy along a path).
 struct ReferencePhotonHit {
-    uint32_t bounce = 0;   // b
-    uint32_t event = 0;    // ReferenceScatter::Kind
+    uint32_t bounce = 0;                // b
+    uint32_t event = 0;                 // ReferenceScatter::Kind
     float pDiffuse = 0, pSpecular = 0;  // roulette probabilities before normalisation
     Vec3 powerIn, powerOut;
     uint32_t prim = 0;
@@ -33,14 +33,13 @@ struct ReferencePhotonHit {
 struct ReferenceScatter {
     enum Kind : uint32_t { Absorbed, Diffuse, Mirror, Glossy, Reflected, Refracted, GlossyBelow };
     Kind kind = Absorbed;
-    Vec3 direction;        // d'
-    Vec3 power;            // Φ after the step
+    Vec3 direction;                     // d'
+    Vec3 power;                         // Φ after the step
     float pDiffuse = 0, pSpecular = 0;  // P_d, P_s before normalisation by their sum
 };
 // d: incoming direction, n: geometric normal (outside for dielectrics), u: the four numbers of
 // the bounce (z, Fresnel choice, direction pair).
-ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 power,
-                                        const float u[4]);
+ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 power, const float u[4]);
 
 // Ward's RGBE and the (θ, φ) bytes, exactly as the spec writes them.
 uint32_t referenceEncodeRgbe(Vec3 power);
@@ -51,13 +50,12 @@ uint32_t referenceEncodeNormal(Vec3 n);     // octahedral u | v << 16, snorm16 e
 // Traces path i of the batch (global photon index params.firstPhoton + i) from `ray`; writes
 // its slots (S of them) and returns the end word. `hits`, when given, receives every hit.
 uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
-                                  const PclPhotonParams& params, const PclPhotonRay& ray, uint32_t i,
-                                  PclPhoton* slots, uint32_t& count,
-                                  std::vector<ReferencePhotonHit>* hits = nullptr);
+                                  const PclPhotonParams& params, const PclPhotonRay& ray, uint32_t i, PclPhoton* slots,
+                                  uint32_t& count, std::vector<ReferencePhotonHit>* hits = nullptr);
 
 ReferencePhotonBatch tracePhotonsReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
-                                           const PclPhotonParams& params,
-                                           const std::vector<PclPhotonRay>& rays, unsigned threads = 0);
+                                           const PclPhotonParams& params, const std::vector<PclPhotonRay>& rays,
+                                           unsigned threads = 0);
 
 inline uint32_t referenceEndCause(uint32_t end) { return end >> 8; }
 inline uint32_t referenceEndBounces(uint32_t end) { return end & 0xFFu; }

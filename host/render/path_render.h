@@ -30,14 +30,15 @@ struct PathRenderSettings {
 };
 
 struct PathRenderResult {
-    Film film;             // the sums in doubles (fixedPoint false)
-    FixedPointFilm sums;   // the sums in fixed point (fixedPoint true)
-    uint32_t samples = 0;  // samples per pixel rendered
+    Film film;                          // the sums in doubles (fixedPoint false)
+    FixedPointFilm sums;                // the sums in fixed point (fixedPoint true)
+    uint32_t samples = 0;               // samples per pixel rendered
     uint64_t paths = 0, discarded = 0;  // camera paths traced; NaN/Inf path values dropped (expected 0)
     double seconds = 0.0;
     bool stopped = false;  // a stop request ended it early
 };
 
-PathRenderResult renderPathTraced(const Scene& scene, const SceneGeometry& geometry, const PathRenderSettings& settings);
+PathRenderResult renderPathTraced(const Scene& scene, const SceneGeometry& geometry,
+                                  const PathRenderSettings& settings);
 
 }  // namespace pcl

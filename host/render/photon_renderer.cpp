@@ -8,6 +8,7 @@
 
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/math.h"
 #include "pipeline/camera_rays.h"
 #include "pipeline/device_scene.h"
 #include "pipeline/direct_light.h"
@@ -29,7 +30,7 @@ double sceneSurfaceArea(const Scene& scene) {
                  p2 = m.positions[m.indices[3 * t + 2]];
             area += 0.5 * length(cross(p1 - p0, p2 - p0));
         }
-    for (const Sphere& s : scene.spheres) area += 4.0 * M_PI * double(s.radius) * s.radius;
+    for (const Sphere& s : scene.spheres) area += 4.0 * kPiD * double(s.radius) * s.radius;
     return area;
 }
 
@@ -43,12 +44,13 @@ std::string StageTimes::table() const {
     struct Row {
         const char* name;
         double s;
-    } rows[] = {{"photon pass", photons}, {"maps", maps},         {"camera", camera},       {"eye paths", eyePaths},
+    } rows[] = {{"photon pass", photons}, {"maps", maps},        {"camera", camera},     {"eye paths", eyePaths},
                 {"direct light", direct}, {"caustics", caustic}, {"indirect", indirect}, {"accumulate", accumulate}};
     std::string out;
     char line[128];
     for (const Row& r : rows) {
-        std::snprintf(line, sizeof line, "  %-13s %9.3f s  %5.1f %%\n", r.name, r.s, total > 0 ? 100.0 * r.s / total : 0.0);
+        std::snprintf(line, sizeof line, "  %-13s %9.3f s  %5.1f %%\n", r.name, r.s,
+                      total > 0 ? 100.0 * r.s / total : 0.0);
         out += line;
     }
     std::snprintf(line, sizeof line, "  %-13s %9.3f s\n", "total", total);
@@ -106,8 +108,8 @@ class PhotonRenderer {
 public:
     PhotonRenderer(Device& device, const Scene& scene, const SceneGeometry& geometry, const SceneBuffers& buffers,
                    const RenderPlan& plan, const PhotonRenderSettings& s)
-        : start_(Clock::now()), device_(device), scene_(scene), geometry_(geometry), buffers_(buffers), plan_(plan), s_(s),
-          maps_(mapsFor(s.method, plan)), width_(scene.camera.width), height_(scene.camera.height),
+        : start_(Clock::now()), device_(device), scene_(scene), geometry_(geometry), buffers_(buffers), plan_(plan),
+          s_(s), maps_(mapsFor(s.method, plan)), width_(scene.camera.width), height_(scene.camera.height),
           spp_(s.strata * s.strata), passSamples_(size_t(width_) * height_ * spp_),
           eyeDepth_(s.eyeDepth ? s.eyeDepth : kDefaultEyeDepth),
           maxRadius_(s.maxRadius > 0 ? s.maxRadius : 0.05f * length(geometry.bounds().extent())),
@@ -189,7 +191,7 @@ PhotonMaps PhotonRenderer::tracePhotons(uint32_t pass) {
 double PhotonRenderer::firstRadius2(const PhotonMaps& pass0) const {
     double stored = maps_.global ? pass0.global.size() : pass0.caustic.size();
     double lambda = std::max(stored, 1.0) / std::max(area_, 1e-12);
-    return std::min(double(maxRadius_) * maxRadius_, s_.progressiveK0 / (M_PI * lambda));
+    return std::min(double(maxRadius_) * maxRadius_, s_.progressiveK0 / (kPiD * lambda));
 }
 
 // 2. The maps the method reads and their irradiance sources.
@@ -235,8 +237,7 @@ PhotonRenderer::PassMaps PhotonRenderer::buildMaps(const PhotonMaps& photons, fl
 
 // 3. fg at the diffuse eye hits: direct light by shadow rays (MIS with the gather rays for area
 // lights), the caustic map, and final gathering into the global map.
-PhotonRenderer::ChunkParts PhotonRenderer::shadeFinalGather(const PassMaps& m, const PclEyeParams& ep,
-                                                            uint32_t count) {
+PhotonRenderer::ChunkParts PhotonRenderer::shadeFinalGather(const PassMaps& m, const PclEyeParams& ep, uint32_t count) {
     ChunkParts parts;
     StageTimes& t = result_.times;
     const bool gather = static_cast<bool>(m.globalSource);
@@ -263,7 +264,8 @@ PhotonRenderer::ChunkParts PhotonRenderer::shadeFinalGather(const PassMaps& m, c
     }
     if (gather) {
         timed(device_, t.indirect, [&] {
-            if (m.histogram) finalGather(device_, dscene_, lights_, gp, hits_, histograms, *m.globalSource, indirectRad_);
+            if (m.histogram)
+                finalGather(device_, dscene_, lights_, gp, hits_, histograms, *m.globalSource, indirectRad_);
             else finalGather(device_, dscene_, lights_, gp, hits_, *m.globalSource, indirectRad_);
         });
         parts.indirect = true;
@@ -276,7 +278,8 @@ PhotonRenderer::ChunkParts PhotonRenderer::shadeDirectVisualisation(const PassMa
     ChunkParts parts;
     if (m.causticSource) {
         PclEyeEstimateParams cq{count, s_.causticK, m.radius2, 0};
-        timed(device_, result_.times.caustic, [&] { causticRadiance(device_, cq, hits_, *m.causticSource, causticRad_); });
+        timed(device_, result_.times.caustic,
+              [&] { causticRadiance(device_, cq, hits_, *m.causticSource, causticRad_); });
         parts.caustic = true;
     }
     if (m.globalSource) {
@@ -290,15 +293,15 @@ PhotonRenderer::ChunkParts PhotonRenderer::shadeDirectVisualisation(const PassMa
 
 // 3. progressive: direct light by shadow rays, then the caustic map and the global map's
 // indirect photons with the pass's fixed radius.
-PhotonRenderer::ChunkParts PhotonRenderer::shadeProgressive(const PassMaps& m, const PclEyeParams& ep,
-                                                            uint32_t count) {
+PhotonRenderer::ChunkParts PhotonRenderer::shadeProgressive(const PassMaps& m, const PclEyeParams& ep, uint32_t count) {
     ChunkParts parts;
     PclDirectParams dp = directParams(ep, geometry_, buffers_, table_, s_.lightSamples, 0u);
     timed(device_, result_.times.direct, [&] { directLight(device_, dscene_, lights_, dp, hits_, directRad_); });
     parts.direct = true;
     if (m.causticSource) {
         PclEyeEstimateParams cq{count, PCL_KNN_MAX_K, m.radius2, 0};
-        timed(device_, result_.times.caustic, [&] { causticRadiance(device_, cq, hits_, *m.causticSource, causticRad_); });
+        timed(device_, result_.times.caustic,
+              [&] { causticRadiance(device_, cq, hits_, *m.causticSource, causticRad_); });
         parts.caustic = true;
     }
     if (m.globalSource) {

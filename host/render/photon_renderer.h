@@ -31,8 +31,8 @@ namespace pcl {
 
 // Wall seconds per stage summed over the passes (each stage waits for its launches).
 struct StageTimes {
-    double photons = 0, maps = 0, camera = 0, eyePaths = 0, direct = 0, caustic = 0, indirect = 0,
-           accumulate = 0, total = 0;
+    double photons = 0, maps = 0, camera = 0, eyePaths = 0, direct = 0, caustic = 0, indirect = 0, accumulate = 0,
+           total = 0;
     std::string table() const;  // one "stage  seconds  share" line per stage
 };
 
@@ -48,16 +48,17 @@ struct PhotonRenderResult {
     // give the same bits. `film` is `sums` as doubles (for callers that merge or resolve films).
     FixedPointFilm sums;
     Film film;
-    RenderAovs aovs;                  // empty films unless settings.aovs
+    RenderAovs aovs;  // empty films unless settings.aovs
     StageTimes times;
-    uint32_t passes = 0;              // passes done (the film holds exactly these)
-    bool stopped = false;             // a stop request ended the render early
-    uint64_t globalEmitted = 0, causticEmitted = 0, globalStored = 0, causticStored = 0;  // over all passes
-    uint64_t samples = 0;             // eye samples traced
-    uint64_t nonFiniteSamples = 0;    // samples whose radiance was NaN/Inf: dropped (expected 0)
+    uint32_t passes = 0;   // passes done (the film holds exactly these)
+    bool stopped = false;  // a stop request ended the render early
+    // Photons over all passes.
+    uint64_t globalEmitted = 0, causticEmitted = 0, globalStored = 0, causticStored = 0;
+    uint64_t samples = 0;                   // eye samples traced
+    uint64_t nonFiniteSamples = 0;          // samples whose radiance was NaN/Inf: dropped (expected 0)
     float firstRadius = 0, lastRadius = 0;  // progressive: r_0 and the last pass's radius (global map)
     size_t chunkSamples = 0;
-    std::string summary;              // the settings as used, one line (for logs and metadata)
+    std::string summary;  // the settings as used, one line (for logs and metadata)
 };
 
 // The photon pass of pass `pass` of a render with these settings: the maps the method builds

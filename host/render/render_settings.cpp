@@ -83,7 +83,8 @@ KnnStructure parseKnnStructure(const std::string& word) {
 }
 
 void validateRenderSettings(const PhotonRenderSettings& s) {
-    if (s.strata < 1 || s.strata > 16) throw InputError("render: strata must be 1..16, got " + std::to_string(s.strata));
+    if (s.strata < 1 || s.strata > 16)
+        throw InputError("render: strata must be 1..16, got " + std::to_string(s.strata));
     if (s.gatherRays < 1) throw InputError("render: gather rays must be at least 1");
     if (s.globalK < 1 || s.globalK > PCL_KNN_MAX_K || s.causticK < 1 || s.causticK > PCL_KNN_MAX_K)
         throw InputError("render: k must be 1.." + std::to_string(PCL_KNN_MAX_K));
@@ -187,8 +188,9 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
                                         : "the preview reads all light from the global map")
                       : "no global map needed");
     note("caustic photons per pass " + std::to_string(built.caustic ? s.causticPhotons : 0u), q.causticPhotons,
-         built.caustic ? "the plan's: the scene has caustics"
-                       : (plan.causticMap ? "the preview reads caustics from the global map" : "no caustic map needed"));
+         built.caustic
+             ? "the plan's: the scene has caustics"
+             : (plan.causticMap ? "the preview reads caustics from the global map" : "no caustic map needed"));
     note("light samples " + std::to_string(s.lightSamples), q.lightSamples,
          "16 shadow rays per diffuse hit: with N gather rays and M light samples the power heuristic gives the gather "
          "rays a share growing with N/M, and gather rays find a small lamp rarely");

@@ -37,17 +37,17 @@ KnnStructure parseKnnStructure(const std::string& word);
 struct PhotonRenderSettings {
     // ---- What changes pixels (every one is in settingsFields) --------------------------------
     RenderMethod method = RenderMethod::FinalGather;
-    uint32_t strata = 1;              // n: n × n stratified eye samples per pixel per pass
-    uint32_t globalPhotons = 200000;  // photons emitted per pass for the global map
-    uint32_t causticPhotons = 100000; // per pass for the caustic map
-    uint32_t globalK = 50;            // photons per global-map estimate
-    uint32_t causticK = 50;           // photons per caustic estimate (fg, direct)
-    uint32_t gatherRays = 64;         // N final-gather rays per diffuse eye hit
-    uint32_t lightSamples = 16;       // M area-light samples per diffuse eye hit (M ≫ 1: the gather
-                                      // rays, N of them, would otherwise carry half the direct light)
-    uint32_t eyeDepth = 0;            // hits per eye path; 0: kDefaultEyeDepth
-    float maxRadius = 0.0f;           // kNN search radius cap; 0: 5 % of the scene's bounds diagonal
-    EstimateFilter filter = EstimateFilter::Cone;     // fg/direct estimates (progressive: box)
+    uint32_t strata = 1;                           // n: n × n stratified eye samples per pixel per pass
+    uint32_t globalPhotons = 200000;               // photons emitted per pass for the global map
+    uint32_t causticPhotons = 100000;              // per pass for the caustic map
+    uint32_t globalK = 50;                         // photons per global-map estimate
+    uint32_t causticK = 50;                        // photons per caustic estimate (fg, direct)
+    uint32_t gatherRays = 64;                      // N final-gather rays per diffuse eye hit
+    uint32_t lightSamples = 16;                    // M area-light samples per diffuse eye hit (M ≫ 1: the gather
+                                                   // rays, N of them, would otherwise carry half the direct light)
+    uint32_t eyeDepth = 0;                         // hits per eye path; 0: kDefaultEyeDepth
+    float maxRadius = 0.0f;                        // kNN search radius cap; 0: 5 % of the scene's bounds diagonal
+    EstimateFilter filter = EstimateFilter::Cone;  // fg/direct estimates (progressive: box)
     // The search structure of every map the pass builds (precomputed irradiance keeps its own):
     // the same photons are found either way; only the speed differs (the sweep charts both).
     KnnStructure structure = KnnStructure::KdTree;
@@ -65,25 +65,25 @@ struct PhotonRenderSettings {
     // stored photons per unit scene area); r² then shrinks by (i + α)/(i + 1) each pass.
     float alpha = 2.0f / 3.0f;
     float progressiveK0 = 20.0f;
-    float initialRadius = 0.0f;       // progressive r_0; 0: from progressiveK0
+    float initialRadius = 0.0f;  // progressive r_0; 0: from progressiveK0
     uint64_t seed = 0;
 
     // ---- How much, and how the run goes (no pixel depends on these) --------------------------
-    uint32_t passes = 1;              // passes to run (with seconds > 0: at most this many; 0: no limit)
+    uint32_t passes = 1;  // passes to run (with seconds > 0: at most this many; 0: no limit)
     // The global index of the first pass: passes [firstPass, firstPass + passes) are rendered,
     // each with its global index in the photon and eye seeds and the progressive radius, so a
     // batch shard renders exactly the passes a single run would (batch/batch_render.h).
     uint32_t firstPass = 0;
-    double seconds = 0.0;             // time budget: no new pass starts after it (at least one runs)
-    uint32_t photonBatch = 0;         // photon paths per launch; 0: the photon pass's default (the
-                                      // CLI passes the memory plan's)
-    bool aovs = false;                // also keep per-part films (direct, caustic, indirect, emitted)
-                                      // and the first hit's albedo and normal
-    size_t chunkSamples = 0;          // eye samples per chunk; 0: from the max allocation
+    double seconds = 0.0;                     // time budget: no new pass starts after it (at least one runs)
+    uint32_t photonBatch = 0;                 // photon paths per launch; 0: the photon pass's default (the
+                                              // CLI passes the memory plan's)
+    bool aovs = false;                        // also keep per-part films (direct, caustic, indirect, emitted)
+                                              // and the first hit's albedo and normal
+    size_t chunkSamples = 0;                  // eye samples per chunk; 0: from the max allocation
     const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT): no new pass starts
     // After each pass: (passes done, fraction of the budget done in [0,1]).
     std::function<void(uint32_t, double)> onPass;
-    bool log = false;                 // one line per pass on stderr
+    bool log = false;  // one line per pass on stderr
 };
 
 // InputError when a setting is out of its range (strata 1..16, k 1..PCL_KNN_MAX_K, gather rays
@@ -102,12 +102,11 @@ struct RenderRequest {
     std::string method = "fg", filter = "cone", gatherSource = "precomputed", structure = "kd-tree";
     uint64_t seed = 0;
     bool visibility = false;
-    uint32_t gatherImportance = 0;                   // G of --gather-importance
+    uint32_t gatherImportance = 0;  // G of --gather-importance
     float radius = 0.0f, alpha = 2.0f / 3.0f, maxRadius = 0.0f;
-    uint32_t passes = 0;                             // 0: defaultPasses (unless seconds is given)
-    double seconds = 0.0;                            // time budget instead of a pass count
-    uint32_t globalPhotons = 0, causticPhotons = 0, k = 0, causticK = 0, lightSamples = 0, strata = 0,
-             gatherRays = 0;
+    uint32_t passes = 0;   // 0: defaultPasses (unless seconds is given)
+    double seconds = 0.0;  // time budget instead of a pass count
+    uint32_t globalPhotons = 0, causticPhotons = 0, k = 0, causticK = 0, lightSamples = 0, strata = 0, gatherRays = 0;
 };
 
 // One resolved setting, as `render` logs it: "gather rays 64  (default: <reason>)" or "(given)".
@@ -147,8 +146,7 @@ struct SettingsField {
 std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const RenderPlan& plan, int width, int height,
                                           uint32_t passes);
 // The fields as "key=value;key=value" (batch shards, the EXR's photoncl:settings) and its hash.
-std::string settingsText(const PhotonRenderSettings& s, const RenderPlan& plan, int width, int height,
-                         uint32_t passes);
+std::string settingsText(const PhotonRenderSettings& s, const RenderPlan& plan, int width, int height, uint32_t passes);
 uint64_t settingsHash(const std::string& text);  // FNV-1a
 
 }  // namespace pcl

@@ -107,7 +107,6 @@ std::string fmt(double v) {
     return b;
 }
 
-
 }  // namespace
 
 std::vector<std::string> sweepCurveNames(bool quick) {
@@ -135,10 +134,10 @@ std::string sweepCsvLine(const SweepRow& r) {
     const StageTimes& t = r.times;
     o << r.scene << "," << r.curve << "," << r.method << "," << quote(r.settings) << "," << quote(r.device) << ","
       << r.seed << "," << r.passes << "," << r.samplesPerPixel << "," << fmt(t.total) << "," << fmt(t.photons) << ","
-      << fmt(t.maps) << "," << fmt(t.camera) << "," << fmt(t.eyePaths) << "," << fmt(t.direct) << ","
-      << fmt(t.caustic) << "," << fmt(t.indirect) << "," << fmt(t.accumulate) << "," << fmt(r.rmse) << ","
-      << fmt(r.relMse) << "," << fmt(r.meanRatio) << "," << fmt(r.maxError) << "," << fmt(r.mse) << ","
-      << (r.split ? fmt(r.bias2) : "") << "," << (r.split ? fmt(r.variance) : "") << "\n";
+      << fmt(t.maps) << "," << fmt(t.camera) << "," << fmt(t.eyePaths) << "," << fmt(t.direct) << "," << fmt(t.caustic)
+      << "," << fmt(t.indirect) << "," << fmt(t.accumulate) << "," << fmt(r.rmse) << "," << fmt(r.relMse) << ","
+      << fmt(r.meanRatio) << "," << fmt(r.maxError) << "," << fmt(r.mse) << "," << (r.split ? fmt(r.bias2) : "") << ","
+      << (r.split ? fmt(r.variance) : "") << "\n";
     return o.str();
 }
 
@@ -184,8 +183,8 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
         // A quarter (or half) of the reference's width: the box average of its pixels is the
         // reference of the bigger pixels (the film's filter is the pixel's box).
         int factor = reference.width >= 32 && reference.width % 4 == 0 && reference.height % 4 == 0 ? 4
-                     : reference.width % 2 == 0 && reference.height % 2 == 0                       ? 2
-                                                                                                   : 1;
+                     : reference.width % 2 == 0 && reference.height % 2 == 0                        ? 2
+                                                                                                    : 1;
         reference = boxDownsample(reference, factor);
     }
     cam.width = reference.width;
@@ -217,7 +216,8 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
             renderPhotonMapped(*device, scene, geometry, buffers, plan, warm);
         }
         const std::string deviceName =
-            path ? "ref (CPU path tracer, " + std::to_string(o.threads ? o.threads : int(std::thread::hardware_concurrency())) + " threads)"
+            path ? "ref (CPU path tracer, " +
+                       std::to_string(o.threads ? o.threads : int(std::thread::hardware_concurrency())) + " threads)"
                  : device->info().name;
 
         std::vector<uint32_t> budgets;  // set by the first seed, repeated by the others
@@ -339,8 +339,8 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
                 row.passes = budgets[bi];
                 row.samplesPerPixel = path ? budgets[bi] : uint64_t(budgets[bi]) * base.strata * base.strata;
                 row.times.total = m.secondsSum / S;
-                row.settings = (curve.variant.empty() ? std::string() : curve.variant + "; ") +
-                               "mean image over " + std::to_string(m.count) + " seeds";
+                row.settings = (curve.variant.empty() ? std::string() : curve.variant + "; ") + "mean image over " +
+                               std::to_string(m.count) + " seeds";
                 row.rmse = e.rmse, row.relMse = e.relMse, row.meanRatio = e.meanRatio, row.maxError = e.maxAbsDiff;
                 row.mse = m.mseSum / S;
                 row.split = true;

@@ -32,25 +32,25 @@ namespace pcl {
 struct SweepOptions {
     std::string scenePath;
     std::string referencePath;
-    std::string device = "cpu";        // OpenCL device of the photon methods (the path tracer runs on the CPU)
-    bool quick = false;                // CI form: a 16-wide image (the reference box-downsampled), fewer photons,
-                                       // short curves; well under 2 minutes on 2 cores
-    double maxSeconds = 60.0;          // a curve stops after its first point at or past this
-    uint32_t seeds = 1;                // independent repeats per curve (≥ 2: bias² and variance rows)
-    uint64_t seed = 0;                 // the first seed; the others are seed + 1 ...
-    std::vector<std::string> curves;   // curve names to run (empty: all of the form); see sweepCurveNames
-    int threads = 0;                   // path tracer threads (0: all cores)
+    std::string device = "cpu";       // OpenCL device of the photon methods (the path tracer runs on the CPU)
+    bool quick = false;               // CI form: a 16-wide image (the reference box-downsampled), fewer photons,
+                                      // short curves; well under 2 minutes on 2 cores
+    double maxSeconds = 60.0;         // a curve stops after its first point at or past this
+    uint32_t seeds = 1;               // independent repeats per curve (≥ 2: bias² and variance rows)
+    uint64_t seed = 0;                // the first seed; the others are seed + 1 ...
+    std::vector<std::string> curves;  // curve names to run (empty: all of the form); see sweepCurveNames
+    int threads = 0;                  // path tracer threads (0: all cores)
     std::function<void(const std::string&)> progress;  // one line per point (stderr in the CLI)
 };
 
 // One CSV row. seed is the seed's number, or "all" on a bias²/variance row.
 struct SweepRow {
     std::string scene, curve, method, settings, device, seed;
-    uint64_t passes = 0;               // photon passes, or samples per pixel for path
+    uint64_t passes = 0;  // photon passes, or samples per pixel for path
     uint64_t samplesPerPixel = 0;
-    StageTimes times;                  // seconds by stage (total: the point's render seconds)
+    StageTimes times;  // seconds by stage (total: the point's render seconds)
     double rmse = 0, relMse = 0, meanRatio = 0, maxError = 0, mse = 0;
-    bool split = false;                // an "all" row: bias2 and variance hold the split
+    bool split = false;  // an "all" row: bias2 and variance hold the split
     double bias2 = 0, variance = 0;
 };
 
@@ -66,6 +66,5 @@ std::string sweepCsvLine(const SweepRow& row);
 // soon as it is measured (the CLI rewrites its CSV after every point).
 std::vector<SweepRow> runSweep(const SweepOptions& options,
                                const std::function<void(const std::vector<SweepRow>&)>& onRow = {});
-
 
 }  // namespace pcl

@@ -8,8 +8,8 @@
 #define TINYGLTF_IMPLEMENTATION
 #define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_IMPLEMENTATION
-#include "core/math.h"
 #include "scene/gltf_loader.h"
+#include "core/math.h"
 
 #include <cmath>
 #include <cstring>
@@ -38,9 +38,9 @@ std::string at(const std::string& what, size_t i) { return what + "[" + std::to_
 
 // ---- The GLB container (binary glTF): header, JSON chunk, optional BIN chunk -------------------
 
-constexpr uint32_t kGlbMagic = 0x46546C67;      // "glTF"
-constexpr uint32_t kChunkJson = 0x4E4F534A;     // "JSON"
-constexpr uint32_t kChunkBin = 0x004E4942;      // "BIN\0"
+constexpr uint32_t kGlbMagic = 0x46546C67;   // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
 
 uint32_t readU32(const unsigned char* p) {
     return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
@@ -62,7 +62,8 @@ GlbParts splitGlb(const std::vector<unsigned char>& bytes, const std::string& fi
     uint64_t length = readU32(&bytes[8]);
     if (version != 2) failInput(file, "header.version", "2", std::to_string(version));
     if (length > bytes.size())
-        failInput(file, "header.length", "at most the file size " + std::to_string(bytes.size()), std::to_string(length));
+        failInput(file, "header.length", "at most the file size " + std::to_string(bytes.size()),
+                  std::to_string(length));
     GlbParts parts;
     uint64_t offset = 12;
     for (int chunk = 0; offset + 8 <= length; ++chunk) {
@@ -148,7 +149,8 @@ void preflight(json& root, const std::string& file, bool binary) {
             if (u.rfind("data:", 0) == 0) continue;
             std::string path = resolveInsideFolder(file, field, percentDecode(u));
             if (!std::ifstream(path, std::ios::binary))
-                failInput(file, field, "an existing buffer file next to the scene", "\"" + u + "\" (missing: " + path + ")");
+                failInput(file, field, "an existing buffer file next to the scene",
+                          "\"" + u + "\" (missing: " + path + ")");
         }
     }
 
@@ -244,7 +246,8 @@ private:
     Transform localTransform(const tinygltf::Node& node, const std::string& field) {
         auto finite = [&](const std::vector<double>& v, size_t n, const char* name) {
             if (v.empty()) return false;
-            if (v.size() != n) fail(field + "." + name, std::to_string(n) + " numbers", std::to_string(v.size()) + " numbers");
+            if (v.size() != n)
+                fail(field + "." + name, std::to_string(n) + " numbers", std::to_string(v.size()) + " numbers");
             for (double x : v)
                 if (!std::isfinite(x)) fail(field + "." + name, "finite numbers", "a non-finite one");
             return true;
@@ -277,7 +280,8 @@ private:
             fail(field, "an accessor index below " + std::to_string(model_.accessors.size()), std::to_string(index));
         const tinygltf::Accessor& a = model_.accessors[size_t(index)];
         std::string af = at("accessors", size_t(index));
-        if (a.sparse.isSparse) fail(af + ".sparse", "a dense accessor (sparse accessors are not supported)", "a sparse one");
+        if (a.sparse.isSparse)
+            fail(af + ".sparse", "a dense accessor (sparse accessors are not supported)", "a sparse one");
         if (a.type != type)
             fail(af + ".type", type == TINYGLTF_TYPE_VEC3 ? "VEC3" : "SCALAR", "type code " + std::to_string(a.type));
         bool allowed = false;
@@ -296,20 +300,27 @@ private:
         const tinygltf::BufferView& bv = model_.bufferViews[size_t(a.bufferView)];
         std::string bvf = at("bufferViews", size_t(a.bufferView));
         if (bv.buffer < 0 || size_t(bv.buffer) >= model_.buffers.size())
-            fail(bvf + ".buffer", "a buffer index below " + std::to_string(model_.buffers.size()), std::to_string(bv.buffer));
+            fail(bvf + ".buffer", "a buffer index below " + std::to_string(model_.buffers.size()),
+                 std::to_string(bv.buffer));
         const tinygltf::Buffer& buffer = model_.buffers[size_t(bv.buffer)];
         uint64_t componentSize = uint64_t(tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType)));
         uint64_t elementSize = componentSize * uint64_t(tinygltf::GetNumComponentsInType(uint32_t(a.type)));
         uint64_t stride = bv.byteStride ? uint64_t(bv.byteStride) : elementSize;
         if (stride < elementSize || stride > 252)
-            fail(bvf + ".byteStride", "0 or a stride in [" + std::to_string(elementSize) + ", 252]", std::to_string(bv.byteStride));
-        if (uint64_t(bv.byteOffset) > buffer.data.size() || uint64_t(bv.byteLength) > buffer.data.size() - bv.byteOffset)
-            fail(bvf, "a byte range inside buffer " + std::to_string(bv.buffer) + " (" + std::to_string(buffer.data.size()) + " bytes)",
+            fail(bvf + ".byteStride", "0 or a stride in [" + std::to_string(elementSize) + ", 252]",
+                 std::to_string(bv.byteStride));
+        if (uint64_t(bv.byteOffset) > buffer.data.size() ||
+            uint64_t(bv.byteLength) > buffer.data.size() - bv.byteOffset)
+            fail(bvf,
+                 "a byte range inside buffer " + std::to_string(bv.buffer) + " (" + std::to_string(buffer.data.size()) +
+                     " bytes)",
                  "offset " + std::to_string(bv.byteOffset) + " + length " + std::to_string(bv.byteLength));
         // count is bounded first so the multiplication below cannot overflow.
         if (uint64_t(a.count) > bv.byteLength || uint64_t(a.byteOffset) > bv.byteLength ||
             uint64_t(a.byteOffset) + (uint64_t(a.count) - 1) * stride + elementSize > bv.byteLength)
-            fail(af, "elements inside bufferView " + std::to_string(a.bufferView) + " (" + std::to_string(bv.byteLength) + " bytes)",
+            fail(af,
+                 "elements inside bufferView " + std::to_string(a.bufferView) + " (" + std::to_string(bv.byteLength) +
+                     " bytes)",
                  std::to_string(a.count) + " elements of " + std::to_string(elementSize) + " bytes at offset " +
                      std::to_string(a.byteOffset) + ", stride " + std::to_string(stride));
         v.data = buffer.data.data() + bv.byteOffset + a.byteOffset;
@@ -347,27 +358,30 @@ private:
     // ---- Meshes
     void addMesh(int meshIndex, const Transform& world) {
         if (size_t(meshIndex) >= model_.meshes.size())
-            fail("nodes[].mesh", "a mesh index below " + std::to_string(model_.meshes.size()), std::to_string(meshIndex));
+            fail("nodes[].mesh", "a mesh index below " + std::to_string(model_.meshes.size()),
+                 std::to_string(meshIndex));
         const tinygltf::Mesh& mesh = model_.meshes[size_t(meshIndex)];
         for (size_t p = 0; p < mesh.primitives.size(); ++p) {
             const tinygltf::Primitive& prim = mesh.primitives[p];
             std::string field = at("meshes", size_t(meshIndex)) + "." + at("primitives", p);
             int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-            if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+            if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+                mode != TINYGLTF_MODE_TRIANGLE_FAN) {
                 warnInput(file_, field + ": points and lines are skipped (mode " + std::to_string(mode) + ")");
                 continue;
             }
             auto pos = prim.attributes.find("POSITION");
-            if (pos == prim.attributes.end())
-                fail(field + ".attributes.POSITION", "a POSITION accessor", "none");
+            if (pos == prim.attributes.end()) fail(field + ".attributes.POSITION", "a POSITION accessor", "none");
             TriangleMesh out;
-            out.name = file_ + ":" + (mesh.name.empty() ? at("meshes", size_t(meshIndex)) : mesh.name) + "/" + std::to_string(p);
+            out.name = file_ + ":" + (mesh.name.empty() ? at("meshes", size_t(meshIndex)) : mesh.name) + "/" +
+                       std::to_string(p);
             out.positions = readVec3(pos->second, field + ".attributes.POSITION");
             auto nrm = prim.attributes.find("NORMAL");
             if (nrm != prim.attributes.end()) {
                 out.normals = readVec3(nrm->second, field + ".attributes.NORMAL");
                 if (out.normals.size() != out.positions.size())
-                    fail(field + ".attributes.NORMAL", std::to_string(out.positions.size()) + " normals (one per position)",
+                    fail(field + ".attributes.NORMAL",
+                         std::to_string(out.positions.size()) + " normals (one per position)",
                          std::to_string(out.normals.size()));
             }
             std::vector<uint32_t> vertices;
@@ -375,7 +389,8 @@ private:
                 vertices = readIndices(prim.indices, field + ".indices");
                 for (uint32_t k : vertices)
                     if (k >= out.positions.size())
-                        fail(field + ".indices", "vertex indices below " + std::to_string(out.positions.size()), std::to_string(k));
+                        fail(field + ".indices", "vertex indices below " + std::to_string(out.positions.size()),
+                             std::to_string(k));
             } else {
                 vertices.resize(out.positions.size());
                 for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = uint32_t(i);
@@ -384,7 +399,8 @@ private:
             for (auto& x : out.positions) x = world.point(x);
             for (auto& n : out.normals) n = world.normal(n);
             if (world.flipsWinding())
-                for (size_t i = 0; i + 2 < out.indices.size(); i += 3) std::swap(out.indices[i + 1], out.indices[i + 2]);
+                for (size_t i = 0; i + 2 < out.indices.size(); i += 3)
+                    std::swap(out.indices[i + 1], out.indices[i + 2]);
             out.material = materialFor(prim.material, field + ".material");
             out.motion = options_.motion;
             if (out.indices.empty()) continue;
@@ -426,7 +442,8 @@ private:
         int& mapped = materialIndex_[size_t(gltfIndex)];
         if (mapped < 0) {
             mapped = int(scene_.materials.size());
-            scene_.materials.push_back(mapMaterial(model_.materials[size_t(gltfIndex)], at("materials", size_t(gltfIndex))));
+            scene_.materials.push_back(
+                mapMaterial(model_.materials[size_t(gltfIndex)], at("materials", size_t(gltfIndex))));
         }
         return mapped;
     }
@@ -463,8 +480,10 @@ private:
         Vec3 base = color(pbr.baseColorFactor, 4, pf + ".baseColorFactor", 1.0);
         double metallic = factor(pbr.metallicFactor, pf + ".metallicFactor", 0, 1);
         double roughness = factor(pbr.roughnessFactor, pf + ".roughnessFactor", 0, 1);
-        Vec3 emissive = g.emissiveFactor.empty() ? Vec3(0.0f) : color(g.emissiveFactor, 3, field + ".emissiveFactor", 1e30);
-        double strength = extensionNumber(g, "KHR_materials_emissive_strength", "emissiveStrength", 1.0, field, 0, 1e30);
+        Vec3 emissive = g.emissiveFactor.empty() ? Vec3(0.0f)
+                                                 : color(g.emissiveFactor, 3, field + ".emissiveFactor", 1e30);
+        double strength =
+            extensionNumber(g, "KHR_materials_emissive_strength", "emissiveStrength", 1.0, field, 0, 1e30);
         double transmission = extensionNumber(g, "KHR_materials_transmission", "transmissionFactor", 0.0, field, 0, 1);
         double ior = extensionNumber(g, "KHR_materials_ior", "ior", 1.5, field, 1.0, 10.0);
 
@@ -509,8 +528,7 @@ private:
     // ---- KHR_lights_punctual
     void addLight(const tinygltf::Value& ext, const Transform& world, const std::string& nodeField) {
         std::string field = nodeField + ".extensions.KHR_lights_punctual.light";
-        if (!ext.IsObject() || !ext.Has("light") || !ext.Get("light").IsInt())
-            fail(field, "a light index", "none");
+        if (!ext.IsObject() || !ext.Has("light") || !ext.Get("light").IsInt()) fail(field, "a light index", "none");
         int index = ext.Get("light").Get<int>();
         if (index < 0 || size_t(index) >= model_.lights.size())
             fail(field, "a light index below " + std::to_string(model_.lights.size()), std::to_string(index));
@@ -533,7 +551,8 @@ private:
             double inner = factor(g.spot.innerConeAngle, lf + ".spot.innerConeAngle", 0, kPiD / 2);
             double outer = factor(g.spot.outerConeAngle, lf + ".spot.outerConeAngle", 0, kPiD / 2);
             if (!(outer > 0) || inner > outer)
-                fail(lf + ".spot", "0 <= innerConeAngle <= outerConeAngle <= pi/2, outer > 0", show(inner) + ", " + show(outer));
+                fail(lf + ".spot", "0 <= innerConeAngle <= outerConeAngle <= pi/2, outer > 0",
+                     show(inner) + ", " + show(outer));
             l.cosInner = float(std::cos(inner));
             l.cosOuter = float(std::cos(outer));
         } else if (g.type == "directional") {
@@ -549,12 +568,14 @@ private:
     // ---- Camera: the first perspective camera met in node order.
     void readCamera(int index, const Transform& world) {
         if (size_t(index) >= model_.cameras.size())
-            fail("nodes[].camera", "a camera index below " + std::to_string(model_.cameras.size()), std::to_string(index));
+            fail("nodes[].camera", "a camera index below " + std::to_string(model_.cameras.size()),
+                 std::to_string(index));
         const tinygltf::Camera& g = model_.cameras[size_t(index)];
         std::string field = at("cameras", size_t(index));
         if (g.type != "perspective") fail(field + ".type", "perspective", "\"" + g.type + "\"");
         Camera c;
-        c.vfovDegrees = float(factor(g.perspective.yfov, field + ".perspective.yfov", 1e-6, kPiD - 1e-6) * 180.0 / kPiD);
+        c.vfovDegrees =
+            float(factor(g.perspective.yfov, field + ".perspective.yfov", 1e-6, kPiD - 1e-6) * 180.0 / kPiD);
         c.height = 256;
         c.width = 256;
         if (g.perspective.aspectRatio > 0) {

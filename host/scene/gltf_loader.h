@@ -21,7 +21,7 @@ struct GltfImportOptions {
 struct GltfImportResult {
     bool hasCamera = false;  // the file's first camera (in node order) was found
     Camera camera;
-    size_t meshCount = 0;    // TriangleMeshes added
+    size_t meshCount = 0;  // TriangleMeshes added
 };
 
 // Adds the file's meshes, materials and (unless geometryOnly) lights to `scene`.
@@ -29,8 +29,8 @@ GltfImportResult importGltf(Scene& scene, const std::string& path, const GltfImp
 
 // The same from bytes already in memory; `path` names the file in messages and is the base for
 // external buffers. Used by the fuzz harness.
-GltfImportResult importGltfFromMemory(Scene& scene, const std::vector<unsigned char>& bytes,
-                                      const std::string& path, const GltfImportOptions& options);
+GltfImportResult importGltfFromMemory(Scene& scene, const std::vector<unsigned char>& bytes, const std::string& path,
+                                      const GltfImportOptions& options);
 
 // A whole scene from one glTF file; its first camera is required. Not yet validated.
 Scene loadGltfScene(const std::string& path);

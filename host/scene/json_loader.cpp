@@ -1,8 +1,8 @@
 // Reads the JSON scene format of scenes/README.md. Every field is checked where it is read, so a
 // message can name the JSON path: "scenes/x.json: materials[2].rho_d: expected 3 numbers in
 // [0,1], got [1.2,0,0]". Checks that span the whole scene live in validate.cpp.
-#include "core/math.h"
 #include "scene/json_loader.h"
+#include "core/math.h"
 
 #include <cmath>
 #include <map>
@@ -25,12 +25,8 @@ namespace {
 using json = nlohmann::json;
 constexpr double kFloatMax = 3.0e38;  // numbers beyond this would become inf as float
 
-std::string keyPath(const std::string& path, const std::string& key) {
-    return path.empty() ? key : path + "." + key;
-}
-std::string indexPath(const std::string& path, size_t i) {
-    return path + "[" + std::to_string(i) + "]";
-}
+std::string keyPath(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+std::string indexPath(const std::string& path, size_t i) { return path + "[" + std::to_string(i) + "]"; }
 std::string join(std::initializer_list<const char*> names) {
     std::string s;
     for (const char* n : names) s += (s.empty() ? "" : ", ") + std::string(n);
@@ -48,8 +44,7 @@ public:
         checkObject(root, "", {"comment", "camera", "materials", "shapes", "lights", "include"});
         if (auto* v = optional(root, "comment")) text(*v, "comment");
         if (auto* v = optional(root, "materials")) {
-            for (size_t i = 0; i < array(*v, "materials").size(); ++i)
-                readMaterial((*v)[i], indexPath("materials", i));
+            for (size_t i = 0; i < array(*v, "materials").size(); ++i) readMaterial((*v)[i], indexPath("materials", i));
         }
         if (auto* v = optional(root, "shapes")) {
             for (size_t i = 0; i < array(*v, "shapes").size(); ++i) readShape((*v)[i], indexPath("shapes", i));
@@ -90,8 +85,7 @@ private:
         auto it = object.find(key);
         return it == object.end() ? nullptr : &*it;
     }
-    const json& required(const json& object, const std::string& path, const char* key,
-                         const std::string& expected) {
+    const json& required(const json& object, const std::string& path, const char* key, const std::string& expected) {
         auto it = object.find(key);
         if (it == object.end()) failInput(file_, keyPath(path, key), expected, "nothing (the key is missing)");
         return *it;
@@ -166,12 +160,12 @@ private:
         checkObject(value, path, {"translate", "rotate", "scale", "matrix"});
         Transform t;
         if (auto* m = optional(value, "matrix")) {
-            if (value.size() != 1)
-                failInput(file_, path, "either \"matrix\" or translate/rotate/scale", "both");
+            if (value.size() != 1) failInput(file_, path, "either \"matrix\" or translate/rotate/scale", "both");
             const std::string expected = "16 finite numbers (row-major 4x4, last row 0 0 0 1)";
             if (!m->is_array() || m->size() != 16) fail(keyPath(path, "matrix"), expected, *m);
             double v[16];
-            for (int i = 0; i < 16; ++i) v[i] = number((*m)[i], keyPath(path, "matrix"), -kFloatMax, kFloatMax, expected);
+            for (int i = 0; i < 16; ++i)
+                v[i] = number((*m)[i], keyPath(path, "matrix"), -kFloatMax, kFloatMax, expected);
             if (v[12] != 0 || v[13] != 0 || v[14] != 0 || v[15] != 1) fail(keyPath(path, "matrix"), expected, *m);
             t = Transform::rowMajor(v);
         } else {
@@ -199,8 +193,7 @@ private:
                 t = Transform::translate(d.x, d.y, d.z) * t;
             }
         }
-        if (!t.isFinite() || t.determinant3() == 0)
-            failInput(file_, path, "an invertible transform", "a singular one");
+        if (!t.isFinite() || t.determinant3() == 0) failInput(file_, path, "an invertible transform", "a singular one");
         return t;
     }
 
@@ -268,8 +261,8 @@ private:
                           "a non-emissive material (emitting spheres are not supported; use a mesh or an area light)",
                           "\"" + scene_.materials[s.material].name + "\" with emission");
             s.centre = point(required(value, path, "centre", "3 finite numbers"), keyPath(path, "centre"));
-            s.radius = float(number(required(value, path, "radius", "a number > 0"), keyPath(path, "radius"),
-                                    0.0, 1e30, "a number > 0"));
+            s.radius = float(number(required(value, path, "radius", "a number > 0"), keyPath(path, "radius"), 0.0, 1e30,
+                                    "a number > 0"));
             if (!(s.radius > 0)) fail(keyPath(path, "radius"), "a number > 0", value["radius"]);
             s.motion = motion(value, path);
             scene_.spheres.push_back(s);
@@ -277,7 +270,8 @@ private:
             checkObject(value, path, {"type", "name", "material", "corner", "edge_u", "edge_v", "motion"});
             TriangleMesh mesh = quadMesh(value, path);
             mesh.name = shapeName(value, path);
-            mesh.material = materialRef(required(value, path, "material", "a material name"), keyPath(path, "material"));
+            mesh.material =
+                materialRef(required(value, path, "material", "a material name"), keyPath(path, "material"));
             mesh.motion = motion(value, path);
             scene_.meshes.push_back(std::move(mesh));
         } else if (type == "mesh") {
@@ -285,7 +279,8 @@ private:
                 checkObject(value, path, {"type", "name", "material", "gltf", "transform", "motion"});
                 readGltfMesh(value, path);
             } else {
-                checkObject(value, path, {"type", "name", "material", "positions", "indices", "normals", "transform", "motion"});
+                checkObject(value, path,
+                            {"type", "name", "material", "positions", "indices", "normals", "transform", "motion"});
                 readInlineMesh(value, path);
             }
         } else {
@@ -315,8 +310,10 @@ private:
         mesh.name = shapeName(value, path);
         mesh.material = materialRef(required(value, path, "material", "a material name"), keyPath(path, "material"));
         mesh.motion = motion(value, path);
-        mesh.positions = vectors(required(value, path, "positions", "a flat array of 3N numbers"), keyPath(path, "positions"));
-        if (mesh.positions.empty()) fail(keyPath(path, "positions"), "a flat array of 3N numbers, N >= 3", value["positions"]);
+        mesh.positions =
+            vectors(required(value, path, "positions", "a flat array of 3N numbers"), keyPath(path, "positions"));
+        if (mesh.positions.empty())
+            fail(keyPath(path, "positions"), "a flat array of 3N numbers, N >= 3", value["positions"]);
         if (auto* n = optional(value, "normals")) {
             mesh.normals = vectors(*n, keyPath(path, "normals"));
             if (mesh.normals.size() != mesh.positions.size())
@@ -332,7 +329,8 @@ private:
         for (size_t i = 0; i < idx.size(); ++i) {
             const json& k = idx[i];
             if (!k.is_number_integer() || k.get<int64_t>() < 0 || k.get<int64_t>() >= int64_t(mesh.positions.size()))
-                fail(indexPath(ip, i), "an integer vertex index in [0, " + std::to_string(mesh.positions.size() - 1) + "]", k);
+                fail(indexPath(ip, i),
+                     "an integer vertex index in [0, " + std::to_string(mesh.positions.size() - 1) + "]", k);
             mesh.indices.push_back(uint32_t(k.get<int64_t>()));
         }
         if (auto* t = optional(value, "transform")) applyTransform(transform(*t, keyPath(path, "transform")), mesh);
@@ -344,7 +342,8 @@ private:
         if (!value.is_array() || value.size() % 3 != 0) fail(path, expected, value);
         std::vector<Vec3> out(value.size() / 3);
         for (size_t i = 0; i < value.size(); ++i)
-            out[i / 3][int(i % 3)] = float(number(value[i], indexPath(path, i), -kFloatMax, kFloatMax, "a finite number"));
+            out[i / 3][int(i % 3)] =
+                float(number(value[i], indexPath(path, i), -kFloatMax, kFloatMax, "a finite number"));
         return out;
     }
 
@@ -363,7 +362,8 @@ private:
         if (!endsWith(resolved, ".gltf") && !endsWith(resolved, ".glb"))
             failInput(file_, path, "a .gltf or .glb file", "\"" + uri + "\"");
 #ifndef PHOTONCL_HAVE_GLTF
-        failInput(file_, path, "no glTF reference (this photoncl was built without glTF support, PHOTONCL_WITH_GLTF=OFF)",
+        failInput(file_, path,
+                  "no glTF reference (this photoncl was built without glTF support, PHOTONCL_WITH_GLTF=OFF)",
                   "\"" + uri + "\"");
 #endif
         return resolved;
@@ -374,7 +374,8 @@ private:
 #ifdef PHOTONCL_HAVE_GLTF
         GltfImportOptions options;
         options.geometryOnly = true;
-        if (auto* m = optional(value, "material")) options.materialOverride = materialRef(*m, keyPath(path, "material"));
+        if (auto* m = optional(value, "material"))
+            options.materialOverride = materialRef(*m, keyPath(path, "material"));
         if (auto* t = optional(value, "transform")) options.transform = transform(*t, keyPath(path, "transform"));
         options.motion = motion(value, path);
         importGltf(scene_, file, options);
@@ -423,15 +424,15 @@ private:
         auto* power = optional(value, "power");
         auto* intensity = optional(value, "intensity");
         if ((power != nullptr) == (intensity != nullptr))
-            failInput(file_, path, "exactly one of \"power\" (W) and \"intensity\" (W/sr)",
-                      power ? "both" : "neither");
+            failInput(file_, path, "exactly one of \"power\" (W) and \"intensity\" (W/sr)", power ? "both" : "neither");
         if (intensity) return lightAmount(*intensity, keyPath(path, "intensity"));
         return lightAmount(*power, keyPath(path, "power")) * float(1.0 / solidAngle);
     }
 
     void readLight(const json& value, const std::string& path) {
         if (!value.is_object()) fail(path, "an object", value);
-        std::string type = text(required(value, path, "type", "point, spot, area or directional"), keyPath(path, "type"));
+        std::string type =
+            text(required(value, path, "type", "point, spot, area or directional"), keyPath(path, "type"));
         Light light;
         auto* name = optional(value, "name");
         light.name = name ? text(*name, keyPath(path, "name")) : path;
@@ -441,12 +442,15 @@ private:
             light.position = point(required(value, path, "position", "3 finite numbers"), keyPath(path, "position"));
             light.intensity = intensityOrPower(value, path, 4.0 * kPiD);  // I = Φ / 4π
         } else if (type == "spot") {
-            checkObject(value, path, {"type", "name", "position", "direction", "power", "intensity", "inner_angle", "outer_angle"});
+            checkObject(value, path,
+                        {"type", "name", "position", "direction", "power", "intensity", "inner_angle", "outer_angle"});
             light.type = LightType::Spot;
             light.position = point(required(value, path, "position", "3 finite numbers"), keyPath(path, "position"));
-            light.direction = direction(required(value, path, "direction", "3 finite numbers, not all zero"), keyPath(path, "direction"));
+            light.direction = direction(required(value, path, "direction", "3 finite numbers, not all zero"),
+                                        keyPath(path, "direction"));
             const std::string range = "a half-angle in degrees in (0, 90]";
-            double outer = number(required(value, path, "outer_angle", range), keyPath(path, "outer_angle"), 0.0, 90.0, range);
+            double outer =
+                number(required(value, path, "outer_angle", range), keyPath(path, "outer_angle"), 0.0, 90.0, range);
             if (!(outer > 0)) fail(keyPath(path, "outer_angle"), range, value["outer_angle"]);
             double inner = 0.0;
             if (auto* v = optional(value, "inner_angle"))
@@ -457,11 +461,13 @@ private:
             light.cosOuter = float(cosOuter);
             // Full intensity inside the inner cone, smoothstep in cosθ down to the outer cone,
             // whose integral over its cos range is half its width: Φ = I·2π·((1-ci) + (ci-co)/2).
-            light.intensity = intensityOrPower(value, path, 2.0 * kPiD * ((1.0 - cosInner) + 0.5 * (cosInner - cosOuter)));
+            light.intensity =
+                intensityOrPower(value, path, 2.0 * kPiD * ((1.0 - cosInner) + 0.5 * (cosInner - cosOuter)));
         } else if (type == "directional") {
             checkObject(value, path, {"type", "name", "direction", "irradiance"});
             light.type = LightType::Directional;
-            light.direction = direction(required(value, path, "direction", "3 finite numbers, not all zero"), keyPath(path, "direction"));
+            light.direction = direction(required(value, path, "direction", "3 finite numbers, not all zero"),
+                                        keyPath(path, "direction"));
             light.irradiance = lightAmount(required(value, path, "irradiance", "3 finite numbers >= 0, not all zero"),
                                            keyPath(path, "irradiance"));
         } else if (type == "area") {
@@ -485,8 +491,10 @@ private:
         } else if (shape == "triangle") {
             checkObject(value, path, {"type", "name", "shape", "vertices", "radiance", "power"});
             const json& v = required(value, path, "vertices", "3 points [[x,y,z],[x,y,z],[x,y,z]]");
-            if (!v.is_array() || v.size() != 3) fail(keyPath(path, "vertices"), "3 points [[x,y,z],[x,y,z],[x,y,z]]", v);
-            for (size_t i = 0; i < 3; ++i) mesh.positions.push_back(point(v[i], indexPath(keyPath(path, "vertices"), i)));
+            if (!v.is_array() || v.size() != 3)
+                fail(keyPath(path, "vertices"), "3 points [[x,y,z],[x,y,z],[x,y,z]]", v);
+            for (size_t i = 0; i < 3; ++i)
+                mesh.positions.push_back(point(v[i], indexPath(keyPath(path, "vertices"), i)));
             mesh.indices = {0, 1, 2};
         } else {
             fail(keyPath(path, "shape"), "quad or triangle", shapeValue ? *shapeValue : json("nothing"));
@@ -494,7 +502,8 @@ private:
         double area = 0;
         for (size_t i = 0; i < mesh.indices.size(); i += 3) {
             Vec3 p0 = mesh.positions[mesh.indices[i]];
-            area += 0.5 * double(length(cross(mesh.positions[mesh.indices[i + 1]] - p0, mesh.positions[mesh.indices[i + 2]] - p0)));
+            area += 0.5 * double(length(cross(mesh.positions[mesh.indices[i + 1]] - p0,
+                                              mesh.positions[mesh.indices[i + 2]] - p0)));
         }
         if (!(area > 0) || !std::isfinite(area))
             failInput(file_, path, "a light shape of non-zero, finite area", "area " + std::to_string(area));
@@ -502,13 +511,13 @@ private:
         auto* radiance = optional(value, "radiance");
         auto* power = optional(value, "power");
         if ((radiance != nullptr) == (power != nullptr))
-            failInput(file_, path, "exactly one of \"radiance\" (W m^-2 sr^-1) and \"power\" (W)", radiance ? "both" : "neither");
+            failInput(file_, path, "exactly one of \"radiance\" (W m^-2 sr^-1) and \"power\" (W)",
+                      radiance ? "both" : "neither");
         Material emitter;
         emitter.name = light.name + ":emitter";
         emitter.emission = radiance ? lightAmount(*radiance, keyPath(path, "radiance"))
                                     : lightAmount(*power, keyPath(path, "power")) * float(1.0 / (kPiD * area));
-        if (!isFinite(emitter.emission))
-            failInput(file_, path, "a finite radiance", "power / (pi * area) overflowing");
+        if (!isFinite(emitter.emission)) failInput(file_, path, "a finite radiance", "power / (pi * area) overflowing");
 
         mesh.name = light.name;
         mesh.material = int(scene_.materials.size());
@@ -522,8 +531,9 @@ private:
     // ---- Camera --------------------------------------------------------------------------
 
     void readCamera(const json& value, const std::string& path) {
-        checkObject(value, path, {"type", "position", "look_at", "up", "fov", "resolution",
-                                  "aperture_radius", "focus_distance", "shutter"});
+        checkObject(value, path,
+                    {"type", "position", "look_at", "up", "fov", "resolution", "aperture_radius", "focus_distance",
+                     "shutter"});
         Camera c;
         std::string type = "pinhole";
         if (auto* t = optional(value, "type")) type = text(*t, keyPath(path, "type"));
@@ -531,7 +541,8 @@ private:
             c.model = CameraModel::Pinhole;
             for (const char* key : {"aperture_radius", "focus_distance"})
                 if (value.contains(key))
-                    failInput(file_, keyPath(path, key), "no lens settings for a pinhole camera (use \"type\": \"thin_lens\")",
+                    failInput(file_, keyPath(path, key),
+                              "no lens settings for a pinhole camera (use \"type\": \"thin_lens\")",
                               showJson(value[key]));
         } else if (type == "thin_lens") {
             c.model = CameraModel::ThinLens;
@@ -545,9 +556,11 @@ private:
             fail(keyPath(path, "look_at"), "a point different from the camera position", value["look_at"]);
         if (auto* u = optional(value, "up")) c.up = direction(*u, keyPath(path, "up"));
         if (!(length(cross(normalize(forward), c.up)) > 1e-4f))
-            fail(keyPath(path, "up"), "a direction not parallel to the viewing direction", value.value("up", json({0, 1, 0})));
-        c.vfovDegrees = float(number(required(value, path, "fov", "vertical field of view in degrees in (0, 180)"),
-                                     keyPath(path, "fov"), 0.0, 180.0, "vertical field of view in degrees in (0, 180)"));
+            fail(keyPath(path, "up"), "a direction not parallel to the viewing direction",
+                 value.value("up", json({0, 1, 0})));
+        c.vfovDegrees =
+            float(number(required(value, path, "fov", "vertical field of view in degrees in (0, 180)"),
+                         keyPath(path, "fov"), 0.0, 180.0, "vertical field of view in degrees in (0, 180)"));
         if (!(c.vfovDegrees > 0 && c.vfovDegrees < 180))
             fail(keyPath(path, "fov"), "vertical field of view in degrees in (0, 180)", value["fov"]);
         if (auto* r = optional(value, "resolution")) {
@@ -562,7 +575,8 @@ private:
         if (c.model == CameraModel::ThinLens) {
             c.apertureRadius = float(number(required(value, path, "aperture_radius", "a lens radius > 0"),
                                             keyPath(path, "aperture_radius"), 0.0, kFloatMax, "a lens radius > 0"));
-            if (!(c.apertureRadius > 0)) fail(keyPath(path, "aperture_radius"), "a lens radius > 0", value["aperture_radius"]);
+            if (!(c.apertureRadius > 0))
+                fail(keyPath(path, "aperture_radius"), "a lens radius > 0", value["aperture_radius"]);
             c.focusDistance = length(forward);
             if (auto* f = optional(value, "focus_distance")) {
                 c.focusDistance = float(number(*f, keyPath(path, "focus_distance"), 0.0, kFloatMax, "a distance > 0"));

@@ -15,23 +15,20 @@ nlohmann::json parseSceneJson(const std::string& text, const std::string& file) 
     // The parser callback sees the depth of every value as it is opened; throwing aborts the
     // parse before the document grows any deeper.
     auto limitDepth = [](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
-        if (depth > kMaxJsonDepth &&
-            (event == nlohmann::json::parse_event_t::object_start ||
-             event == nlohmann::json::parse_event_t::array_start))
+        if (depth > kMaxJsonDepth && (event == nlohmann::json::parse_event_t::object_start ||
+                                      event == nlohmann::json::parse_event_t::array_start))
             throw TooDeep{};
         return true;
     };
     try {
         return nlohmann::json::parse(text, limitDepth);
     } catch (const TooDeep&) {
-        failInput(file, "", "JSON nested at most " + std::to_string(kMaxJsonDepth) + " levels deep",
-                  "deeper nesting");
+        failInput(file, "", "JSON nested at most " + std::to_string(kMaxJsonDepth) + " levels deep", "deeper nesting");
     } catch (const nlohmann::json::exception& e) {
         // Drop nlohmann's "[json.exception.parse_error.101] " prefix; keep line and column.
         std::string what = e.what();
         auto close = what.find("] ");
-        if (what.rfind("[json.exception", 0) == 0 && close != std::string::npos)
-            what = what.substr(close + 2);
+        if (what.rfind("[json.exception", 0) == 0 && close != std::string::npos) what = what.substr(close + 2);
         failInput(file, "", "valid JSON", what);
     }
 }

@@ -35,7 +35,8 @@ Scene loadScene(const std::string& path) {
                   "a " + ext + " file");
 #endif
     } else {
-        failInput(path, "", "a scene file ending in .json, .gltf or .glb", ext.empty() ? "no extension" : "\"" + ext + "\"");
+        failInput(path, "", "a scene file ending in .json, .gltf or .glb",
+                  ext.empty() ? "no extension" : "\"" + ext + "\"");
     }
     validateScene(scene);
     return scene;

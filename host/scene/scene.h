@@ -29,10 +29,10 @@ struct Material {
 struct TriangleMesh {
     std::string name;
     std::vector<Vec3> positions;
-    std::vector<Vec3> normals;       // optional per-vertex shading normals (empty: geometric)
-    std::vector<uint32_t> indices;   // three per triangle
+    std::vector<Vec3> normals;      // optional per-vertex shading normals (empty: geometric)
+    std::vector<uint32_t> indices;  // three per triangle
     int material = 0;
-    Vec3 motion{0.0f};               // translation over the shutter interval
+    Vec3 motion{0.0f};  // translation over the shutter interval
     size_t triangleCount() const { return indices.size() / 3; }
 };
 
@@ -51,13 +51,13 @@ enum class LightType { Point, Spot, Area, Directional };
 struct Light {
     LightType type = LightType::Point;
     std::string name;
-    Vec3 position{0.0f};     // Point, Spot
+    Vec3 position{0.0f};       // Point, Spot
     Vec3 direction{0, -1, 0};  // Spot: cone axis; Directional: direction light travels (unit)
-    Vec3 intensity{0.0f};    // Point, Spot: W/sr on the axis
-    float cosInner = 1.0f;   // Spot: full intensity inside, smoothstep falloff to cosOuter
+    Vec3 intensity{0.0f};      // Point, Spot: W/sr on the axis
+    float cosInner = 1.0f;     // Spot: full intensity inside, smoothstep falloff to cosOuter
     float cosOuter = 0.0f;
-    Vec3 irradiance{0.0f};   // Directional: W/m^2 on a surface facing the light
-    int mesh = -1;           // Area: index into Scene::meshes; radiance is that mesh's material emission
+    Vec3 irradiance{0.0f};  // Directional: W/m^2 on a surface facing the light
+    int mesh = -1;          // Area: index into Scene::meshes; radiance is that mesh's material emission
 };
 
 enum class CameraModel { Pinhole, ThinLens };
@@ -69,8 +69,8 @@ struct Camera {
     Vec3 up{0, 1, 0};
     float vfovDegrees = 40.0f;
     int width = 256, height = 256;
-    float apertureRadius = 0.0f;   // ThinLens
-    float focusDistance = 1.0f;    // ThinLens
+    float apertureRadius = 0.0f;                    // ThinLens
+    float focusDistance = 1.0f;                     // ThinLens
     float shutterOpen = 0.0f, shutterClose = 0.0f;  // seconds; motion is spread over this interval
 };
 
@@ -89,8 +89,10 @@ struct Scene {
         return n;
     }
     bool hasMotion() const {
-        for (const auto& m : meshes) if (!(m.motion == Vec3(0.0f))) return true;
-        for (const auto& s : spheres) if (!(s.motion == Vec3(0.0f))) return true;
+        for (const auto& m : meshes)
+            if (!(m.motion == Vec3(0.0f))) return true;
+        for (const auto& s : spheres)
+            if (!(s.motion == Vec3(0.0f))) return true;
         return false;
     }
 };

@@ -4,8 +4,7 @@
 
 namespace pcl {
 
-void failInput(const std::string& file, const std::string& field, const std::string& expected,
-               const std::string& got) {
+void failInput(const std::string& file, const std::string& field, const std::string& expected, const std::string& got) {
     std::string message = file + ": ";
     if (!field.empty()) message += field + ": ";
     message += "expected " + expected + ", got " + got;

@@ -9,8 +9,8 @@ namespace pcl {
 
 // Throws InputError("FILE: FIELD: expected EXPECTED, got GOT"). FIELD may be empty for errors
 // about the file as a whole.
-[[noreturn]] void failInput(const std::string& file, const std::string& field,
-                            const std::string& expected, const std::string& got);
+[[noreturn]] void failInput(const std::string& file, const std::string& field, const std::string& expected,
+                            const std::string& got);
 
 // A warning about input that is accepted but changed (dropped triangles, ignored textures):
 // one line on stderr, "warning: FILE: MESSAGE".

@@ -39,8 +39,7 @@ bool normaliseRelative(const std::string& path, std::vector<std::string>& parts)
 
 }  // namespace
 
-std::string resolveInsideFolder(const std::string& referrer, const std::string& field,
-                                const std::string& uri) {
+std::string resolveInsideFolder(const std::string& referrer, const std::string& field, const std::string& uri) {
     const std::string expected = "a relative path inside the scene's folder";
     std::string shown = "\"" + uri + "\"";
     if (uri.empty()) failInput(referrer, field, expected, "an empty path");

@@ -12,8 +12,7 @@ std::string folderOf(const std::string& file);
 // `uri` resolved against the folder of `referrer`. Throws InputError "REFERRER: FIELD: expected a
 // relative path inside the scene's folder, got URI" for absolute paths, URI schemes, empty names
 // and `..` segments that climb out of the folder.
-std::string resolveInsideFolder(const std::string& referrer, const std::string& field,
-                                const std::string& uri);
+std::string resolveInsideFolder(const std::string& referrer, const std::string& field, const std::string& uri);
 
 // True when `path` (as produced by resolveInsideFolder or joined by tinygltf) lies lexically
 // inside `folder`.

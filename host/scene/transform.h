@@ -3,6 +3,7 @@
 #pragma once
 #include <cmath>
 
+#include "core/math.h"
 #include "core/vec3.h"
 
 namespace pcl {
@@ -13,29 +14,44 @@ struct Transform {
 
     static Transform translate(double x, double y, double z) {
         Transform t;
-        t.m[0][3] = x; t.m[1][3] = y; t.m[2][3] = z;
+        t.m[0][3] = x;
+        t.m[1][3] = y;
+        t.m[2][3] = z;
         return t;
     }
     static Transform scale(double x, double y, double z) {
         Transform t;
-        t.m[0][0] = x; t.m[1][1] = y; t.m[2][2] = z;
+        t.m[0][0] = x;
+        t.m[1][1] = y;
+        t.m[2][2] = z;
         return t;
     }
     // Unit quaternion (x, y, z, w), glTF's rotation convention. Normalised here so a
     // slightly-off quaternion from a file still gives a rotation.
     static Transform quaternion(double x, double y, double z, double w) {
         double n = std::sqrt(x * x + y * y + z * z + w * w);
-        if (n > 0) { x /= n; y /= n; z /= n; w /= n; }
+        if (n > 0) {
+            x /= n;
+            y /= n;
+            z /= n;
+            w /= n;
+        }
         Transform t;
-        t.m[0][0] = 1 - 2 * (y * y + z * z); t.m[0][1] = 2 * (x * y - z * w); t.m[0][2] = 2 * (x * z + y * w);
-        t.m[1][0] = 2 * (x * y + z * w); t.m[1][1] = 1 - 2 * (x * x + z * z); t.m[1][2] = 2 * (y * z - x * w);
-        t.m[2][0] = 2 * (x * z - y * w); t.m[2][1] = 2 * (y * z + x * w); t.m[2][2] = 1 - 2 * (x * x + y * y);
+        t.m[0][0] = 1 - 2 * (y * y + z * z);
+        t.m[0][1] = 2 * (x * y - z * w);
+        t.m[0][2] = 2 * (x * z + y * w);
+        t.m[1][0] = 2 * (x * y + z * w);
+        t.m[1][1] = 1 - 2 * (x * x + z * z);
+        t.m[1][2] = 2 * (y * z - x * w);
+        t.m[2][0] = 2 * (x * z - y * w);
+        t.m[2][1] = 2 * (y * z + x * w);
+        t.m[2][2] = 1 - 2 * (x * x + y * y);
         return t;
     }
     // Rotation by `degrees` about `axis` (right-handed), as a quaternion.
     static Transform rotate(double degrees, double ax, double ay, double az) {
         double n = std::sqrt(ax * ax + ay * ay + az * az);
-        double half = degrees * M_PI / 360.0;
+        double half = degrees * kPiD / 360.0;
         double s = std::sin(half) / n;
         return quaternion(ax * s, ay * s, az * s, std::cos(half));
     }
@@ -74,8 +90,7 @@ struct Transform {
                 float(m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z)};
     }
     double determinant3() const {
-        return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-               m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+        return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
                m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
     }
     // Normals transform by the inverse transpose; the cofactor matrix is that times det, and the

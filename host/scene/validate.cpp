@@ -157,8 +157,7 @@ void linkEmitters(Scene& s) {
 }
 
 void checkLights(const Scene& s) {
-    if (s.lights.empty())
-        failInput(s.path, "lights", "at least one light or emissive surface", "none");
+    if (s.lights.empty()) failInput(s.path, "lights", "at least one light or emissive surface", "none");
     std::vector<int> areaLightsPerMesh(s.meshes.size(), 0);
     for (size_t i = 0; i < s.lights.size(); ++i) {
         const Light& l = s.lights[i];
@@ -174,7 +173,8 @@ void checkLights(const Scene& s) {
                         failInput(s.path, f + ".direction", "a unit vector", show(l.direction));
                     if (!(l.cosOuter >= 0.0f && l.cosOuter < 1.0f && l.cosInner >= l.cosOuter && l.cosInner <= 1.0f))
                         failInput(s.path, f, "0 <= inner angle <= outer angle <= 90 degrees, outer > 0",
-                                  "cos inner " + std::to_string(l.cosInner) + ", cos outer " + std::to_string(l.cosOuter));
+                                  "cos inner " + std::to_string(l.cosInner) + ", cos outer " +
+                                      std::to_string(l.cosOuter));
                 }
                 break;
             case LightType::Directional:
@@ -185,12 +185,14 @@ void checkLights(const Scene& s) {
                 break;
             case LightType::Area:
                 if (l.mesh < 0 || size_t(l.mesh) >= s.meshes.size())
-                    failInput(s.path, f + ".mesh", "a mesh index below " + std::to_string(s.meshes.size()), std::to_string(l.mesh));
+                    failInput(s.path, f + ".mesh", "a mesh index below " + std::to_string(s.meshes.size()),
+                              std::to_string(l.mesh));
                 if (!s.materials[size_t(s.meshes[size_t(l.mesh)].material)].emits())
                     failInput(s.path, f, "an area light on a mesh with an emissive material",
                               "mesh \"" + s.meshes[size_t(l.mesh)].name + "\" that does not emit");
                 if (++areaLightsPerMesh[size_t(l.mesh)] > 1)
-                    failInput(s.path, f, "one area light per emissive mesh", "a second one on mesh " + std::to_string(l.mesh));
+                    failInput(s.path, f, "one area light per emissive mesh",
+                              "a second one on mesh " + std::to_string(l.mesh));
                 break;
         }
     }
@@ -208,8 +210,8 @@ void checkCamera(const Scene& s) {
     if (c.width < 1 || c.height < 1 || c.width > 16384 || c.height > 16384)
         failInput(s.path, "camera.resolution", "width and height in [1, 16384]",
                   std::to_string(c.width) + "x" + std::to_string(c.height));
-    if (c.model == CameraModel::ThinLens &&
-        !(c.apertureRadius > 0 && std::isfinite(c.apertureRadius) && c.focusDistance > 0 && std::isfinite(c.focusDistance)))
+    if (c.model == CameraModel::ThinLens && !(c.apertureRadius > 0 && std::isfinite(c.apertureRadius) &&
+                                              c.focusDistance > 0 && std::isfinite(c.focusDistance)))
         failInput(s.path, "camera", "a thin lens with aperture_radius > 0 and focus_distance > 0",
                   std::to_string(c.apertureRadius) + ", " + std::to_string(c.focusDistance));
     if (!(c.shutterOpen >= 0 && c.shutterOpen <= c.shutterClose && std::isfinite(c.shutterClose)))

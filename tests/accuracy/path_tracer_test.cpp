@@ -246,7 +246,8 @@ TEST(PathTracerAccuracy, AreaLightOverDiffusePlane) {
     double worst = 0.0, sumRatio = 0.0;
     for (int y = 0; y < 16; ++y)
         for (int x = 0; x < 16; ++x) {
-            double expected = pixelAverageOnGround(scene.camera, x, y, [&](Vec3 p) { return 0.7 / kPi * irradiance(p); });
+            double expected =
+                pixelAverageOnGround(scene.camera, x, y, [&](Vec3 p) { return 0.7 / kPi * irradiance(p); });
             double ratio = img.at(x, y).x / expected;
             worst = std::max(worst, std::abs(ratio - 1.0));
             sumRatio += ratio;
@@ -275,7 +276,8 @@ TEST(PathTracerAccuracy, LosslessSpheresInFurnaceConserveEnergy) {
         sphere.radius = 0.5f;
         sphere.material = 1;
         scene.spheres.push_back(sphere);
-        setCamera(scene, {0.0f, 0.0f, 0.9f}, {0.0f, 0.0f, -0.3f}, {0, 1, 0}, 40.0f, 12, 12);  // the sphere fills the view
+        setCamera(scene, {0.0f, 0.0f, 0.9f}, {0.0f, 0.0f, -0.3f}, {0, 1, 0}, 40.0f, 12,
+                  12);  // the sphere fills the view
         Image img = render(scene, 768, 256);
         double mean = meanChannel(img, 0);
         std::printf("%s sphere in furnace: mean %.5f expected 2 (%+.3f%%)\n",
@@ -335,7 +337,10 @@ TEST(PathTracerAccuracy, MotionBlurAveragesOverTheShutter) {
     EXPECT_NEAR(mean, 0.25, 0.01);
     // Left to right the covered fraction (x + 0.5)/2 grows: the edge columns differ by ~0.15.
     double left = 0, right = 0;
-    for (int y = 0; y < 8; ++y) { left += img.at(0, y).x / 8; right += img.at(7, y).x / 8; }
+    for (int y = 0; y < 8; ++y) {
+        left += img.at(0, y).x / 8;
+        right += img.at(7, y).x / 8;
+    }
     EXPECT_GT(right - left, 0.10);
     scene.camera.shutterClose = 0.0f;  // an instantaneous shutter: the square at τ = 0 covers the view
     EXPECT_EQ(meanChannel(render(scene, 4), 0), 1.0);
@@ -405,10 +410,10 @@ TEST(PathTracerAccuracy, MisAgreesWithBsdfSamplingAlone) {
     Material glass;
     glass.rhoS = Vec3(1.0f);
     glass.specular = SpecularKind::Dielectric;
-    scene.materials.push_back(glass);   // 5
+    scene.materials.push_back(glass);  // 5
     addInwardBox(scene, white);
-    scene.meshes[0].material = red;     // x = -1 wall
-    scene.meshes[2].material = 3;       // floor
+    scene.meshes[0].material = red;                                             // x = -1 wall
+    scene.meshes[2].material = 3;                                               // floor
     addQuad(scene, lamp, Vec3(0.0f, 0.99f, 0.0f), Vec3(0, -1, 0), 0.8f, 0.8f);  // large: BSDF sampling finds it
     Sphere a, b;
     a.centre = {-0.45f, -0.6f, -0.2f};

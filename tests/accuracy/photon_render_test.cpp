@@ -66,8 +66,8 @@ void expectFinite(const PhotonRenderResult& r, const Image& img, const std::stri
 // bounce to the caustic map (causticMapRead): before, it counted the caustics twice (+3.1 %).
 TEST(PhotonRenderAccuracy, FinalGatherMatchesEachShippedSceneReference) {
     ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
-    for (const std::string name : {"cornell-box.json", "cornell-spheres.json", "cornell-glossy.json", "motion-dof.json",
-                                  "gltf-room.gltf"}) {
+    for (const std::string name :
+         {"cornell-box.json", "cornell-spheres.json", "cornell-glossy.json", "motion-dof.json", "gltf-room.gltf"}) {
         Image ref = readImage(referencePath(name));
         auto p = prepare(name, ref.width, ref.height);
         PhotonRenderSettings s;
@@ -143,8 +143,8 @@ TEST(PhotonRenderAccuracy, FurnaceInEveryMethod) {
                 expectFinite(r, img, name + " " + renderMethodName(m));
             }
             double mean = meanValue(img);
-            std::printf("[figure] furnace rho %.1f, %s: mean %.5f expected %.5f (%+.3f%%)\n", rho,
-                        renderMethodName(m), mean, expected, 100.0 * (mean / expected - 1.0));
+            std::printf("[figure] furnace rho %.1f, %s: mean %.5f expected %.5f (%+.3f%%)\n", rho, renderMethodName(m),
+                        mean, expected, 100.0 * (mean / expected - 1.0));
             EXPECT_NEAR(mean / expected, 1.0, 0.01) << name << " " << renderMethodName(m);
         }
     }
@@ -179,7 +179,8 @@ TEST(PhotonRenderAccuracy, ProgressiveZTestOverSixteenSeeds) {
         expectFinite(r, runs.back(), "seed " + std::to_string(seed));
         seconds += r.times.total;
         if (seed == 1)
-            std::printf("[figure] progressive radius %.4g -> %.4g over %u passes\n", r.firstRadius, r.lastRadius, kPasses);
+            std::printf("[figure] progressive radius %.4g -> %.4g over %u passes\n", r.firstRadius, r.lastRadius,
+                        kPasses);
     }
     ZTestResult z = perPixelZTest(runs, ref, 4.0);
     Image mean(ref.width, ref.height);

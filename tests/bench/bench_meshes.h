@@ -18,9 +18,8 @@ inline TriangleMesh displacedSphere(int rings, int segments, float radius = 1.0f
             float th = 3.14159265f * i / rings, ph = 6.2831853f * j / segments;
             float bump = 1.0f + 0.08f * std::sin(7 * th) * std::cos(11 * ph) +
                          0.03f * std::sin(31 * th + 3 * ph) * std::sin(23 * ph);
-            m.positions.push_back(
-                Vec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)) *
-                (radius * bump));
+            m.positions.push_back(Vec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)) *
+                                  (radius * bump));
         }
     m.indices.reserve(size_t(rings) * segments * 6);
     for (int i = 0; i < rings; ++i)

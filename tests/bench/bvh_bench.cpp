@@ -83,11 +83,14 @@ const std::vector<PclRay>& rays(const std::string& name) {
     for (size_t i = 0; i < kRays; ++i) {
         Vec3 target = b.lo + Vec3(u(rng), u(rng), u(rng)) * b.extent();
         Vec3 o = (i % 2) ? eye : b.lo + Vec3(u(rng), u(rng), u(rng)) * b.extent();
-        Vec3 d = (i % 2) ? target - o
-                         : Vec3(u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1);
+        Vec3 d = (i % 2) ? target - o : Vec3(u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1);
         PclRay r{};
-        r.ox = o.x; r.oy = o.y; r.oz = o.z;
-        r.dx = d.x; r.dy = d.y; r.dz = d.z;
+        r.ox = o.x;
+        r.oy = o.y;
+        r.oz = o.z;
+        r.dx = d.x;
+        r.dy = d.y;
+        r.dz = d.z;
         r.tmin = 0.0f;
         r.tmax = INFINITY;
         r.time = u(rng);
@@ -98,7 +101,10 @@ const std::vector<PclRay>& rays(const std::string& name) {
 
 void BM_Build(benchmark::State& state, const std::string& name) {
     const Scene* s = scene(name);
-    if (!s) { state.SkipWithError("scene not found"); return; }
+    if (!s) {
+        state.SkipWithError("scene not found");
+        return;
+    }
     BvhStats st;
     for (auto _ : state) {
         SceneGeometry g = SceneGeometry::build(*s);
@@ -117,17 +123,22 @@ void BM_Build(benchmark::State& state, const std::string& name) {
 }
 
 void BM_HostClosest(benchmark::State& state, const std::string& name) {
-    if (!scene(name)) { state.SkipWithError("scene not found"); return; }
+    if (!scene(name)) {
+        state.SkipWithError("scene not found");
+        return;
+    }
     const SceneGeometry& g = geometry(name);
     const auto& rs = rays(name);
     std::vector<PclHit> hits(rs.size());
     for (auto _ : state) parallelForEveryThread(rs.size(), [&](size_t i) { g.intersect(rs[i], hits[i]); });
-    state.counters["rays_per_s"] =
-        benchmark::Counter(double(rs.size()), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["rays_per_s"] = benchmark::Counter(double(rs.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_KernelClosest(benchmark::State& state, const std::string& name) {
-    if (!scene(name)) { state.SkipWithError("scene not found"); return; }
+    if (!scene(name)) {
+        state.SkipWithError("scene not found");
+        return;
+    }
     Device& device = bench::device();
     const SceneGeometry& g = geometry(name);
     const auto& rs = rays(name);
@@ -139,8 +150,7 @@ void BM_KernelClosest(benchmark::State& state, const std::string& name) {
         intersectBuffers(device, dg, rayBuf, hitBuf, rs.size(), false);
         device.finish();
     }
-    state.counters["rays_per_s"] =
-        benchmark::Counter(double(rs.size()), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["rays_per_s"] = benchmark::Counter(double(rs.size()), benchmark::Counter::kIsIterationInvariantRate);
     state.SetLabel(device.info().name);
 }
 
@@ -149,22 +159,25 @@ void BM_KernelClosest(benchmark::State& state, const std::string& name) {
 // geometry: motion is left out (the benchmark scenes have none).
 void BM_EmbreeClosest(benchmark::State& state, const std::string& name) {
     const Scene* s = scene(name);
-    if (!s) { state.SkipWithError("scene not found"); return; }
+    if (!s) {
+        state.SkipWithError("scene not found");
+        return;
+    }
     RTCDevice dev = rtcNewDevice(nullptr);
     RTCScene rs = rtcNewScene(dev);
     rtcSetSceneBuildQuality(rs, RTC_BUILD_QUALITY_HIGH);
     for (const auto& m : s->meshes) {
         if (m.indices.empty()) continue;
         RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                              RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                              m.positions.size()));
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), m.positions.size()));
         for (size_t i = 0; i < m.positions.size(); ++i) {
-            v[3 * i] = m.positions[i].x; v[3 * i + 1] = m.positions[i].y; v[3 * i + 2] = m.positions[i].z;
+            v[3 * i] = m.positions[i].x;
+            v[3 * i + 1] = m.positions[i].y;
+            v[3 * i + 2] = m.positions[i].z;
         }
-        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
-                                                                   RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-                                                                   m.triangleCount()));
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), m.triangleCount()));
         std::copy(m.indices.begin(), m.indices.end(), idx);
         rtcCommitGeometry(geom);
         rtcAttachGeometry(rs, geom);
@@ -172,12 +185,13 @@ void BM_EmbreeClosest(benchmark::State& state, const std::string& name) {
     }
     if (!s->spheres.empty()) {
         RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                              RTC_FORMAT_FLOAT4, 4 * sizeof(float),
-                                                              s->spheres.size()));
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                              4 * sizeof(float), s->spheres.size()));
         for (size_t i = 0; i < s->spheres.size(); ++i) {
             const Sphere& sp = s->spheres[i];
-            v[4 * i] = sp.centre.x; v[4 * i + 1] = sp.centre.y; v[4 * i + 2] = sp.centre.z;
+            v[4 * i] = sp.centre.x;
+            v[4 * i + 1] = sp.centre.y;
+            v[4 * i + 2] = sp.centre.z;
             v[4 * i + 3] = sp.radius;
         }
         rtcCommitGeometry(geom);
@@ -193,8 +207,12 @@ void BM_EmbreeClosest(benchmark::State& state, const std::string& name) {
             RTCIntersectContext ctx;
             rtcInitIntersectContext(&ctx);
             RTCRayHit rh{};
-            rh.ray.org_x = r.ox; rh.ray.org_y = r.oy; rh.ray.org_z = r.oz;
-            rh.ray.dir_x = r.dx; rh.ray.dir_y = r.dy; rh.ray.dir_z = r.dz;
+            rh.ray.org_x = r.ox;
+            rh.ray.org_y = r.oy;
+            rh.ray.org_z = r.oz;
+            rh.ray.dir_x = r.dx;
+            rh.ray.dir_y = r.dy;
+            rh.ray.dir_z = r.dz;
             rh.ray.tnear = r.tmin;
             rh.ray.tfar = r.tmax;
             rh.ray.mask = 0xFFFFFFFFu;
@@ -212,16 +230,23 @@ void BM_EmbreeClosest(benchmark::State& state, const std::string& name) {
 
 void registerAll() {
     benchmark::RegisterBenchmark("Build/mesh1M", BM_Build, std::string("mesh1M"))
-        ->Unit(benchmark::kMillisecond)->Iterations(3);
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(3);
     for (const char* name : {"cornell-spheres", "cornell-box", "mesh1M"}) {
         std::string n = name;
         benchmark::RegisterBenchmark(("HostClosest/" + n).c_str(), BM_HostClosest, n)
-            ->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->MinTime(2.0);
+            ->Unit(benchmark::kMillisecond)
+            ->MeasureProcessCPUTime()
+            ->MinTime(2.0);
         benchmark::RegisterBenchmark(("KernelClosest/" + n).c_str(), BM_KernelClosest, n)
-            ->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->MinTime(2.0);
+            ->Unit(benchmark::kMillisecond)
+            ->MeasureProcessCPUTime()
+            ->MinTime(2.0);
 #ifdef PHOTONCL_HAVE_EMBREE
         benchmark::RegisterBenchmark(("EmbreeClosest/" + n).c_str(), BM_EmbreeClosest, n)
-            ->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->MinTime(2.0);
+            ->Unit(benchmark::kMillisecond)
+            ->MeasureProcessCPUTime()
+            ->MinTime(2.0);
 #endif
     }
 }

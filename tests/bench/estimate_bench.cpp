@@ -130,12 +130,18 @@ void registerAll() {
             const std::string suffix = std::string(estimateFilterName(f)) + "/k" + std::to_string(k);
             benchmark::RegisterBenchmark(("EstimateKdTree/" + suffix).c_str(), BM_DeviceEstimate, KnnStructure::KdTree,
                                          f, k)
-                ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(2);
+                ->Unit(benchmark::kMillisecond)
+                ->UseManualTime()
+                ->Iterations(2);
             benchmark::RegisterBenchmark(("EstimateHashGrid/" + suffix).c_str(), BM_DeviceEstimate,
                                          KnnStructure::HashGrid, f, k)
-                ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(2);
+                ->Unit(benchmark::kMillisecond)
+                ->UseManualTime()
+                ->Iterations(2);
             benchmark::RegisterBenchmark(("EstimateTwin/" + suffix).c_str(), BM_TwinEstimate, f, k)
-                ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
+                ->Unit(benchmark::kMillisecond)
+                ->UseManualTime()
+                ->Iterations(1);
         }
 }
 

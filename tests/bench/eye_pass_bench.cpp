@@ -16,6 +16,7 @@
 #include <memory>
 
 #include "bench_common.h"
+#include "check/on_device.h"
 #include "geometry/scene_geometry.h"
 #include "pipeline/camera_rays.h"
 #include "pipeline/direct_light.h"

@@ -190,11 +190,17 @@ void registerAll() {
     for (uint32_t k : kKs) {
         const std::string suffix = "/walls1M/k" + std::to_string(k);
         benchmark::RegisterBenchmark(("FullEstimate" + suffix).c_str(), BM_FullEstimate, k)
-            ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(2);
+            ->Unit(benchmark::kMillisecond)
+            ->UseManualTime()
+            ->Iterations(2);
         benchmark::RegisterBenchmark(("IrradianceLookup" + suffix).c_str(), BM_Lookup, k)
-            ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(5);
+            ->Unit(benchmark::kMillisecond)
+            ->UseManualTime()
+            ->Iterations(5);
         benchmark::RegisterBenchmark(("IrradiancePrecompute" + suffix).c_str(), BM_Precompute, k)
-            ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(1);
+            ->Unit(benchmark::kMillisecond)
+            ->UseManualTime()
+            ->Iterations(1);
     }
 }
 

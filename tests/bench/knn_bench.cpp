@@ -111,7 +111,9 @@ struct Cloud {
     size_t kdtree_get_point_count() const { return xyz->size() / 3; }
     float kdtree_get_pt(size_t i, size_t dim) const { return (*xyz)[3 * i + dim]; }
     template <class B>
-    bool kdtree_get_bbox(B&) const { return false; }
+    bool kdtree_get_bbox(B&) const {
+        return false;
+    }
 };
 using NanoTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Cloud>, Cloud, 3, uint32_t>;
 
@@ -233,17 +235,29 @@ void registerAll() {
         for (const char* what : {"grid", "kdtree", "nanoflann"})
             benchmark::RegisterBenchmark((std::string("Build/") + what + "/" + m).c_str(), BM_Build, std::string(m),
                                          std::string(what))
-                ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(3);
+                ->Unit(benchmark::kMillisecond)
+                ->UseManualTime()
+                ->Iterations(3);
         for (uint32_t k : kKs) {
             const std::string suffix = std::string(m) + "/k" + std::to_string(k);
-            benchmark::RegisterBenchmark(("KdTree/" + suffix).c_str(), BM_DeviceKnn, std::string(m), KnnStructure::KdTree, k)
-                ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(2);
-            benchmark::RegisterBenchmark(("HashGrid/" + suffix).c_str(), BM_DeviceKnn, std::string(m), KnnStructure::HashGrid, k)
-                ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(2);
+            benchmark::RegisterBenchmark(("KdTree/" + suffix).c_str(), BM_DeviceKnn, std::string(m),
+                                         KnnStructure::KdTree, k)
+                ->Unit(benchmark::kMillisecond)
+                ->UseManualTime()
+                ->Iterations(2);
+            benchmark::RegisterBenchmark(("HashGrid/" + suffix).c_str(), BM_DeviceKnn, std::string(m),
+                                         KnnStructure::HashGrid, k)
+                ->Unit(benchmark::kMillisecond)
+                ->UseManualTime()
+                ->Iterations(2);
             benchmark::RegisterBenchmark(("Nanoflann/" + suffix).c_str(), BM_Nanoflann, std::string(m), k, false)
-                ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(2);
+                ->Unit(benchmark::kMillisecond)
+                ->UseManualTime()
+                ->Iterations(2);
             benchmark::RegisterBenchmark(("NanoflannRmax/" + suffix).c_str(), BM_Nanoflann, std::string(m), k, true)
-                ->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(2);
+                ->Unit(benchmark::kMillisecond)
+                ->UseManualTime()
+                ->Iterations(2);
         }
     }
 }
@@ -259,7 +273,8 @@ int main(int argc, char** argv) {
             const std::string key = std::string(m) + "/" + std::to_string(k);
             auto n = r.find("nanoflann/" + key), t = r.find("kdtree/" + key), g = r.find("grid/" + key);
             auto nr = r.find("nanoflann-r/" + key);
-            auto nw = r.find("nanoflann-wall/" + key), tw = r.find("kdtree-wall/" + key), gw = r.find("grid-wall/" + key);
+            auto nw = r.find("nanoflann-wall/" + key), tw = r.find("kdtree-wall/" + key),
+                 gw = r.find("grid-wall/" + key);
             auto nrw = r.find("nanoflann-r-wall/" + key);
             if (n == r.end() || t == r.end() || g == r.end() || nr == r.end()) continue;
             const double best = std::max(n->second, nr->second);

@@ -116,9 +116,13 @@ const char* kScenes[] = {"cornell-box", "cornell-spheres", "motion-dof"};
 void registerAll() {
     for (const char* n : kScenes) {
         benchmark::RegisterBenchmark((std::string("Device/") + n).c_str(), BM_Device, std::string(n))
-            ->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->Iterations(3);
+            ->Unit(benchmark::kMillisecond)
+            ->MeasureProcessCPUTime()
+            ->Iterations(3);
         benchmark::RegisterBenchmark((std::string("Twin/") + n).c_str(), BM_Twin, std::string(n))
-            ->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->Iterations(3);
+            ->Unit(benchmark::kMillisecond)
+            ->MeasureProcessCPUTime()
+            ->Iterations(3);
     }
 }
 
@@ -131,8 +135,8 @@ int main(int argc, char** argv) {
     for (const char* n : pcl::kScenes) {
         auto d = r.find(std::string("device/") + n), t = r.find(std::string("twin/") + n);
         if (d != r.end() && t != r.end())
-            std::printf("photon paths per CPU-second, device / twin, %s: %.3f (%.0f vs %.0f)\n", n, d->second / t->second,
-                        d->second, t->second);
+            std::printf("photon paths per CPU-second, device / twin, %s: %.3f (%.0f vs %.0f)\n", n,
+                        d->second / t->second, d->second, t->second);
     }
     return 0;
 }

@@ -100,7 +100,8 @@ std::vector<PclPhoton> randomPhotons(size_t n) {
     std::mt19937 rng(17);
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     std::vector<PclPhoton> p(n);
-    for (size_t i = 0; i < n; ++i) p[i] = PclPhoton{2.0f * u(rng), u(rng), 0.5f * u(rng), uint32_t(i), uint32_t(i) & 0xFFFFFFu};
+    for (size_t i = 0; i < n; ++i)
+        p[i] = PclPhoton{2.0f * u(rng), u(rng), 0.5f * u(rng), uint32_t(i), uint32_t(i) & 0xFFFFFFu};
     return p;
 }
 
@@ -149,19 +150,37 @@ void BM_KdTreeTwin(benchmark::State& state) {
 void registerAll() {
     for (int64_t n : {int64_t(1) << 20, int64_t(10000000)}) {
         const std::string s = std::to_string(n);
-        benchmark::RegisterBenchmark(("Sort/Device/32/" + s).c_str(), BM_SortDevice<uint32_t>)->Arg(n)->UseManualTime()
-            ->Unit(benchmark::kMillisecond)->Iterations(3);
-        benchmark::RegisterBenchmark(("Sort/StdPar/32/" + s).c_str(), BM_SortStdPar<uint32_t>)->Arg(n)->UseManualTime()
-            ->Unit(benchmark::kMillisecond)->Iterations(3);
-        benchmark::RegisterBenchmark(("Sort/Device/64/" + s).c_str(), BM_SortDevice<uint64_t>)->Arg(n)->UseManualTime()
-            ->Unit(benchmark::kMillisecond)->Iterations(3);
-        benchmark::RegisterBenchmark(("Sort/StdPar/64/" + s).c_str(), BM_SortStdPar<uint64_t>)->Arg(n)->UseManualTime()
-            ->Unit(benchmark::kMillisecond)->Iterations(3);
+        benchmark::RegisterBenchmark(("Sort/Device/32/" + s).c_str(), BM_SortDevice<uint32_t>)
+            ->Arg(n)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(3);
+        benchmark::RegisterBenchmark(("Sort/StdPar/32/" + s).c_str(), BM_SortStdPar<uint32_t>)
+            ->Arg(n)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(3);
+        benchmark::RegisterBenchmark(("Sort/Device/64/" + s).c_str(), BM_SortDevice<uint64_t>)
+            ->Arg(n)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(3);
+        benchmark::RegisterBenchmark(("Sort/StdPar/64/" + s).c_str(), BM_SortStdPar<uint64_t>)
+            ->Arg(n)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(3);
     }
-    benchmark::RegisterBenchmark("KdTree/Device/1M", BM_KdTreeDevice)->Arg(1 << 20)->UseManualTime()
-        ->Unit(benchmark::kMillisecond)->Iterations(2);
-    benchmark::RegisterBenchmark("KdTree/Twin/1M", BM_KdTreeTwin)->Arg(1 << 20)->UseManualTime()
-        ->Unit(benchmark::kMillisecond)->Iterations(2);
+    benchmark::RegisterBenchmark("KdTree/Device/1M", BM_KdTreeDevice)
+        ->Arg(1 << 20)
+        ->UseManualTime()
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(2);
+    benchmark::RegisterBenchmark("KdTree/Twin/1M", BM_KdTreeTwin)
+        ->Arg(1 << 20)
+        ->UseManualTime()
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(2);
 }
 
 }  // namespace

@@ -6,10 +6,10 @@
 
 #include <gtest/gtest.h>
 
-#define PCL_REQUIRE_FEATURE(present, what)                                                  \
-    do {                                                                                    \
-        if (!(present)) {                                                                   \
+#define PCL_REQUIRE_FEATURE(present, what)                                                   \
+    do {                                                                                     \
+        if (!(present)) {                                                                    \
             if (std::getenv("CI")) FAIL() << what << " is missing in CI (scripts/setup.sh)"; \
-            GTEST_SKIP() << what << " not built: skipped";                                  \
-        }                                                                                   \
+            GTEST_SKIP() << what << " not built: skipped";                                   \
+        }                                                                                    \
     } while (0)

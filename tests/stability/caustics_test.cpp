@@ -21,6 +21,7 @@
 #include <functional>
 #include <random>
 
+#include "check/on_device.h"
 #include "pipeline/estimate.h"
 #include "pipeline/photon_pass.h"
 
@@ -191,13 +192,15 @@ TEST(Caustics, GlassCausticPowerMatchesPathTracer) {
     };
     o.passes = 4;
     o.pathSamples = 2048;
-    CausticPower c = measure([](Scene& s, int m) {
-        Sphere ball;
-        ball.centre = Vec3(0.0f, 0.5f, 0.0f);
-        ball.radius = 0.35f;
-        ball.material = m;
-        s.spheres.push_back(ball);
-    }, o);
+    CausticPower c = measure(
+        [](Scene& s, int m) {
+            Sphere ball;
+            ball.centre = Vec3(0.0f, 0.5f, 0.0f);
+            ball.radius = 0.35f;
+            ball.material = m;
+            s.spheres.push_back(ball);
+        },
+        o);
     report("glass ball", c);
     ASSERT_GT(c.pixels, 1000u);
     ASSERT_GT(c.path, 0.0);

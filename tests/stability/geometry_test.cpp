@@ -140,9 +140,9 @@ TEST(DegenerateTriangles, ZeroAreaAndNaNVerticesAreDroppedAndRenderFinite) {
     TriangleMesh bad;
     bad.material = 0;
     const float nan = std::nanf("");
-    bad.positions = {Vec3(0.1f, 0.1f, 0.1f), Vec3(0.2f, 0.1f, 0.1f), Vec3(0.3f, 0.1f, 0.1f),  // collinear
-                     Vec3(0.2f, 0.2f, 0.2f), Vec3(0.2f, 0.2f, 0.2f), Vec3(0.2f, 0.2f, 0.2f),  // a point
-                     Vec3(nan, 0.2f, 0.2f), Vec3(0.3f, 0.2f, 0.2f), Vec3(0.3f, 0.3f, 0.2f)};  // NaN
+    bad.positions = {Vec3(0.1f, 0.1f, 0.1f), Vec3(0.2f, 0.1f, 0.1f), Vec3(0.3f, 0.1f, 0.1f),   // collinear
+                     Vec3(0.2f, 0.2f, 0.2f), Vec3(0.2f, 0.2f, 0.2f), Vec3(0.2f, 0.2f, 0.2f),   // a point
+                     Vec3(nan, 0.2f, 0.2f),  Vec3(0.3f, 0.2f, 0.2f), Vec3(0.3f, 0.3f, 0.2f)};  // NaN
     bad.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8};
     s.meshes.push_back(bad);
     validateScene(s);
@@ -265,9 +265,10 @@ TEST(SelfIntersection, SpawnedRaysNeverRehitTheirOwnTriangle) {
         togetherBad += hitAndSpawn(all, g, eps, uint32_t(i), kept.positions[kept.indices[3 * i]],
                                    kept.positions[kept.indices[3 * i + 1]], kept.positions[kept.indices[3 * i + 2]],
                                    togetherTried);
-    std::printf("[figure] self-intersection: %zu triangles kept of 1000; alone: %u of %u spawned rays re-hit "
-                "(epsilon %g..%g); together: %u of %u (epsilon %g); expected 0; with no offset %u re-hit (the test can fail)\n",
-                n, aloneBad, aloneTried * 16, epsMin, epsMax, togetherBad, togetherTried * 16, eps, controlBad);
+    std::printf(
+        "[figure] self-intersection: %zu triangles kept of 1000; alone: %u of %u spawned rays re-hit "
+        "(epsilon %g..%g); together: %u of %u (epsilon %g); expected 0; with no offset %u re-hit (the test can fail)\n",
+        n, aloneBad, aloneTried * 16, epsMin, epsMax, togetherBad, togetherTried * 16, eps, controlBad);
     EXPECT_GT(n, 900u);
     EXPECT_GT(aloneTried, 0.9 * n);
     EXPECT_EQ(aloneBad, 0u);

@@ -67,8 +67,9 @@ TEST(ThinWall, UnlitRoomReadsZeroWithVisibility) {
             Image ib = b.film.resolve();
             expectFinite(b, ib, c.name);
             const double leak = maxValue(ib), leakMean = accuracy::meanValue(ib);
-            std::printf("[figure] thin wall, %s, visibility %s: room B max %.4g mean %.4g (expected 0 with visibility)\n",
-                        c.name, visibility ? "on" : "off", leak, leakMean);
+            std::printf(
+                "[figure] thin wall, %s, visibility %s: room B max %.4g mean %.4g (expected 0 with visibility)\n",
+                c.name, visibility ? "on" : "off", leak, leakMean);
             if (visibility) {
                 EXPECT_EQ(leak, 0.0) << c.name << ": light leaked into room B";
                 PhotonRenderResult a = render(*roomA, rs);

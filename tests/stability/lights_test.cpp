@@ -103,8 +103,8 @@ TEST(ExtremeLights, LightSealedInAnOpaqueBoxEndsBlack) {
         s.meshes.push_back(box);
         validateScene(s);
         auto p = prepare(s);
-        for (RenderMethod method : {RenderMethod::FinalGather, RenderMethod::DirectVisualisation,
-                                    RenderMethod::Progressive}) {
+        for (RenderMethod method :
+             {RenderMethod::FinalGather, RenderMethod::DirectVisualisation, RenderMethod::Progressive}) {
             PhotonRenderSettings rs;
             rs.method = method;
             rs.passes = 2;

@@ -37,10 +37,10 @@ namespace {
 // 32×24, few photons: a pass takes tens of milliseconds under PoCL.
 BatchScene smallJob(const fs::path& dir, const std::string& method, uint32_t passes, uint64_t seed) {
     std::string path = (dir / ("job-" + method + "-" + std::to_string(seed) + ".json")).string();
-    std::ofstream(path) << R"({"scene": ")" << PHOTONCL_SOURCE_DIR << R"(/scenes/cornell-spheres.json", "output": "out-)"
-                        << method << seed << R"(.exr", "method": ")" << method << R"(", "passes": )" << passes
-                        << R"(, "shards": 1, "seed": )" << seed
-                        << R"(, "width": 32, "height": 24, "globalPhotons": 3000, "causticPhotons": 2000, "gatherRays": 8})";
+    std::ofstream(path)
+        << R"({"scene": ")" << PHOTONCL_SOURCE_DIR << R"(/scenes/cornell-spheres.json", "output": "out-)" << method
+        << seed << R"(.exr", "method": ")" << method << R"(", "passes": )" << passes << R"(, "shards": 1, "seed": )"
+        << seed << R"(, "width": 32, "height": 24, "globalPhotons": 3000, "causticPhotons": 2000, "gatherRays": 8})";
     return loadBatchScene(loadBatchJob(path));
 }
 
@@ -122,7 +122,8 @@ TEST_F(BatchMergeTest, PathTracedShardsMergeExactlyAndAgreeWithThePathTracer) {
     for (uint32_t shards : {2u, 3u, 7u}) {
         MergedShards m = mergeShardFiles(renderShards(bs, shards), expectationOf(bs), {});
         const bool same = m.film.sums() == whole.film.sums() && sameBits(m.film.resolve(), whole.film.resolve());
-        std::printf("[figure] path, 7 samples in %u shard(s) merged vs 1 shard: %s\n", shards, same ? "bit-identical" : "DIFFER");
+        std::printf("[figure] path, 7 samples in %u shard(s) merged vs 1 shard: %s\n", shards,
+                    same ? "bit-identical" : "DIFFER");
         EXPECT_TRUE(same) << shards;
     }
     PathTracerSettings pt;
@@ -132,8 +133,10 @@ TEST_F(BatchMergeTest, PathTracedShardsMergeExactlyAndAgreeWithThePathTracer) {
     const Image merged = whole.film.resolve();
     double worst = 0;
     for (size_t i = 0; i < direct.rgb.size(); ++i)
-        worst = std::max(worst, std::fabs(double(direct.rgb[i]) - merged.rgb[i]) / std::max(1.0, double(std::fabs(direct.rgb[i]))));
-    std::printf("[figure] path: merged shards vs render's path tracer (doubles), worst relative difference %.3g\n", worst);
+        worst = std::max(worst, std::fabs(double(direct.rgb[i]) - merged.rgb[i]) /
+                                    std::max(1.0, double(std::fabs(direct.rgb[i]))));
+    std::printf("[figure] path: merged shards vs render's path tracer (doubles), worst relative difference %.3g\n",
+                worst);
     EXPECT_LE(worst, 1e-6);
 }
 

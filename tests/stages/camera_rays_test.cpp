@@ -7,9 +7,10 @@
 #include <cstdio>
 #include <set>
 
+#include "check/on_device.h"
+#include "check/render.h"
 #include "eye_test_scenes.h"
 #include "pipeline/camera_rays.h"
-#include "check/render.h"
 #include "reference/camera_rays.h"
 
 namespace pcl {
@@ -53,9 +54,11 @@ TEST(CameraRays, EveryStratumOfEveryPixelOnce) {
             const double ux = (fx - pixel % 16) * n, uy = (fy - pixel / 16) * n;
             const int cx = int(std::floor(ux + 1e-9)), cy = int(std::floor(uy + 1e-9));
             // Inside stratum k (a point within 1e-3 of a stratum edge counts for either side).
-            const bool inside = std::fabs(ux - (k % n + 0.5)) <= 0.5 + 1e-3 && std::fabs(uy - (k / n + 0.5)) <= 0.5 + 1e-3;
+            const bool inside = std::fabs(ux - (k % n + 0.5)) <= 0.5 + 1e-3 &&
+                                std::fabs(uy - (k / n + 0.5)) <= 0.5 + 1e-3;
             if (!inside) ++wrong;
-            strata.insert(uint32_t(std::min(std::max(cy, 0), int(n) - 1)) * n + uint32_t(std::min(std::max(cx, 0), int(n) - 1)));
+            strata.insert(uint32_t(std::min(std::max(cy, 0), int(n) - 1)) * n +
+                          uint32_t(std::min(std::max(cx, 0), int(n) - 1)));
             EXPECT_EQ(r.ox, b.scene.camera.position.x);
             EXPECT_EQ(r.time, 0.0f);
         }

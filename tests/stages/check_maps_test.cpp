@@ -4,8 +4,8 @@
 
 #include <filesystem>
 
-#include "device_fixture.h"
 #include "check/maps.h"
+#include "device_fixture.h"
 #include "reference/kdtree.h"
 #include "scene/load_scene.h"
 
@@ -50,7 +50,8 @@ TEST(CheckMaps, ComparisonsFailOnWrongAnswers) {
     EXPECT_FALSE(sortReport.passed());
 
     std::vector<PclPhoton> map;
-    for (uint32_t i = 0; i < 100; ++i) map.push_back(PclPhoton{float(i % 10), float(i / 10), 0.5f * float(i % 3), i, i});
+    for (uint32_t i = 0; i < 100; ++i)
+        map.push_back(PclPhoton{float(i % 10), float(i / 10), 0.5f * float(i % 3), i, i});
     ReferenceKdTree t = referenceBuildKdTree(map);
     MapCheckRow same;
     compareKdTrees(map, t.photons, t.index, t.photons, t.index, same);

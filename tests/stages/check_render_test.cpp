@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <string>
 
-#include "device_fixture.h"
 #include "check/render.h"
+#include "device_fixture.h"
 #include "scene/load_scene.h"
 
 namespace pcl {

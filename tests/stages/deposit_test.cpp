@@ -9,12 +9,13 @@
 #include <numeric>
 #include <random>
 
+#include "check/on_device.h"
 #include "device_fixture.h"
 #include "photon_test_scenes.h"
 #include "pipeline/deposit.h"
 #include "pipeline/emit.h"
-#include "pipeline/trace_photons.h"
 #include "pipeline/photon_pass.h"
+#include "pipeline/trace_photons.h"
 
 namespace pcl {
 namespace {

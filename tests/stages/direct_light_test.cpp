@@ -7,9 +7,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "check/on_device.h"
+#include "check/render.h"
 #include "eye_test_scenes.h"
 #include "pipeline/camera_rays.h"
-#include "check/render.h"
 #include "pipeline/direct_light.h"
 #include "pipeline/eye_paths.h"
 #include "reference/direct_light.h"
@@ -68,7 +69,8 @@ std::vector<PclEyeHit> floorHits(int n, float extent) {
     return hits;
 }
 
-std::vector<PclRadiance> runDirect(const test::BuiltScene& b, const std::vector<PclEyeHit>& hits, uint32_t M, uint32_t N) {
+std::vector<PclRadiance> runDirect(const test::BuiltScene& b, const std::vector<PclEyeHit>& hits, uint32_t M,
+                                   uint32_t N) {
     PclEyeParams ep{};
     ep.samplesPerPixel = 1;
     ep.sampleCount = uint32_t(hits.size());
@@ -124,8 +126,9 @@ TEST(DirectLight, PointSpotAndDirectionalLightsAreExact) {
         const double expect = 0.5 / M_PI * 2.0 * -l.direction.y;
         for (size_t i = 0; i < hits.size(); ++i) worst = std::max(worst, std::fabs(L[i].r - expect) / expect);
     }
-    std::printf("[figure] point/spot/directional over a plane: worst relative error %.3e vs ρ/π I cosθ/d², ρ/π E cosθ\n",
-                worst);
+    std::printf(
+        "[figure] point/spot/directional over a plane: worst relative error %.3e vs ρ/π I cosθ/d², ρ/π E cosθ\n",
+        worst);
     EXPECT_LT(worst, 1e-4);  // float E = Φ/(πR²) on the directional light's disc, I = Φ/4π
 }
 
@@ -144,8 +147,9 @@ TEST(DirectLight, SquareAreaLightMatchesTheFormFactor) {
     for (uint32_t i = 0; i < 20000; ++i) hits.push_back(test::handMadeHit(Vec3(0.0f), Vec3(0, 1, 0), 0.5f, i, 0));
     const double expect = 0.5 / M_PI * squareIrradiance(a, h, Le);
     const double light = test::meanLuminance(runDirect(b, hits, 4, 0));
-    std::printf("[figure] square light (side %.1f at %.1f m, Le %.1f): light sampling mean %.5f, analytic %.5f (%.3f %%)\n",
-                2 * a, h, Le, light, expect, 100.0 * (light / expect - 1.0));
+    std::printf(
+        "[figure] square light (side %.1f at %.1f m, Le %.1f): light sampling mean %.5f, analytic %.5f (%.3f %%)\n",
+        2 * a, h, Le, light, expect, 100.0 * (light / expect - 1.0));
     EXPECT_NEAR(light / expect, 1.0, 0.01);
 }
 

@@ -7,10 +7,11 @@
 #include <cmath>
 #include <cstring>
 
+#include "check/on_device.h"
 #include "device_fixture.h"
-#include "prep/photon_allocation.h"
 #include "photon_test_scenes.h"
 #include "pipeline/emit.h"
+#include "prep/photon_allocation.h"
 #include "shared/sampling.h"
 
 namespace pcl {

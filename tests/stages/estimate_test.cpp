@@ -19,10 +19,11 @@
 #include <random>
 #include <vector>
 
-#include "device_fixture.h"
-#include "common/two_rooms.h"
-#include "photon_test_scenes.h"
 #include "check/estimate.h"
+#include "check/on_device.h"
+#include "common/two_rooms.h"
+#include "device_fixture.h"
+#include "photon_test_scenes.h"
 #include "pipeline/device_scene.h"
 #include "pipeline/estimate.h"
 #include "pipeline/photon_pass.h"
@@ -335,8 +336,8 @@ TEST(Estimate, UniformDensityMeanAndSpreadMatchTheAnalyticExpectation) {
         for (const PclEstimate& e : r.values) ASSERT_EQ(e.used, uint32_t(k));
         double twinErr = 0.0;
         expectSame(referenceEstimateWithKnn(map, twinQs, brute, settings, nullptr),
-                   std::vector<PclEstimate>(r.values.begin(), r.values.begin() + twinQs.size()),
-                   estimateFilterName(f), &twinErr);
+                   std::vector<PclEstimate>(r.values.begin(), r.values.begin() + twinQs.size()), estimateFilterName(f),
+                   &twinErr);
         std::printf("[figure] uniform %-12s twin vs device on 200 queries: max rel diff %.2e\n", estimateFilterName(f),
                     twinErr);
         const Moments got = moments(r.values, 0, r.values.size());
@@ -344,9 +345,8 @@ TEST(Estimate, UniformDensityMeanAndSpreadMatchTheAnalyticExpectation) {
         std::printf("[figure] uniform %-12s mean/λΦ %.5f (expected %.5f, rel err %+.3f %%), rel spread %.4f "
                     "(expected %.4f, ratio %.3f; 1/sqrt(k-2) = %.4f), %.3f s device\n",
                     estimateFilterName(f), got.mean / lambdaPhi, want.mean / lambdaPhi,
-                    100.0 * (got.mean / want.mean - 1.0), got.relSpread, want.relSpread,
-                    got.relSpread / want.relSpread, 1.0 / std::sqrt(k - 2.0),
-                    r.timing.knnSeconds + r.timing.estimateSeconds);
+                    100.0 * (got.mean / want.mean - 1.0), got.relSpread, want.relSpread, got.relSpread / want.relSpread,
+                    1.0 / std::sqrt(k - 2.0), r.timing.knnSeconds + r.timing.estimateSeconds);
         EXPECT_NEAR(got.mean / want.mean, 1.0, 0.005) << estimateFilterName(f);
         EXPECT_NEAR(got.relSpread / want.relSpread, 1.0, 0.2) << estimateFilterName(f);
     }
@@ -412,8 +412,8 @@ TEST(Estimate, EdgeAndCornerReadHalfAndQuarterOfTheInterior) {
 // and floor/ceiling (normals ±y): the normal test rejects them all.
 // `count` points on the face of room [lo, hi] at coordinate `axis` = lo or hi (side), inward
 // normal; half of them within `near` of x = nearX when the face touches it.
-void facePoints(Vec3 lo, Vec3 hi, int axis, bool high, uint32_t count, float nearX, float near, float rMax,
-                uint32_t k, std::mt19937& rng, std::vector<PclEstimateQuery>& out) {
+void facePoints(Vec3 lo, Vec3 hi, int axis, bool high, uint32_t count, float nearX, float near, float rMax, uint32_t k,
+                std::mt19937& rng, std::vector<PclEstimateQuery>& out) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     for (uint32_t i = 0; i < count; ++i) {
         Vec3 p, n(0.0f);
@@ -501,10 +501,8 @@ TEST(Estimate, NoLightLeaksThroughAThinWallWithVisibility) {
             EXPECT_GT(foundB, roomB.size() / 4) << "the test needs B points that find A's photons";
             EXPECT_GT(aMean, 0.0);
             EXPECT_LT(aZero, roomA.size() / 20);
-            if (visibility)
-                EXPECT_EQ(leaking, 0u) << "light leaked into room B with the visibility test on";
-            else
-                EXPECT_GT(leaking, 0u) << "expected leaks through the coplanar floor/ceiling without visibility";
+            if (visibility) EXPECT_EQ(leaking, 0u) << "light leaked into room B with the visibility test on";
+            else EXPECT_GT(leaking, 0u) << "expected leaks through the coplanar floor/ceiling without visibility";
         }
     }
 }

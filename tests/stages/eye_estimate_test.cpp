@@ -7,8 +7,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "eye_test_scenes.h"
+#include "check/on_device.h"
 #include "check/render.h"
+#include "eye_test_scenes.h"
 #include "pipeline/eye_estimate.h"
 #include "pipeline/photon_pass.h"
 #include "reference/eye_estimate.h"
@@ -58,7 +59,8 @@ TEST(EyeEstimate, ConstantIrradianceGivesThroughputAlbedoEOverPi) {
     const test::BuiltScene b = test::shippedScene("cornell-glossy.json", 24, 18);
     const std::vector<PclEyeHit> hits = test::deviceEyeHits(b, 1, 5);
     IrradianceSource e = test::constantIrradiance(2.5f);
-    const EyeEstimateResult d = estimateAtEyeHitsOnDevice(test::testDevice(), hits, estimateParams(hits.size(), 10, 0.1f), e);
+    const EyeEstimateResult d =
+        estimateAtEyeHitsOnDevice(test::testDevice(), hits, estimateParams(hits.size(), 10, 0.1f), e);
     double worst = 0.0;
     for (size_t i = 0; i < hits.size(); ++i) {
         const PclEyeHit& h = hits[i];
@@ -132,7 +134,8 @@ TEST(EyeEstimate, MirrorCausticMatchesTheImageLight) {
                                              uint32_t(hits.size()), 0));
     PhotonMapOnDevice map(test::testDevice(), maps.caustic, KnnStructure::KdTree, 0.5f);
     auto source = estimateIrradianceSource(map, 200, EstimateSettings{}, nullptr);
-    const EyeEstimateResult d = estimateAtEyeHitsOnDevice(test::testDevice(), hits, estimateParams(hits.size(), 200, 0.5f), *source);
+    const EyeEstimateResult d =
+        estimateAtEyeHitsOnDevice(test::testDevice(), hits, estimateParams(hits.size(), 200, 0.5f), *source);
     double sum = 0.0, sumExpect = 0.0, worst = 0.0;
     for (size_t i = 0; i < hits.size(); ++i) {
         const Vec3 p(hits[i].x, hits[i].y, hits[i].z);

@@ -7,16 +7,18 @@
 #include <cmath>
 #include <cstdio>
 
+#include "check/on_device.h"
+#include "check/render.h"
 #include "eye_test_scenes.h"
 #include "pipeline/camera_rays.h"
-#include "check/render.h"
 #include "pipeline/eye_paths.h"
 #include "reference/eye_paths.h"
 
 namespace pcl {
 namespace {
 
-std::vector<PclEyeHit> deviceEyeHitsLocal(const test::BuiltScene& b, uint32_t strata, uint64_t seed, PclEyeParams* out = nullptr) {
+std::vector<PclEyeHit> deviceEyeHitsLocal(const test::BuiltScene& b, uint32_t strata, uint64_t seed,
+                                          PclEyeParams* out = nullptr) {
     const PclCameraParams cp = cameraParams(b.scene.camera, true, true, seed, strata);
     const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
     const PclEyeParams ep = eyeParams(cp, b.geometry, b.buffers);
@@ -74,7 +76,8 @@ TEST(EyePaths, MirrorAt45DegreesHandsEverySampleToTheWall) {
     for (const PclEyeHit& h : hits)
         ok += (h.flags & PCL_EYE_DIFFUSE) && h.depth == 1 && h.throughput[0] == 0.8f && h.throughput[2] == 0.8f &&
               std::fabs(h.x - 3.0f) < 1e-4f && h.nx == -1.0f && h.albedo[1] == 0.5f;
-    std::printf("[figure] 45° mirror: %zu of %zu samples reach the wall at depth 1 with throughput 0.8\n", ok, hits.size());
+    std::printf("[figure] 45° mirror: %zu of %zu samples reach the wall at depth 1 with throughput 0.8\n", ok,
+                hits.size());
     EXPECT_EQ(ok, hits.size());
 }
 
@@ -86,10 +89,8 @@ TEST(EyePaths, EmitterSeenDirectlyGivesItsRadianceFromTheFrontOnly) {
         s.materials.push_back(e);
         TriangleMesh q;
         q.material = 0;
-        if (front)
-            test::addQuad(q, Vec3(-2, -2, -1), Vec3(2, -2, -1), Vec3(2, 2, -1), Vec3(-2, 2, -1));  // normal +z
-        else
-            test::addQuad(q, Vec3(-2, -2, -1), Vec3(-2, 2, -1), Vec3(2, 2, -1), Vec3(2, -2, -1));  // normal -z
+        if (front) test::addQuad(q, Vec3(-2, -2, -1), Vec3(2, -2, -1), Vec3(2, 2, -1), Vec3(-2, 2, -1));  // normal +z
+        else test::addQuad(q, Vec3(-2, -2, -1), Vec3(-2, 2, -1), Vec3(2, 2, -1), Vec3(2, -2, -1));        // normal -z
         s.meshes.push_back(q);
         Light l;
         l.type = LightType::Area;

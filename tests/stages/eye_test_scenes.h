@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "check/on_device.h"
 #include "photon_test_scenes.h"
 #include "pipeline/camera_rays.h"
 #include "pipeline/eye_paths.h"
@@ -27,9 +28,15 @@ inline BuiltScene shippedScene(const std::string& name, int width, int height) {
 // A diffuse eye record at p with viewer-side normal n, throughput 1, albedo rho.
 inline PclEyeHit handMadeHit(Vec3 p, Vec3 n, float rho, uint32_t pixel, uint32_t sample, uint32_t prim = 0) {
     PclEyeHit h{};
-    h.x = p.x; h.y = p.y; h.z = p.z;
-    h.nx = n.x; h.ny = n.y; h.nz = n.z;
-    h.wox = n.x; h.woy = n.y; h.woz = n.z;
+    h.x = p.x;
+    h.y = p.y;
+    h.z = p.z;
+    h.nx = n.x;
+    h.ny = n.y;
+    h.nz = n.z;
+    h.wox = n.x;
+    h.woy = n.y;
+    h.woz = n.z;
     h.prim = prim;
     h.pixel = pixel;
     h.sample = sample;

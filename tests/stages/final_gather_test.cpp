@@ -9,8 +9,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "eye_test_scenes.h"
+#include "check/on_device.h"
 #include "check/render.h"
+#include "eye_test_scenes.h"
 #include "pipeline/direct_light.h"
 #include "pipeline/final_gather.h"
 #include "pipeline/photon_pass.h"
@@ -120,8 +121,9 @@ TEST(FinalGather, FurnaceWithThePhotonMapAndPrecomputedIrradiance) {
             double sum = 0.0;
             size_t bad = 0;
             for (size_t i = 0; i < s.hits.size(); ++i) {
-                const double L = (direct[i].r + g.radiance[i].r + direct[i].g + g.radiance[i].g + direct[i].b +
-                                  g.radiance[i].b) / 3.0;
+                const double L =
+                    (direct[i].r + g.radiance[i].r + direct[i].g + g.radiance[i].g + direct[i].b + g.radiance[i].b) /
+                    3.0;
                 bad += !std::isfinite(L);
                 sum += L;
             }
@@ -163,10 +165,10 @@ TEST(FinalGather, MisHalvesAddUpToTheSquareLight) {
         s.dp = directParams(s.ep, b.geometry, b.buffers, table, M, N);
         s.gp = gatherParams(s.dp, N, 10, 0.01f);
         const double light = test::meanLuminance(directOf(b, s));
-        const double bsdf =
-            test::meanLuminance(finalGatherOnDevice(test::testDevice(), b.geometry, b.buffers, s.hits, s.gp, zero).radiance);
-        std::printf("[figure] MIS M=%u N=%u: light half %.5f + BSDF half %.5f = %.5f vs analytic %.5f (%+.3f %%)\n", M, N,
-                    light, bsdf, light + bsdf, expect, 100.0 * ((light + bsdf) / expect - 1.0));
+        const double bsdf = test::meanLuminance(
+            finalGatherOnDevice(test::testDevice(), b.geometry, b.buffers, s.hits, s.gp, zero).radiance);
+        std::printf("[figure] MIS M=%u N=%u: light half %.5f + BSDF half %.5f = %.5f vs analytic %.5f (%+.3f %%)\n", M,
+                    N, light, bsdf, light + bsdf, expect, 100.0 * ((light + bsdf) / expect - 1.0));
         EXPECT_GT(bsdf, 0.0);
         EXPECT_NEAR((light + bsdf) / expect, 1.0, 0.01);
     }

@@ -7,8 +7,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "eye_test_scenes.h"
+#include "check/on_device.h"
 #include "check/render.h"
+#include "eye_test_scenes.h"
 #include "pipeline/direct_light.h"
 #include "pipeline/final_gather.h"
 #include "pipeline/photon_pass.h"
@@ -44,7 +45,8 @@ TEST(GatherImportance, HistogramsGatherAndDirectMatchTheTwinCornellBox) {
         b.geometry, b.buffers, hits, gp,
         [](const std::vector<PclEstimateQuery>& q) { return std::vector<Vec3>(q.size(), Vec3(1.0f)); }, &dHist);
     const StageComparison g = compareRadiance("gather", d.radiance, t.radiance, 1e-3, 3);
-    const std::vector<PclRadiance> dd = directLightOnDevice(test::testDevice(), b.geometry, b.buffers, hits, dp, &dHist);
+    const std::vector<PclRadiance> dd =
+        directLightOnDevice(test::testDevice(), b.geometry, b.buffers, hits, dp, &dHist);
     const std::vector<PclRadiance> td = referenceDirectLight(b.geometry, b.buffers, hits, dp, &dHist);
     const StageComparison dl = compareRadiance("direct", dd, td, 1e-3, 3);
     for (const StageComparison* c : {&h, &g, &dl}) {
@@ -91,7 +93,8 @@ TEST(GatherImportance, SquareLightStaysUnbiasedAndTheBsdfHalfGetsLessNoisy) {
             PclGatherParams gp = gatherParams(dp, 8, 50, 0.25f);
             gp.histogramCells = G;
             std::vector<float> hist;
-            const GatherResult g = finalGatherOnDevice(test::testDevice(), b.geometry, b.buffers, hits, gp, zero, &map, &hist);
+            const GatherResult g =
+                finalGatherOnDevice(test::testDevice(), b.geometry, b.buffers, hits, gp, zero, &map, &hist);
             const std::vector<PclRadiance> d =
                 directLightOnDevice(test::testDevice(), b.geometry, b.buffers, hits, dp, G ? &hist : nullptr);
             double sum = 0, sum2 = 0;

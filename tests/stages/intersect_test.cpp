@@ -10,9 +10,10 @@
 #include <filesystem>
 #include <random>
 
+#include "check/on_device.h"
+#include "check/trace.h"
 #include "common/test_scenes.h"
 #include "device_fixture.h"
-#include "check/trace.h"
 #include "pipeline/intersect.h"
 #include "scene/load_scene.h"
 
@@ -27,8 +28,7 @@ constexpr size_t kRays = 100000;
 void expectKernelMatchesHost(const Scene& scene, const char* name, uint64_t seed) {
     SceneGeometry g = SceneGeometry::build(scene);
     IntersectCheckReport r = checkIntersect(test::testDevice(), scene, g, kRays, seed);
-    std::printf("%s (%u primitives, stack %d)\n%s", name, g.primitiveCount(), g.stats().maxStack,
-                r.table().c_str());
+    std::printf("%s (%u primitives, stack %d)\n%s", name, g.primitiveCount(), g.stats().maxStack, r.table().c_str());
     size_t hits = 0;
     for (const auto& row : r.rows) {
         EXPECT_EQ(row.primMismatches, 0u) << name << " " << row.rays;
@@ -58,18 +58,19 @@ Scene syntheticScene() {
     return s;
 }
 
-TEST(Intersect, KernelMatchesHostOnSyntheticScene) {
-    expectKernelMatchesHost(syntheticScene(), "synthetic", 1);
-}
+TEST(Intersect, KernelMatchesHostOnSyntheticScene) { expectKernelMatchesHost(syntheticScene(), "synthetic", 1); }
 
 TEST(Intersect, EmptySceneMissesOnDevice) {
     Scene s;
     SceneGeometry g = SceneGeometry::build(s);
     std::vector<PclRay> rays(100);
-    for (auto& r : rays) { r = PclRay{}; r.dx = 1.0f; r.tmax = INFINITY; }
+    for (auto& r : rays) {
+        r = PclRay{};
+        r.dx = 1.0f;
+        r.tmax = INFINITY;
+    }
     for (bool any : {false, true})
-        for (const PclHit& h : intersectOnDevice(test::testDevice(), g, rays, any))
-            EXPECT_EQ(h.prim, PCL_NO_HIT);
+        for (const PclHit& h : intersectOnDevice(test::testDevice(), g, rays, any)) EXPECT_EQ(h.prim, PCL_NO_HIT);
 }
 
 TEST(Intersect, ChunkedLaunchCoversEveryRay) {
@@ -94,8 +95,7 @@ TEST(Intersect, KernelMatchesHostOnShippedScenes) {
     std::vector<std::filesystem::path> files = shippedSceneFiles();
     ASSERT_FALSE(files.empty()) << "no shipped scenes found under scenes/";
     uint64_t seed = 100;
-    for (const auto& path : files)
-        expectKernelMatchesHost(loadScene(path.string()), path.filename().c_str(), seed++);
+    for (const auto& path : files) expectKernelMatchesHost(loadScene(path.string()), path.filename().c_str(), seed++);
 }
 
 }  // namespace

@@ -15,9 +15,10 @@
 #include <random>
 #include <string>
 
+#include "check/maps.h"
+#include "check/on_device.h"
 #include "device_fixture.h"
 #include "photon_test_scenes.h"
-#include "check/maps.h"
 #include "pipeline/kdtree.h"
 #include "reference/kdtree.h"
 
@@ -96,7 +97,8 @@ TEST(KdTree, RandomPointsMatchTwin) {
     for (size_t n : {2, 3, 4, 5, 7, 8, 9, 100, 255, 256, 257, 4097, 50000}) {
         std::vector<PclPhoton> in;
         for (size_t i = 0; i < n; ++i) in.push_back(photonAt(u(rng), 0.3f * u(rng), 2.0f * u(rng), uint32_t(i)));
-        for (int finish : {-1, 0, 5, 32}) expectDeviceEqualsTwin(in, ("random n = " + std::to_string(n)).c_str(), true, finish);
+        for (int finish : {-1, 0, 5, 32})
+            expectDeviceEqualsTwin(in, ("random n = " + std::to_string(n)).c_str(), true, finish);
     }
     // Coarse coordinates: many ties on every axis, broken by the photon index.
     std::vector<PclPhoton> in;
@@ -184,7 +186,8 @@ TEST(KdTree, ShippedSceneMapsMatchTwin) {
 #endif
         const PhotonMaps maps = test::runScenePhotonPass(path.string(), 20000, 3).maps;
         ASSERT_GT(maps.global.size(), 1000u) << file;
-        for (int finish : {-1, 0}) expectDeviceEqualsTwin(maps.global, (std::string(file) + " global").c_str(), true, finish);
+        for (int finish : {-1, 0})
+            expectDeviceEqualsTwin(maps.global, (std::string(file) + " global").c_str(), true, finish);
         if (!maps.caustic.empty()) expectDeviceEqualsTwin(maps.caustic, (std::string(file) + " caustic").c_str());
         ++scenes;
     }

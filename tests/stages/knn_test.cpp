@@ -14,8 +14,9 @@
 #include <random>
 #include <vector>
 
-#include "device_fixture.h"
 #include "check/knn.h"
+#include "check/on_device.h"
+#include "device_fixture.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
 #include "reference/knn.h"
@@ -269,7 +270,8 @@ TEST(Knn, HugeCoordinatesAndTinyRadii) {
     std::mt19937_64 rng(12);
     std::uniform_int_distribution<int> lattice(-20, 20);
     std::vector<PclPhoton> far;
-    for (int i = 0; i < 3000; ++i) far.push_back(photonAt(5e5f * lattice(rng), 5e5f * lattice(rng), 5e5f * lattice(rng)));
+    for (int i = 0; i < 3000; ++i)
+        far.push_back(photonAt(5e5f * lattice(rng), 5e5f * lattice(rng), 5e5f * lattice(rng)));
     std::vector<PclKnnQuery> qs;
     for (int i = 0; i < 300; ++i) qs.push_back(query(far[i * 7].x, far[i * 7].y, far[i * 7].z, 1e-6f));
     expectBruteForce(far, qs, {1, 50});

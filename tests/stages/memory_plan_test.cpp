@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "check/on_device.h"
 #include "device_fixture.h"
 #include "photon_test_scenes.h"
 #include "pipeline/deposit.h"
@@ -204,8 +205,9 @@ TEST(MemoryPlan, LargeKdTreeBuildIsPredictedWithItsSecondWorkspace) {
     size_t phaseBytes = 0;
     for (const MemoryPhase& p : plan.phases)
         if (p.name == "global kd-tree") phaseBytes = p.bytes;
-    std::printf("[figure] kd-tree of %zu photons: %zu buffers predicted to the byte, %zu allocations, %.1f MiB at once\n",
-                n, checked, log.count, double(phaseBytes) / kMiB);
+    std::printf(
+        "[figure] kd-tree of %zu photons: %zu buffers predicted to the byte, %zu allocations, %.1f MiB at once\n", n,
+        checked, log.count, double(phaseBytes) / kMiB);
 }
 
 // Enough paths × slots that the uncapped slot buffer passes 64 MiB: under the cap the pass runs
@@ -271,7 +273,8 @@ TEST(MemoryPlan, KnnUnderA64MiBCapEqualsUncapped) {
                 "launches of %zu, largest %.1f MiB; search %.3f s vs %.3f s\n",
                 queries, k, double(freeLog.maxBytes) / kMiB, (queries + batch - 1) / batch, batch,
                 double(capLog.maxBytes) / kMiB, a.searchSeconds, b.searchSeconds);
-    const size_t uncappedIndices = freeLog.largest[std::make_pair(std::string("global search"), std::string("knn: indices"))];
+    const size_t uncappedIndices =
+        freeLog.largest[std::make_pair(std::string("global search"), std::string("knn: indices"))];
     EXPECT_GT(uncappedIndices, 64 * kMiB);
     EXPECT_LE(capLog.maxBytes, 64 * kMiB);
     EXPECT_GT((queries + batch - 1) / batch, 1u);
@@ -320,7 +323,7 @@ TEST(MemoryPlan, MapOutgrowingTheCapMidPassFailsWithItsName) {
     Device device = test::testDevice();
     device.setBufferCap(1 * kMiB);  // 43690 records
     PhotonPassOptions o;
-    o.globalPhotons = 40000;        // fits the plan (one record per path) but stores ~1.75 per path
+    o.globalPhotons = 40000;  // fits the plan (one record per path) but stores ~1.75 per path
     o.maxDepth = 8;
     o.buildCaustic = false;
     requireMemoryFits(planMemory(photonPassMemoryRequest(s.geometry, s.buffers, o), memoryLimits(device.info())));

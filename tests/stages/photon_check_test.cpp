@@ -13,12 +13,13 @@
 #include <map>
 #include <memory>
 
-#include "device_fixture.h"
+#include "check/on_device.h"
 #include "check/photon_stages.h"
+#include "device_fixture.h"
 #include "pipeline/deposit.h"
 #include "pipeline/emit.h"
-#include "prep/projection_map.h"
 #include "pipeline/trace_photons.h"
+#include "prep/projection_map.h"
 #include "reference/deposit.h"
 #include "reference/emit.h"
 #include "reference/photon_pass.h"
@@ -124,7 +125,8 @@ TEST_P(PhotonCheck, WholePassMatchesTheTwin) {
 INSTANTIATE_TEST_SUITE_P(ShippedScenes, PhotonCheck, ::testing::ValuesIn(shippedScenes()),
                          [](const ::testing::TestParamInfo<std::string>& info) {
                              std::string name = std::filesystem::path(info.param).stem().string();
-                             for (char& c : name) if (!isalnum(static_cast<unsigned char>(c))) c = '_';
+                             for (char& c : name)
+                                 if (!isalnum(static_cast<unsigned char>(c))) c = '_';
                              return name;
                          });
 

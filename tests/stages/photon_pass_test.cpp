@@ -46,7 +46,8 @@ void checkScene(const std::string& path) {
         for (int c = 0; c < 3; ++c) {
             want[c] += L.power[c];
             wantCaustic[c] += L.power[c] * f;
-            if (first[l + 1] > first[l]) maxPerPhoton = std::max(maxPerPhoton, double(L.power[c]) / (first[l + 1] - first[l]));
+            if (first[l + 1] > first[l])
+                maxPerPhoton = std::max(maxPerPhoton, double(L.power[c]) / (first[l + 1] - first[l]));
             if (firstC[l + 1] > firstC[l])
                 maxPerCaustic = std::max(maxPerCaustic, double(L.power[c]) * f / (firstC[l + 1] - firstC[l]));
         }

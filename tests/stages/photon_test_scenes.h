@@ -8,8 +8,8 @@
 
 #include "device_fixture.h"
 #include "geometry/scene_geometry.h"
-#include "prep/photon_allocation.h"
 #include "pipeline/photon_pass.h"
+#include "prep/photon_allocation.h"
 #include "prep/projection_map.h"
 #include "prep/scene_buffers.h"
 #include "scene/load_scene.h"

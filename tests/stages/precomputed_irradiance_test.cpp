@@ -17,8 +17,9 @@
 #include <random>
 #include <string>
 
-#include "device_fixture.h"
+#include "check/on_device.h"
 #include "check/precomputed_irradiance.h"
+#include "device_fixture.h"
 #include "pipeline/precomputed_irradiance.h"
 #include "reference/precomputed_irradiance.h"
 #include "reference/trace_photons.h"
@@ -76,7 +77,7 @@ TEST(PrecomputedIrradiance, UniformlyLitPlaneMatchesTheFullEstimate) {
     const size_t n = 200000;
     const uint32_t k = 50;
     const float power = 1.0f / 1024.0f;
-    const float lambda = float(n);  // photons per unit area
+    const float lambda = float(n);                            // photons per unit area
     const float rMax = 2.0f * std::sqrt(k / (kPi * lambda));  // ~4k photons expected inside
     const std::vector<PclPhoton> map = planePhotons(n, 0.0f, 1.0f, power, 11);
     IrradianceCheckOptions o;
@@ -121,7 +122,7 @@ TEST(PrecomputedIrradiance, ThinWallNeverReadsTheOtherFace) {
     const uint32_t k = 50;
     const float rMax = 2.0f * std::sqrt(k / (kPi * n));
     const float half = 0.05f * rMax;
-    std::vector<PclPhoton> map = planePhotons(n, half, 1.0f, 1.0f / 256.0f, 21);        // face A: +z, dim
+    std::vector<PclPhoton> map = planePhotons(n, half, 1.0f, 1.0f / 256.0f, 21);          // face A: +z, dim
     const std::vector<PclPhoton> back = planePhotons(n, -half, -1.0f, 1.0f / 16.0f, 22);  // face B: −z, bright
     map.insert(map.end(), back.begin(), back.end());
     Device& device = test::testDevice();
@@ -247,7 +248,8 @@ TEST(PrecomputedIrradiance, LookupsStayInsideTheCover) {
     std::vector<float> cover = {0.02f, 0.2f};  // the query is 0.1 from `near` (d² 0.01 ≤ 0.02)
     EXPECT_EQ(lookupIrradianceOnDevice(device, uploadIrradiancePoints(device, points, 0.9f, cover), {q}).chosen[0], 0u);
     cover[0] = 0.005f;  // now `near` does not reach it: `far` (d² 0.09 ≤ 0.2) answers
-    IrradianceLookupResult r = lookupIrradianceOnDevice(device, uploadIrradiancePoints(device, points, 0.9f, cover), {q});
+    IrradianceLookupResult r =
+        lookupIrradianceOnDevice(device, uploadIrradiancePoints(device, points, 0.9f, cover), {q});
     EXPECT_EQ(r.chosen[0], 4u);
     EXPECT_EQ(r.irradiance[0], 1.0f);
     EXPECT_EQ(referenceLookupIrradiance(points, cover, {q}, 0.9f).chosen[0], 4u);

@@ -17,8 +17,7 @@ TEST(Probe, DeviceStructSizesEqualHost) {
     std::vector<uint32_t> device = pcl::probeDeviceSizes(pcl::test::testDevice());
     ASSERT_EQ(device.size(), structs.size());
     for (size_t i = 0; i < structs.size(); ++i)
-        EXPECT_EQ(device[i], structs[i].hostSize) << structs[i].name << " on "
-                                                  << pcl::test::testDevice().info().name;
+        EXPECT_EQ(device[i], structs[i].hostSize) << structs[i].name << " on " << pcl::test::testDevice().info().name;
 }
 
 // The probe is only as good as its list: every struct types.h defines must be in it.

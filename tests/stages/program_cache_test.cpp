@@ -34,9 +34,7 @@ void expectProbeRuns(cl::Program program) {
     for (size_t i = 0; i < n; ++i) EXPECT_EQ(sizes[i], pcl::sharedStructs()[i].hostSize);
 }
 
-void writeFile(const fs::path& p, const std::string& text) {
-    std::ofstream(p, std::ios::binary) << text;
-}
+void writeFile(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 TEST(ProgramCache, MissThenHit) {
     TempDir dir;
@@ -148,11 +146,10 @@ TEST(ProgramCache, SyntaxErrorNamesFileDeviceAndLog) {
     TempDir kernels, cache;
     fs::create_directories(kernels.path() / "shared");
     writeFile(kernels.path() / "shared" / "helper.h", "#define PCL_HELPER 1\n");
-    writeFile(kernels.path() / "broken.cl",
-              "#include \"shared/helper.h\"\n"
-              "__kernel void broken_run(__global int* x) {\n"
-              "    x[0] = pcl_undeclared_thing;\n"
-              "}\n");
+    writeFile(kernels.path() / "broken.cl", "#include \"shared/helper.h\"\n"
+                                            "__kernel void broken_run(__global int* x) {\n"
+                                            "    x[0] = pcl_undeclared_thing;\n"
+                                            "}\n");
     ProgramCache programs = cacheIn(cache.path(), kernels.path());
     try {
         programs.build("broken", "-DPCL_EXTRA=3");

@@ -13,6 +13,7 @@
 
 #include <stdlib.h>
 
+#include "check/on_device.h"
 #include "device_fixture.h"
 #include "pipeline/sort.h"
 #include "reference/sort.h"
@@ -45,9 +46,7 @@ std::vector<K> makeKeys(size_t n, Pattern p, uint32_t seed) {
             std::sort(k.begin(), k.end());
             if (p == Pattern::Reversed) std::reverse(k.begin(), k.end());
             break;
-        case Pattern::AllEqual:
-            std::fill(k.begin(), k.end(), K(rng()));
-            break;
+        case Pattern::AllEqual: std::fill(k.begin(), k.end(), K(rng())); break;
         case Pattern::FewDistinct: {
             K pool[5];
             for (K& x : pool) x = K(rng());
@@ -78,8 +77,7 @@ void expectSortMatches(size_t n, Pattern p, uint32_t seed, int sortBits = 8 * si
     std::vector<K> gotKeys = dev.download<K>(kb, n);
     std::vector<uint32_t> gotValues = dev.download<uint32_t>(vb, n);
     size_t firstKey = std::mismatch(gotKeys.begin(), gotKeys.end(), wantKeys.begin()).first - gotKeys.begin();
-    size_t firstValue =
-        std::mismatch(gotValues.begin(), gotValues.end(), wantValues.begin()).first - gotValues.begin();
+    size_t firstValue = std::mismatch(gotValues.begin(), gotValues.end(), wantValues.begin()).first - gotValues.begin();
     EXPECT_EQ(firstKey, n) << 8 * sizeof(K) << "-bit " << name(p) << " n = " << n << ": first key mismatch";
     EXPECT_EQ(firstValue, n) << 8 * sizeof(K) << "-bit " << name(p) << " n = " << n << ": first value mismatch";
 }
@@ -142,10 +140,17 @@ TEST(Sort, EmptyAndBadWidth) {
 // (−0 before +0, both 0.0), infinities and denormals included.
 TEST(Sort, FloatKeysPreserveOrder) {
     std::mt19937 rng(3);
-    std::vector<float> x = {0.0f, -0.0f, 1.0f, -1.0f, std::numeric_limits<float>::infinity(),
-                            -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::denorm_min(),
-                            -std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::max(),
-                            -std::numeric_limits<float>::max(), std::numeric_limits<float>::min()};
+    std::vector<float> x = {0.0f,
+                            -0.0f,
+                            1.0f,
+                            -1.0f,
+                            std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(),
+                            std::numeric_limits<float>::denorm_min(),
+                            -std::numeric_limits<float>::denorm_min(),
+                            std::numeric_limits<float>::max(),
+                            -std::numeric_limits<float>::max(),
+                            std::numeric_limits<float>::min()};
     std::normal_distribution<float> normal(0.0f, 100.0f);
     for (int i = 0; i < 100000; ++i) x.push_back(i % 3 ? normal(rng) : std::ldexp(normal(rng), int(rng() % 200) - 100));
     Device& dev = test::testDevice();

@@ -10,13 +10,14 @@
 #include <cmath>
 #include <cstring>
 
+#include "check/on_device.h"
 #include "device_fixture.h"
-#include "prep/photon_allocation.h"
 #include "photon_test_scenes.h"
 #include "pipeline/emit.h"
 #include "pipeline/photon_pass.h"
-#include "prep/projection_map.h"
 #include "pipeline/trace_photons.h"
+#include "prep/photon_allocation.h"
+#include "prep/projection_map.h"
 #include "shared/sampling.h"
 
 namespace pcl {
@@ -230,7 +231,7 @@ TEST(TracePhotons, CausticPhotonsBounceOffTheSpecularLobeOfAMixedSurface) {
     test::BuiltScene b = test::build(s);
     test::markAllProjectionCells(b.buffers);  // unrestricted emission: f = 1
     const uint32_t N = 200000;
-    const double phi = double(N) / 1024.0;    // Φ/N = 2⁻¹⁰: exact in RGBE
+    const double phi = double(N) / 1024.0;  // Φ/N = 2⁻¹⁰: exact in RGBE
     for (int c = 0; c < 3; ++c) b.buffers.lights[0].power[c] = float(phi);
 
     std::vector<uint32_t> first = lightFirstPhoton(b.buffers, N, PCL_PASS_CAUSTIC);
@@ -261,10 +262,13 @@ TEST(TracePhotons, CausticPhotonsBounceOffTheSpecularLobeOfAMixedSurface) {
         }
     }
     const double fourPi = 4.0 * 3.14159265358979323846;
-    auto omega = [](double a, double bb, double d) { return 4.0 * std::atan(a * bb / (d * std::sqrt(a * a + bb * bb + d * d))); };
+    auto omega = [](double a, double bb, double d) {
+        return 4.0 * std::atan(a * bb / (d * std::sqrt(a * a + bb * bb + d * d)));
+    };
     const double pCeiling = rhoSFloor * (omega(4, 4, 1) - omega(0.5, 0.5, 3)) / fourPi;
     const double pFloor = rhoSMirror * omega(0.5, 0.5, 1) / fourPi;
-    const double gotC = ceilingHits * perPhoton, wantC = phi * pCeiling, seC = phi * std::sqrt(pCeiling * (1 - pCeiling) / N);
+    const double gotC = ceilingHits * perPhoton, wantC = phi * pCeiling,
+                 seC = phi * std::sqrt(pCeiling * (1 - pCeiling) / N);
     const double gotF = floorHits * perPhoton, wantF = phi * pFloor, seF = phi * std::sqrt(pFloor * (1 - pFloor) / N);
     std::printf("[mixed caustic] N %u, Phi %.4f W: ceiling via the floor's mirror lobe %.5f W (image source %.5f, "
                 "SE %.5f, %+.2f SE); floor via the mirror %.5f W (image source %.5f, SE %.5f, %+.2f SE); "
@@ -483,7 +487,8 @@ TEST(TracePhotons, RecordsOnSpheresLieOnTheirSurface) {
         Vec3 q(p.x, p.y, p.z);
         bool onBox = std::fabs(std::max(std::fabs(q.x), std::max(std::fabs(q.y), std::fabs(q.z))) - 2.0f) < 1e-5f;
         bool onSphere = false;
-        for (const Sphere& sp : s.spheres) onSphere |= std::fabs(length(q - sp.centre) - sp.radius) < 1e-4f * sp.radius + 1e-6f;
+        for (const Sphere& sp : s.spheres)
+            onSphere |= std::fabs(length(q - sp.centre) - sp.radius) < 1e-4f * sp.radius + 1e-6f;
         ASSERT_TRUE(onBox || onSphere) << q.x << " " << q.y << " " << q.z;
         onSpheres += onSphere;
     }

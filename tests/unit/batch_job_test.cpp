@@ -45,7 +45,8 @@ protected:
 }  // namespace
 
 TEST_F(BatchJobTest, ReadsEveryFieldAndResolvesPathsAgainstTheJobFile) {
-    BatchJob job = loadBatchJob(write(R"({"scene": ")" + scene() + R"(", "output": "../out/x.exr", "method": "progressive",
+    BatchJob job =
+        loadBatchJob(write(R"({"scene": ")" + scene() + R"(", "output": "../out/x.exr", "method": "progressive",
         "passes": 12, "shards": 5, "seed": 7, "width": 40, "height": 30, "globalPhotons": 1000, "causticPhotons": 500,
         "strata": 2, "k": 20, "causticK": 30, "lightSamples": 4, "alpha": 0.5, "filter": "box",
         "structure": "hash-grid", "visibility": true, "device": "cpu", "maxBufferMib": 64})"));
@@ -62,7 +63,8 @@ TEST_F(BatchJobTest, ReadsEveryFieldAndResolvesPathsAgainstTheJobFile) {
     EXPECT_EQ(job.structure, "hash-grid");
     EXPECT_TRUE(job.visibility);
     EXPECT_EQ(job.maxBufferMib, 64u);
-    EXPECT_EQ(shardPath(job, 3), (dir / "out" / "x.exr.shards" / "shard-0003-of-0005.pcls").lexically_normal().string());
+    EXPECT_EQ(shardPath(job, 3),
+              (dir / "out" / "x.exr.shards" / "shard-0003-of-0005.pcls").lexically_normal().string());
     EXPECT_EQ(manifestPath(job), (dir / "out" / "x.manifest.json").lexically_normal().string());
 }
 
@@ -73,10 +75,12 @@ TEST_F(BatchJobTest, LeftOutSettingsTakeTheRenderDefaults) {
     EXPECT_EQ(job.width, 256);
     EXPECT_EQ(job.height, 256);
     EXPECT_EQ(job.passes, defaultPasses(RenderMethod::FinalGather, 256, 256));
-    BatchJob half = loadBatchJob(write(R"({"scene": ")" + scene() + R"(", "output": "x.exr", "shards": 1, "width": 128})"));
+    BatchJob half =
+        loadBatchJob(write(R"({"scene": ")" + scene() + R"(", "output": "x.exr", "shards": 1, "width": 128})"));
     EXPECT_EQ(half.height, 128);
     EXPECT_EQ(half.passes, defaultPasses(RenderMethod::FinalGather, 128, 128));
-    BatchJob path = loadBatchJob(write(R"({"scene": ")" + scene() + R"(", "output": "x.exr", "shards": 4, "method": "path"})"));
+    BatchJob path =
+        loadBatchJob(write(R"({"scene": ")" + scene() + R"(", "output": "x.exr", "shards": 4, "method": "path"})"));
     EXPECT_EQ(path.passes, 64u);  // render --method path's 64 samples per pixel
 }
 

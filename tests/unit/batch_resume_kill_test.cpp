@@ -1,4 +1,4 @@
-// `photoncl batch run` killed and resumed (issue 8 part 4), with the real binary: SIGKILL in the
+// `photoncl batch run` killed and resumed, with the real binary: SIGKILL in the
 // middle of a render, in the middle of writing a shard file and between its fsync and rename
 // (PHOTONCL_BATCH_TEST_PAUSE holds the process at those points) never leaves a file merge
 // accepts under a shard's name, and never damages a shard written before; Ctrl-C (SIGINT)
@@ -116,7 +116,8 @@ TEST(BatchResumeKill, KilledShardsLeaveNothingMergeAcceptsAndAllResumes) {
     fs::create_directories(dir);
     const std::string scene = std::string(PHOTONCL_SOURCE_DIR) + "/scenes/cornell-spheres.json";
     const std::string job = (dir / "job.json").string();
-    std::ofstream(job) << R"({"scene": ")" << scene << R"(", "output": "out/img.exr", "passes": 6, "shards": 3, "seed": 2,
+    std::ofstream(job) << R"({"scene": ")" << scene
+                       << R"(", "output": "out/img.exr", "passes": 6, "shards": 3, "seed": 2,
         "width": 24, "height": 16, "globalPhotons": 3000, "causticPhotons": 2000, "gatherRays": 4})";
     fs::create_directories(dir / "out");
     const fs::path shards = dir / "out" / "img.exr.shards";
@@ -211,14 +212,28 @@ TEST(BatchResumeKill, KilledShardsLeaveNothingMergeAcceptsAndAllResumes) {
     EXPECT_TRUE(fs::exists(dir / "out" / "img.manifest.json"));
     // The merge equals one `render` of the same passes, bit for bit.
     const std::string single = (dir / "single.exr").string();
-    r = run("render " + scene + " --width 24 --height 16 --passes 6 --seed 2 --global-photons 3000 --caustic-photons 2000 "
-            "--gather-rays 4 -q --no-png -o " + single);
+    r = run("render " + scene +
+            " --width 24 --height 16 --passes 6 --seed 2 --global-photons 3000 --caustic-photons 2000 "
+            "--gather-rays 4 -q --no-png -o " +
+            single);
     ASSERT_EQ(r.status, 0) << r.output;
-    pcl::Image merged = pcl::readImage((dir / "out" / "img.exr").string()), once = pcl::readImage(single);
+    pcl::ImageMetadata mergedMeta, onceMeta;
+    pcl::Image merged = pcl::readImage((dir / "out" / "img.exr").string(), &mergedMeta),
+               once = pcl::readImage(single, &onceMeta);
+    // Both record the same settings text and hash: one serialisation (render/render_settings.h).
+    auto extra = [](const pcl::ImageMetadata& m, const std::string& key) {
+        for (const auto& [k, v] : m.extra)
+            if (k == key) return v;
+        return std::string("(missing)");
+    };
+    EXPECT_NE(extra(onceMeta, "settings"), "(missing)");
+    EXPECT_EQ(extra(mergedMeta, "settings"), extra(onceMeta, "settings"));
+    EXPECT_EQ(extra(mergedMeta, "settingsHash"), extra(onceMeta, "settingsHash"));
     ASSERT_EQ(merged.rgb.size(), once.rgb.size());
     const bool same = std::memcmp(merged.rgb.data(), once.rgb.data(), once.rgb.size() * sizeof(float)) == 0;
     std::printf("[figure] %d SIGKILLs (mid-render, mid-write, before rename x2) + 1 Ctrl-C + 1 damaged shard, then "
-                "--all and merge: %s to one render of the 6 passes\n", kills, same ? "bit-identical" : "DIFFERENT");
+                "--all and merge: %s to one render of the 6 passes\n",
+                kills, same ? "bit-identical" : "DIFFERENT");
     EXPECT_TRUE(same);
     fs::remove_all(dir);
 }
@@ -228,7 +243,8 @@ TEST(BatchPlan, PrintsEveryShardWithItsMemoryAndCalibratedTime) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     const std::string job = (dir / "job.json").string();
-    std::ofstream(job) << R"({"scene": ")" << PHOTONCL_SOURCE_DIR << R"(/scenes/cornell-spheres.json", "output": "img.exr",
+    std::ofstream(job) << R"({"scene": ")" << PHOTONCL_SOURCE_DIR
+                       << R"(/scenes/cornell-spheres.json", "output": "img.exr",
         "passes": 10, "shards": 4, "width": 24, "height": 16, "globalPhotons": 3000, "causticPhotons": 2000})";
     Result r = run("batch plan " + job);
     ASSERT_EQ(r.status, 0) << r.output;
@@ -239,7 +255,8 @@ TEST(BatchPlan, PrintsEveryShardWithItsMemoryAndCalibratedTime) {
     EXPECT_NE(r.output.find("time per pass: "), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("settings "), std::string::npos) << r.output;
     // A job whose photon map cannot fit under the buffer cap: the plan says so, exit 2.
-    std::ofstream(job) << R"({"scene": ")" << PHOTONCL_SOURCE_DIR << R"(/scenes/cornell-spheres.json", "output": "img.exr",
+    std::ofstream(job) << R"({"scene": ")" << PHOTONCL_SOURCE_DIR
+                       << R"(/scenes/cornell-spheres.json", "output": "img.exr",
         "passes": 2, "shards": 1, "width": 24, "height": 16, "globalPhotons": 3000000, "maxBufferMib": 8})";
     r = run("batch plan " + job + " --no-calibrate");
     EXPECT_EQ(r.status, 2) << r.output;

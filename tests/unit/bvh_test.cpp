@@ -3,8 +3,8 @@
 // closest-hit existence; degenerate inputs build and trace; the flat tree is well formed.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -41,16 +41,15 @@ PclHit bruteForce(const Scene& scene, const PclRay& r) {
             Vec3 p1 = m.positions[m.indices[3 * t + 1]];
             Vec3 p2 = m.positions[m.indices[3 * t + 2]];
             float tt, u, v;
-            if (intersectTriangle(o, d, p0, p1 - p0, p2 - p0, tt, u, v) && tt > r.tmin &&
-                tt < r.tmax && closerHit(tt, prim, best.t, best.prim))
+            if (intersectTriangle(o, d, p0, p1 - p0, p2 - p0, tt, u, v) && tt > r.tmin && tt < r.tmax &&
+                closerHit(tt, prim, best.t, best.prim))
                 best = {tt, u, v, prim};
         }
     }
     for (const auto& s : scene.spheres) {
         Vec3 o = Vec3(r.ox, r.oy, r.oz) - s.motion * r.time;
         float tt;
-        if (intersectSphere(o, d, s.centre, s.radius, r.tmin, r.tmax, tt) &&
-            closerHit(tt, prim, best.t, best.prim))
+        if (intersectSphere(o, d, s.centre, s.radius, r.tmin, r.tmax, tt) && closerHit(tt, prim, best.t, best.prim))
             best = {tt, 0, 0, prim};
         ++prim;
     }
@@ -65,7 +64,10 @@ std::vector<PclRay> randomRays(const Scene& scene, const Bounds3& bounds, size_t
     // A box at least half as deep as it is wide, so flat scenes still get rays across them.
     Vec3 ext = vmax(bounds.extent(), Vec3(maxComponent(bounds.extent()) * 0.5f)) * 1.2f;
     Vec3 lo = bounds.centre() - ext * 0.5f;
-    struct Target { Vec3 p; float jitter; };
+    struct Target {
+        Vec3 p;
+        float jitter;
+    };
     std::vector<Target> targets;
     for (const auto& m : scene.meshes)
         for (size_t i = 0; i < m.positions.size(); i += 1 + m.positions.size() / 4096)
@@ -83,8 +85,12 @@ std::vector<PclRay> randomRays(const Scene& scene, const Bounds3& bounds, size_t
             d = Vec3(s * std::cos(phi), s * std::sin(phi), z) * (0.5f + 2 * u01(rng));  // unnormalised
         }
         r = PclRay{};
-        r.ox = o.x; r.oy = o.y; r.oz = o.z;
-        r.dx = d.x; r.dy = d.y; r.dz = d.z;
+        r.ox = o.x;
+        r.oy = o.y;
+        r.oz = o.z;
+        r.dx = d.x;
+        r.dy = d.y;
+        r.dz = d.z;
         r.tmin = u01(rng) < 0.5f ? 0.0f : 1e-4f;
         r.tmax = u01(rng) < 0.8f ? INFINITY : u01(rng) * 2.0f;
         r.time = u01(rng);
@@ -113,7 +119,8 @@ Agreement compareWithBruteForce(const Scene& scene, const SceneGeometry& g, size
                 a.hits += hit;
                 if (h.prim != b.prim) {
                     if (a.primMismatch < 3)
-                        std::printf("  mismatch: tree prim %u t %.9g, brute prim %u t %.9g\n", h.prim, h.t, b.prim, b.t);
+                        std::printf("  mismatch: tree prim %u t %.9g, brute prim %u t %.9g\n", h.prim, h.t, b.prim,
+                                    b.t);
                     a.primMismatch++;
                 } else if (hit && std::fabs(h.t - b.t) > kRelT * std::fabs(b.t)) {
                     a.tMismatch++;
@@ -124,11 +131,14 @@ Agreement compareWithBruteForce(const Scene& scene, const SceneGeometry& g, size
     for (auto& th : pool) th.join();
     Agreement a;
     for (const auto& p : parts) {
-        a.rays += p.rays; a.hits += p.hits; a.primMismatch += p.primMismatch;
-        a.tMismatch += p.tMismatch; a.anyMismatch += p.anyMismatch;
+        a.rays += p.rays;
+        a.hits += p.hits;
+        a.primMismatch += p.primMismatch;
+        a.tMismatch += p.tMismatch;
+        a.anyMismatch += p.anyMismatch;
     }
-    std::printf("  %zu rays, %zu hits, prim mismatches %zu, t mismatches %zu, any-hit mismatches %zu\n",
-                a.rays, a.hits, a.primMismatch, a.tMismatch, a.anyMismatch);
+    std::printf("  %zu rays, %zu hits, prim mismatches %zu, t mismatches %zu, any-hit mismatches %zu\n", a.rays, a.hits,
+                a.primMismatch, a.tMismatch, a.anyMismatch);
     return a;
 }
 
@@ -264,9 +274,10 @@ void expectAgreement(const Scene& scene, uint32_t seed, size_t rays = kRays) {
     SceneGeometry g = SceneGeometry::build(scene);
     expectValidTree(scene, g);
     const BvhStats& st = g.stats();
-    std::printf("  %u prims: %zu nodes, %zu packets, %zu leaves, depth %d (binary %d), stack %d, SAH %.2f, %.1f B/tri\n",
-                g.primitiveCount(), st.nodes, st.packets, st.leaves, st.depth, st.binaryDepth,
-                st.maxStack, st.sahCost, st.bytesPerTriangle());
+    std::printf(
+        "  %u prims: %zu nodes, %zu packets, %zu leaves, depth %d (binary %d), stack %d, SAH %.2f, %.1f B/tri\n",
+        g.primitiveCount(), st.nodes, st.packets, st.leaves, st.depth, st.binaryDepth, st.maxStack, st.sahCost,
+        st.bytesPerTriangle());
     Agreement a = compareWithBruteForce(scene, g, rays, seed);
     EXPECT_EQ(a.primMismatch, 0u);
     EXPECT_EQ(a.tMismatch, 0u);
@@ -286,8 +297,8 @@ TEST(Bvh, CompactLayout) {
     SceneGeometry g = SceneGeometry::build(s);
     const BvhStats& st = g.stats();
     double fill = double(st.triangles) / (4.0 * double(st.packets));
-    std::printf("  %zu triangles: %.1f bytes/triangle, packet fill %.3f, SAH %.2f, depth %d, stack %d\n",
-                st.triangles, st.bytesPerTriangle(), fill, st.sahCost, st.depth, st.maxStack);
+    std::printf("  %zu triangles: %.1f bytes/triangle, packet fill %.3f, SAH %.2f, depth %d, stack %d\n", st.triangles,
+                st.bytesPerTriangle(), fill, st.sahCost, st.depth, st.maxStack);
     EXPECT_LE(st.bytesPerTriangle(), 80.0);
     EXPECT_GE(fill, 0.85);
     EXPECT_LE(st.maxStack, 96);
@@ -327,7 +338,9 @@ TEST(Bvh, ManyIdenticalTrianglesStayShallow) {
     EXPECT_LE(g.stats().binaryDepth, 16) << "median fallback should halve the count each level";
     // Every ray through the triangle hits it; the tie goes to the smallest id.
     PclRay r{};
-    r.ox = 0.25f; r.oy = 0.25f; r.oz = 1.0f;
+    r.ox = 0.25f;
+    r.oy = 0.25f;
+    r.oz = 1.0f;
     r.dz = -1.0f;
     r.tmax = INFINITY;
     PclHit h;

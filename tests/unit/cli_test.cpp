@@ -39,7 +39,8 @@ protected:
 TEST_F(CliTest, HelpListsEverySubcommandAndExitsZero) {
     Result r = run("--help");
     EXPECT_EQ(r.status, 0);
-    for (const char* sub : {"devices", "render", "check", "compare"}) EXPECT_NE(r.output.find(sub), std::string::npos) << sub;
+    for (const char* sub : {"devices", "render", "check", "compare"})
+        EXPECT_NE(r.output.find(sub), std::string::npos) << sub;
     for (const char* sub : {"devices", "render", "check", "compare"}) {
         Result h = run(std::string(sub) + " --help");
         EXPECT_EQ(h.status, 0) << sub;
@@ -115,16 +116,22 @@ TEST_F(CliTest, SameSeedGivesTheSameBitsAndCompareSaysSo) {
     EXPECT_NE(same.output.find("RMSE 0"), std::string::npos) << same.output;
 
     ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "c.exr").string() +
-                  " --method path --width 24 --height 24 --passes 2 --seed 4 -q --no-png").status, 0);
+                  " --method path --width 24 --height 24 --passes 2 --seed 4 -q --no-png")
+                  .status,
+              0);
     Result differ = run("compare " + (dir / "c.exr").string() + " " + (dir / "a.exr").string() + " --max-rmse 1e-9");
     EXPECT_EQ(differ.status, 1) << differ.output;
 }
 
 TEST_F(CliTest, CompareRefusesMismatchedSizesAndMissingFiles) {
     ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "a.exr").string() +
-                  " --method path --width 16 --height 16 --passes 1 -q --no-png").status, 0);
+                  " --method path --width 16 --height 16 --passes 1 -q --no-png")
+                  .status,
+              0);
     ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "b.exr").string() +
-                  " --method path --width 8 --height 8 --passes 1 -q --no-png").status, 0);
+                  " --method path --width 8 --height 8 --passes 1 -q --no-png")
+                  .status,
+              0);
     EXPECT_EQ(run("compare " + (dir / "a.exr").string() + " " + (dir / "b.exr").string()).status, 2);
     Result missing = run("compare " + (dir / "a.exr").string() + " " + (dir / "zzz.exr").string());
     EXPECT_EQ(missing.status, 2);
@@ -145,7 +152,10 @@ TEST_F(CliTest, CheckTraceOnAShippedScenePasses) {
 
 TEST_F(CliTest, WidthAloneKeepsTheCameraAspectRatio) {
     fs::path out = dir / "md.exr";
-    ASSERT_EQ(run("render " + scene("motion-dof.json") + " -o " + out.string() + " --method path --width 32 --passes 1 -q --no-png").status, 0);
+    ASSERT_EQ(run("render " + scene("motion-dof.json") + " -o " + out.string() +
+                  " --method path --width 32 --passes 1 -q --no-png")
+                  .status,
+              0);
     pcl::Image img = pcl::readImage(out.string());
     EXPECT_EQ(img.width, 32);
     EXPECT_EQ(img.height, 24);  // motion-dof is 4:3
@@ -160,8 +170,10 @@ TEST_F(CliTest, RenderLogsThePlan) {
 }
 
 TEST_F(CliTest, CheckPhotonStagesPassOnAShippedScene) {
-    for (const char* stage : {"emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate", "render"}) {
-        Result r = run("check " + scene("cornell-spheres-point.json") + " --device cpu --stage " + stage + " --photons 4000");
+    for (const char* stage :
+         {"emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate", "render"}) {
+        Result r =
+            run("check " + scene("cornell-spheres-point.json") + " --device cpu --stage " + stage + " --photons 4000");
         EXPECT_EQ(r.status, 0) << r.output;
         EXPECT_NE(r.output.find(std::string("stage ") + stage + ": PASSED"), std::string::npos) << r.output;
     }

@@ -50,8 +50,7 @@ TEST(KernelSource, CacheDirectoryFollowsEnvironment) {
     for (int i = 0; i < 3; ++i) keep[i] = saved[i] ? saved[i] : "";
     auto restore = [&] {
         const char* names[3] = {"PHOTONCL_CACHE_DIR", "XDG_CACHE_HOME", "HOME"};
-        for (int i = 0; i < 3; ++i)
-            saved[i] ? setenv(names[i], keep[i].c_str(), 1) : unsetenv(names[i]);
+        for (int i = 0; i < 3; ++i) saved[i] ? setenv(names[i], keep[i].c_str(), 1) : unsetenv(names[i]);
     };
     setenv("HOME", "/home/someone", 1);
     unsetenv("PHOTONCL_CACHE_DIR");

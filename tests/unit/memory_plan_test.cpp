@@ -59,21 +59,21 @@ TEST(MemoryPlanUnit, BatchesSplitUnderTheCapAndEveryBufferFits) {
     ASSERT_TRUE(free.fits()) << formatMemoryPlan(free);
     ASSERT_TRUE(capped.fits()) << formatMemoryPlan(capped);
     std::printf("%s", formatMemoryPlan(capped).c_str());
-    EXPECT_EQ(free.photonBatch, 65536u);             // 2^16 on a CPU
-    EXPECT_EQ(capped.photonBatch, 10240u);           // 16 MiB of slots / (64 × 24 B), whole 1024s
-    EXPECT_EQ(capped.queryBatch, 167744u);           // 64 MiB / (100 × 4 B), whole 64s
+    EXPECT_EQ(free.photonBatch, 65536u);    // 2^16 on a CPU
+    EXPECT_EQ(capped.photonBatch, 10240u);  // 16 MiB of slots / (64 × 24 B), whole 1024s
+    EXPECT_EQ(capped.queryBatch, 167744u);  // 64 MiB / (100 × 4 B), whole 64s
     for (const PlannedBuffer& b : capped.buffers) EXPECT_LE(b.bytes, 64 * kMiB) << b.what;
     const PlannedBuffer* slots = capped.find("global photon pass", "photon pass: slots");
     ASSERT_NE(slots, nullptr);
     EXPECT_EQ(slots->bytes, 10240u * 64u * 24u);
-    EXPECT_EQ(slots->batches, 98u);                  // ⌈1e6 / 10240⌉
+    EXPECT_EQ(slots->batches, 98u);  // ⌈1e6 / 10240⌉
     const PlannedBuffer* indices = capped.find("global search", "knn: indices");
     ASSERT_NE(indices, nullptr);
-    EXPECT_EQ(indices->batches, 7u);                 // ⌈2^20 / 167744⌉
-    EXPECT_GT(largestDivisible(free), 64 * kMiB);    // uncapped, the same work has buffers above the cap
+    EXPECT_EQ(indices->batches, 7u);               // ⌈2^20 / 167744⌉
+    EXPECT_GT(largestDivisible(free), 64 * kMiB);  // uncapped, the same work has buffers above the cap
     const PlannedBuffer* map = capped.find("global photon pass", "photon pass: global map");
     ASSERT_NE(map, nullptr);
-    EXPECT_EQ(map->count, 2000000u);                 // 2 records per global path to start with
+    EXPECT_EQ(map->count, 2000000u);  // 2 records per global path to start with
     EXPECT_EQ(capped.find("caustic photon pass", "photon pass: caustic map")->count, 200000u);
     std::printf("[figure] 64 MiB cap: %u paths per launch (uncapped %u), %zu queries per launch (uncapped %zu), peak "
                 "%.1f MiB (uncapped %.1f MiB)\n",
@@ -92,7 +92,8 @@ TEST(MemoryPlanUnit, MapAboveTheCapFailsBeforeWorkNamingItAndTheFix) {
     } catch (const InputError& e) {
         const std::string m = e.what();
         std::printf("[figure] message: %s\n", m.c_str());
-        EXPECT_NE(m.find("the global photon map needs at least 68.7 MiB (3000000 records × 24 bytes"), std::string::npos)
+        EXPECT_NE(m.find("the global photon map needs at least 68.7 MiB (3000000 records × 24 bytes"),
+                  std::string::npos)
             << m;
         EXPECT_NE(m.find("above the device's max allocation 64.0 MiB (cap from --max-buffer-mib)"), std::string::npos)
             << m;
@@ -151,7 +152,8 @@ struct TempFolder {
 TEST(MemoryPlanCli, PhotonsUnderA64MiBCapWritesTheSameBytes) {
     TempFolder dir;
     const std::string a = (dir.path / "a.ply").string(), b = (dir.path / "b.ply").string();
-    const std::string common = "photons " + scene("cornell-spheres.json") + " --global-photons 30000 --caustic-photons 20000";
+    const std::string common = "photons " + scene("cornell-spheres.json") +
+                               " --global-photons 30000 --caustic-photons 20000";
     photoncl_cli::Result ra = photoncl_cli::run(common + " -o " + a);
     photoncl_cli::Result rb = photoncl_cli::run(common + " --max-buffer-mib 64 -o " + b);
     ASSERT_EQ(ra.status, 0) << ra.output;

@@ -75,7 +75,7 @@ TEST(PerPixelZTest, ConstantPixelsAndNonFiniteValues) {
     EXPECT_TRUE(same.failed.empty());
     std::vector<Image> halfRounded(16, flat(4, 4, 2.0f * (1.0f + 4.8e-4f)));  // within half-float rounding
     EXPECT_EQ(perPixelZTest(halfRounded, reference).passed, 16u);
-    runs[0].rgb[0] = 2.5f;        // one render differs: ordinary test
+    runs[0].rgb[0] = 2.5f;  // one render differs: ordinary test
     std::vector<Image> constantOff(16, flat(4, 4, 2.1f));
     ZTestResult off = perPixelZTest(constantOff, reference);
     EXPECT_EQ(off.passed, 0u);  // zero variance but a different value fails

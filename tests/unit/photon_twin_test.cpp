@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "prep/scene_buffers.h"
 #include "prep/photon_allocation.h"
+#include "prep/scene_buffers.h"
 #include "reference/bsdf.h"
 #include "reference/emit.h"
 #include "reference/photon_pass.h"
@@ -72,8 +72,7 @@ double gammaQ(double a, double x) {
 
 // Pearson's test of observed counts against expected counts (same total). Cells expected below
 // 5 are pooled into one (pbrt-v4's chi2test does the same). Returns the p-value.
-double chiSquarePValue(const std::vector<double>& observed, const std::vector<double>& expected,
-                       const char* name) {
+double chiSquarePValue(const std::vector<double>& observed, const std::vector<double>& expected, const char* name) {
     double chi2 = 0.0, pooledObs = 0.0, pooledExp = 0.0;
     int dof = -1;
     for (size_t i = 0; i < observed.size(); ++i) {
@@ -182,8 +181,8 @@ TEST(PhotonTwinFlux, ClosedDiffuseBoxConservesFlux) {
 
         const uint32_t maxDepth = 64;
         std::vector<uint32_t> first = referenceLightFirstPhoton(buffers, PCL_PASS_GLOBAL, N);
-        PclPhotonParams params = referencePhotonParams(buffers, geometry, referencePhotonPassSeed(7, 0),
-                                                       PCL_PASS_GLOBAL, 0, N, maxDepth);
+        PclPhotonParams params =
+            referencePhotonParams(buffers, geometry, referencePhotonPassSeed(7, 0), PCL_PASS_GLOBAL, 0, N, maxDepth);
         auto rays = emitPhotonsReference(buffers, first, params);
         auto batch = tracePhotonsReference(buffers, geometry, params, rays);
 
@@ -227,8 +226,8 @@ TEST(PhotonTwinFlux, ColouredBoxConservesFluxPerChannel) {
     const float phi = float(N) / 1024.0f;
     for (int c = 0; c < 3; ++c) buffers.lights[0].power[c] = phi;
     std::vector<uint32_t> first = referenceLightFirstPhoton(buffers, PCL_PASS_GLOBAL, N);
-    PclPhotonParams params = referencePhotonParams(buffers, geometry, referencePhotonPassSeed(11, 0),
-                                                   PCL_PASS_GLOBAL, 0, N, 64);
+    PclPhotonParams params =
+        referencePhotonParams(buffers, geometry, referencePhotonPassSeed(11, 0), PCL_PASS_GLOBAL, 0, N, 64);
     auto rays = emitPhotonsReference(buffers, first, params);
     std::vector<Vec3> x(N, Vec3(0.0f));
     std::vector<PclPhoton> slots(params.maxDepth);
@@ -244,8 +243,8 @@ TEST(PhotonTwinFlux, ColouredBoxConservesFluxPerChannel) {
         for (uint32_t i = 0; i < N; ++i) xc[i] = x[i][c];
         const double sum = std::accumulate(xc.begin(), xc.end(), 0.0), se = sumStandardError(xc);
         const double expect = phi / (1.0 - rho[c]);
-        std::printf("[flux] coloured box channel %d: %.4f (analytic %.4f, SE %.4f, %.2f SE)\n", c, sum, expect,
-                    se, (sum - expect) / se);
+        std::printf("[flux] coloured box channel %d: %.4f (analytic %.4f, SE %.4f, %.2f SE)\n", c, sum, expect, se,
+                    (sum - expect) / se);
         EXPECT_NEAR(sum, expect, 3.0 * se);
     }
 }
@@ -284,13 +283,13 @@ void markAllCells(SceneBuffers& b) {
 }
 
 // Caustic map flux: per-photon contributions (decoded RGBE, green) of `N` caustic photons.
-std::vector<double> causticContributions(const SceneBuffers& buffers, const SceneGeometry& geometry,
-                                         uint32_t N, uint64_t seed, uint32_t* photonsUsed = nullptr) {
+std::vector<double> causticContributions(const SceneBuffers& buffers, const SceneGeometry& geometry, uint32_t N,
+                                         uint64_t seed, uint32_t* photonsUsed = nullptr) {
     std::vector<uint32_t> first = referenceLightFirstPhoton(buffers, PCL_PASS_CAUSTIC, N);
     const uint32_t n = first.back();
     if (photonsUsed) *photonsUsed = n;
-    PclPhotonParams params = referencePhotonParams(buffers, geometry, referencePhotonPassSeed(seed, 0),
-                                                   PCL_PASS_CAUSTIC, 0, n, 16);
+    PclPhotonParams params =
+        referencePhotonParams(buffers, geometry, referencePhotonPassSeed(seed, 0), PCL_PASS_CAUSTIC, 0, n, 16);
     auto batch = tracePhotonsReference(buffers, geometry, params, emitPhotonsReference(buffers, first, params));
     std::vector<double> x(n, 0.0);
     for (uint32_t i = 0; i < n; ++i) {
@@ -364,8 +363,8 @@ TEST(PhotonTwinFlux, MixedSurfaceBouncesCausticPhotonsOnItsSpecularLobe) {
 
     std::vector<uint32_t> first = referenceLightFirstPhoton(buffers, PCL_PASS_CAUSTIC, N);
     ASSERT_EQ(first.back(), N);
-    PclPhotonParams params = referencePhotonParams(buffers, geometry, referencePhotonPassSeed(8, 0),
-                                                   PCL_PASS_CAUSTIC, 0, N, 8);
+    PclPhotonParams params =
+        referencePhotonParams(buffers, geometry, referencePhotonPassSeed(8, 0), PCL_PASS_CAUSTIC, 0, N, 8);
     auto batch = tracePhotonsReference(buffers, geometry, params, emitPhotonsReference(buffers, first, params));
     ASSERT_EQ(batch.slotsPerPath, 8u);
     std::vector<double> xc(N, 0.0), xf(N, 0.0);
@@ -382,7 +381,9 @@ TEST(PhotonTwinFlux, MixedSurfaceBouncesCausticPhotonsOnItsSpecularLobe) {
             (onCeiling ? xc : xf)[i] += referenceDecodeRgbe(ph.rgbe).y;
         }
     }
-    auto omega = [](double a, double b, double d) { return 4.0 * std::atan(a * b / (d * std::sqrt(a * a + b * b + d * d))); };
+    auto omega = [](double a, double b, double d) {
+        return 4.0 * std::atan(a * b / (d * std::sqrt(a * a + b * b + d * d)));
+    };
     const double wantC = phi * rhoSFloor * (omega(4, 4, 1) - omega(0.5, 0.5, 3)) / (4.0 * kPiD);
     const double wantF = phi * rhoSMirror * omega(0.5, 0.5, 1) / (4.0 * kPiD);
     const double gotC = std::accumulate(xc.begin(), xc.end(), 0.0), seC = sumStandardError(xc);
@@ -412,8 +413,8 @@ TEST(PhotonTwinFlux, ProjectionMapsKeepCausticFlux) {
     std::vector<double> xp = causticContributions(projected, geometry, N, 6);
     const double sa = std::accumulate(xa.begin(), xa.end(), 0.0), sp = std::accumulate(xp.begin(), xp.end(), 0.0);
     const double se = std::hypot(sumStandardError(xa), sumStandardError(xp));
-    std::printf("[flux] caustic flux: all cells %.5f, projection map %.5f (%u/%u cells), diff %.2f SE (SE %.5f)\n",
-                sa, sp, projected.lights[0].projCount, PCL_PROJ_GRID * PCL_PROJ_GRID, (sp - sa) / se, se);
+    std::printf("[flux] caustic flux: all cells %.5f, projection map %.5f (%u/%u cells), diff %.2f SE (SE %.5f)\n", sa,
+                sp, projected.lights[0].projCount, PCL_PROJ_GRID * PCL_PROJ_GRID, (sp - sa) / se, se);
     EXPECT_NEAR(sp, sa, 3.0 * se);
 }
 
@@ -591,8 +592,7 @@ TEST(PhotonTwinEmit, TriangleLightIsUniformInAreaAndCosineInDirection) {
     }
     std::vector<double> ep(pos.count.size(), 0.0);
     for (int j = 0; j < K; ++j)
-        for (int i = 0; i < K; ++i)
-            ep[size_t(j) * K + i] = i + j < K - 1 ? 1.0 : (i + j == K - 1 ? 0.5 : 0.0);
+        for (int i = 0; i < K; ++i) ep[size_t(j) * K + i] = i + j < K - 1 ? 1.0 : (i + j == K - 1 ? 0.5 : 0.0);
     for (double& x : ep) x *= pos.total() / (0.5 * K * K);
     EXPECT_GT(chiSquarePValue(pos.count, ep, "triangle: position"), kAlpha);
     std::vector<double> ed(dir.count.size(), dir.total() / dir.count.size());
@@ -672,8 +672,12 @@ namespace {
 
 PclMaterial material(Vec3 rhoD, Vec3 rhoS, uint32_t kind, float exponent = 0.0f, float ior = 1.5f) {
     PclMaterial m{};
-    m.rhoD[0] = rhoD.x; m.rhoD[1] = rhoD.y; m.rhoD[2] = rhoD.z;
-    m.rhoS[0] = rhoS.x; m.rhoS[1] = rhoS.y; m.rhoS[2] = rhoS.z;
+    m.rhoD[0] = rhoD.x;
+    m.rhoD[1] = rhoD.y;
+    m.rhoD[2] = rhoD.z;
+    m.rhoS[0] = rhoS.x;
+    m.rhoS[1] = rhoS.y;
+    m.rhoS[2] = rhoS.z;
     m.specular = kind;
     m.exponent = exponent;
     m.ior = ior;
@@ -764,7 +768,10 @@ TEST(PhotonTwinBounce, DielectricSplitsByFresnel) {
     const float ior = 1.5f;
     const PclMaterial m = material(Vec3(0.0f), Vec3(1.0f), PCL_SPECULAR_DIELECTRIC, 0.0f, ior);
     const Vec3 n(0.0f, 0.0f, 1.0f);
-    struct Case { float thetaDeg; bool entering; };
+    struct Case {
+        float thetaDeg;
+        bool entering;
+    };
     int chiTests = 0;
     for (Case c : {Case{10, true}, Case{60, true}, Case{85, true}, Case{30, false}, Case{50, false}}) {
         const float th = c.thetaDeg * kPi / 180.0f;
@@ -806,7 +813,12 @@ TEST(PhotonTwinBounce, DielectricSplitsByFresnel) {
 // surface whose diffuse and specular colours peak in different channels, where P_d + P_s > 1 is
 // normalised and a surviving photon's largest channel grows (here by 2).
 TEST(PhotonTwinBounce, RouletteIsUnbiasedPerChannel) {
-    struct Case { Vec3 rhoD, rhoS; uint32_t kind; Vec3 power; const char* name; };
+    struct Case {
+        Vec3 rhoD, rhoS;
+        uint32_t kind;
+        Vec3 power;
+        const char* name;
+    };
     const Case cases[] = {
         {Vec3(0.63f, 0.065f, 0.05f), Vec3(0.0f), PCL_SPECULAR_NONE, Vec3(1.0f), "red diffuse"},
         {Vec3(0.2f, 0.3f, 0.1f), Vec3(0.5f, 0.1f, 0.6f), PCL_SPECULAR_MIRROR, Vec3(0.3f, 1.0f, 0.5f), "mixed mirror"},
@@ -834,7 +846,8 @@ TEST(PhotonTwinBounce, RouletteIsUnbiasedPerChannel) {
             std::printf("[roulette] %-13s channel %d: E[P'] %.5f (want %.5f, SE %.5f)\n", c.name, k, meanK, expect, se);
             EXPECT_NEAR(meanK, expect, 3.0 * se + 1e-6) << c.name << " channel " << k;
         }
-        if (std::string(c.name) == "split colours") EXPECT_EQ(grown, double(N));  // each survivor carries 2Φ in one channel
+        if (std::string(c.name) == "split colours")
+            EXPECT_EQ(grown, double(N));  // each survivor carries 2Φ in one channel
         else EXPECT_EQ(grown, 0.0) << c.name;
     }
 }

@@ -307,7 +307,8 @@ TEST(ProjectionMap, SyntheticLightsAreConservative) {
         Scene s = specularRoom(true, true);
         s.lights.clear();
         addAreaLight(s, Vec3(-0.4f, 2.0f, -0.3f), Vec3(0.8f, 0, 0), Vec3(0, 0, 0.5f));  // facing down
-        addAreaLight(s, Vec3(1.8f, 0.5f, -1.0f), Vec3(0, 0, 0.8f), Vec3(0, 0.6f, 0), Vec3(0, 0.3f, 0));  // wall lamp facing -x, moving
+        addAreaLight(s, Vec3(1.8f, 0.5f, -1.0f), Vec3(0, 0, 0.8f), Vec3(0, 0.6f, 0),
+                     Vec3(0, 0.3f, 0));  // wall lamp facing -x, moving
         expectConservative("triangle", prepare(std::move(s)), 24, true);
     }
     {
@@ -327,7 +328,8 @@ TEST(ProjectionMap, SyntheticLightsAreConservative) {
             }
         m.material = mirror;
         s.meshes.push_back(m);
-        s.lights = {pointLight(Vec3(-0.5f, 1.5f, -1.0f)), spotLight(Vec3(0.5f, 1.5f, -1.5f), Vec3(-0.5f, -1, 0.2f), 10, 40)};
+        s.lights = {pointLight(Vec3(-0.5f, 1.5f, -1.0f)),
+                    spotLight(Vec3(0.5f, 1.5f, -1.5f), Vec3(-0.5f, -1, 0.2f), 10, 40)};
         expectConservative("large mirror mesh", prepare(std::move(s)), 26, true);
     }
     {

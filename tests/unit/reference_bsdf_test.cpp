@@ -31,7 +31,8 @@ double integrateSphere(G g, int nTheta = 800, int nPhi = 800) {
         double z = -1.0 + 2.0 * (i + 0.5) / nTheta, r = std::sqrt(1.0 - z * z);
         for (int j = 0; j < nPhi; ++j) {
             double phi = 2.0 * kPi * (j + 0.5) / nPhi;
-            sum += g(Vec3(static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)), static_cast<float>(z)));
+            sum += g(Vec3(static_cast<float>(r * std::cos(phi)), static_cast<float>(r * std::sin(phi)),
+                          static_cast<float>(z)));
         }
     }
     return sum * (4.0 * kPi) / (static_cast<double>(nTheta) * nPhi);
@@ -164,13 +165,15 @@ TEST(ReferenceLightSampling, DensitiesMatchTheSamples) {
         if (prim == 0) estimate += ls.Li.x * std::max(0.0f, ls.wi.y) / ls.pdf;
     }
     // The triangle's irradiance at p by quadrature over the sphere of directions:
-    double exact = integrateSphere([&](Vec3 w) {
-        if (w.y <= 0) return 0.0;
-        float t = 2.0f / w.y;  // where the direction meets the plane y = 2
-        Vec3 q = p + w * t;
-        bool inside = q.x >= 0 && q.z >= 0 && q.x + q.z <= 1;
-        return inside ? 2.0 * w.y : 0.0;
-    }, 1600, 1600);
+    double exact = integrateSphere(
+        [&](Vec3 w) {
+            if (w.y <= 0) return 0.0;
+            float t = 2.0f / w.y;  // where the direction meets the plane y = 2
+            Vec3 q = p + w * t;
+            bool inside = q.x >= 0 && q.z >= 0 && q.x + q.z <= 1;
+            return inside ? 2.0 * w.y : 0.0;
+        },
+        1600, 1600);
     std::printf("triangle irradiance: sampled %.5f, quadrature %.5f\n", estimate / n, exact);
     EXPECT_NEAR(estimate / n, exact, 0.01 * exact);
     // Chosen by power: the triangle's area 0.5 against the sphere's π.

@@ -29,7 +29,8 @@ protected:
     void TearDown() override { fs::remove_all(dir); }
     fs::path dir;
     // Tiny photon renders: seconds each under PoCL.
-    const std::string small = " --width 16 --height 16 --strata 1 --global-photons 4000 --caustic-photons 4000 --gather-rays 4 -q";
+    const std::string small =
+        " --width 16 --height 16 --strata 1 --global-photons 4000 --caustic-photons 4000 --gather-rays 4 -q";
 };
 
 }  // namespace
@@ -68,7 +69,8 @@ TEST_F(RenderCliTest, AovLayersAndStageTimes) {
 }
 
 TEST_F(RenderCliTest, DeviceRefRendersOnlyThePathTracer) {
-    Result r = run("render " + scene("cornell-box.json") + " --method fg --device ref -o " + (dir / "x.exr").string() + small);
+    Result r =
+        run("render " + scene("cornell-box.json") + " --method fg --device ref -o " + (dir / "x.exr").string() + small);
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find("--device ref"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir / "x.exr"));
@@ -80,11 +82,27 @@ TEST_F(RenderCliTest, DeviceRefRendersOnlyThePathTracer) {
 TEST_F(RenderCliTest, HelpExplainsEveryOption) {
     Result r = run("render --help");
     ASSERT_EQ(r.status, 0);
-    for (const char* opt : {"--method", "--device", "--passes", "--time", "--strata", "--global-photons",
-                            "--caustic-photons", "--k", "--caustic-k", "--gather-rays", "--light-samples",
-                            "--gather-source", "--gather-importance", "--filter", "--visibility", "--radius", "--alpha", "--aov",
+    for (const char* opt : {"--method",
+                            "--device",
+                            "--passes",
+                            "--time",
+                            "--strata",
+                            "--global-photons",
+                            "--caustic-photons",
+                            "--k",
+                            "--caustic-k",
+                            "--gather-rays",
+                            "--light-samples",
+                            "--gather-source",
+                            "--gather-importance",
+                            "--filter",
+                            "--visibility",
+                            "--radius",
+                            "--alpha",
+                            "--aov",
                             "--max-buffer-mib",
-                            "progressive", "Ctrl-C"})
+                            "progressive",
+                            "Ctrl-C"})
         EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
 }
 
@@ -138,10 +156,13 @@ TEST_F(RenderCliTest, InterruptWritesThePassesDone) {
 // A 4 MiB buffer cap splits the eye samples into many more chunks (and the photon and kNN
 // batches): the image keeps every bit (random numbers are keyed by pixel and sample).
 TEST_F(RenderCliTest, BufferCapKeepsTheImageBits) {
-    std::string common = " --width 32 --height 32 --passes 1 --global-photons 20000 --caustic-photons 10000 -q --no-png";
+    std::string common =
+        " --width 32 --height 32 --passes 1 --global-photons 20000 --caustic-photons 10000 -q --no-png";
     ASSERT_EQ(run("render " + scene("cornell-spheres.json") + " -o " + (dir / "a.exr").string() + common).status, 0);
     ASSERT_EQ(run("render " + scene("cornell-spheres.json") + " -o " + (dir / "b.exr").string() + common +
-                  " --max-buffer-mib 4").status, 0);
+                  " --max-buffer-mib 4")
+                  .status,
+              0);
     Result same = run("compare " + (dir / "b.exr").string() + " " + (dir / "a.exr").string() + " --max-rmse 0");
     EXPECT_EQ(same.status, 0) << same.output;
 }

@@ -37,8 +37,8 @@ TEST(Rng, PhiloxKnownAnswers) {
 
 TEST(Rng, U01IsInHalfOpenUnitInterval) {
     EXPECT_EQ(rng_u01(0u), 0.0f);
-    EXPECT_EQ(rng_u01(0xFFu), 0.0f);               // the low 8 bits are dropped
-    EXPECT_EQ(rng_u01(0x100u), 0x1p-24f);          // one step is 2^-24
+    EXPECT_EQ(rng_u01(0xFFu), 0.0f);       // the low 8 bits are dropped
+    EXPECT_EQ(rng_u01(0x100u), 0x1p-24f);  // one step is 2^-24
     EXPECT_EQ(rng_u01(0xFFFFFFFFu), 1.0f - 0x1p-24f);
     EXPECT_LT(rng_u01(0xFFFFFFFFu), 1.0f);
 }

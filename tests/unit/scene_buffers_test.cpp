@@ -4,8 +4,8 @@
 #include <cmath>
 #include <numeric>
 
-#include "prep/scene_buffers.h"
 #include "prep/photon_allocation.h"
+#include "prep/scene_buffers.h"
 #include "scene/load_scene.h"
 
 namespace pcl {
@@ -51,8 +51,10 @@ TEST(SceneBuffers, LightPowersMatchTheSceneWithinFloatPrecision) {
             Vec3 p0 = m.positions[m.indices[3 * t]];
             area += 0.5 * length(cross(m.positions[m.indices[3 * t + 1]] - p0, m.positions[m.indices[3 * t + 2]] - p0));
         }
-        expected += kPi * area * (scene.materials[m.material].emission.x + scene.materials[m.material].emission.y +
-                                  scene.materials[m.material].emission.z) / 3.0;
+        expected += kPi * area *
+                    (scene.materials[m.material].emission.x + scene.materials[m.material].emission.y +
+                     scene.materials[m.material].emission.z) /
+                    3.0;
     }
     double got = 0.0;
     for (const PclLight& l : b.lights) {

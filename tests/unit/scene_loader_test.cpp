@@ -32,15 +32,12 @@ using namespace pcl;
 
 namespace {
 
-constexpr float kPi = 3.14159265358979323846f;
-
 // A fresh folder per test, removed afterwards.
 class SceneLoaderTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir_ = fs::temp_directory_path() /
-               ("photoncl-scene-test-" + std::to_string(::getpid()) + "-" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        dir_ = fs::temp_directory_path() / ("photoncl-scene-test-" + std::to_string(::getpid()) + "-" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
         fs::remove_all(dir_);
         fs::create_directories(dir_);
     }
@@ -64,7 +61,8 @@ protected:
         } catch (const InputError& e) {
             std::string msg = e.what();
             EXPECT_NE(msg.find(path), std::string::npos) << "message lacks the file name: " << msg;
-            for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "lacks \"" << f << "\": " << msg;
+            for (const auto& f : fragments)
+                EXPECT_NE(msg.find(f), std::string::npos) << "lacks \"" << f << "\": " << msg;
         }
     }
     // A JSON scene with `patch` merged over a small valid one, then expects an error.
@@ -183,13 +181,17 @@ void expectNear3(Vec3 a, Vec3 b, float tol, const char* what) {
 
 TEST_F(SceneLoaderTest, MissingFile) { expectError((dir_ / "nope.json").string(), {"cannot open"}); }
 
-TEST_F(SceneLoaderTest, UnknownExtension) { expectError(write("scene.obj", "x"), {".json, .gltf or .glb", "\".obj\""}); }
+TEST_F(SceneLoaderTest, UnknownExtension) {
+    expectError(write("scene.obj", "x"), {".json, .gltf or .glb", "\".obj\""});
+}
 
 TEST_F(SceneLoaderTest, MalformedJson) {
     expectError(write("bad.json", "{\"camera\": {\"fov\": 40,}"), {"expected valid JSON", "line 1"});
 }
 
-TEST_F(SceneLoaderTest, TopLevelNotObject) { expectError(write("bad.json", "[1, 2]"), {"(top level)", "expected an object"}); }
+TEST_F(SceneLoaderTest, TopLevelNotObject) {
+    expectError(write("bad.json", "[1, 2]"), {"(top level)", "expected an object"});
+}
 
 TEST_F(SceneLoaderTest, DeepNestingFailsCleanly) {
     std::string deep(100000, '[');
@@ -198,10 +200,13 @@ TEST_F(SceneLoaderTest, DeepNestingFailsCleanly) {
 }
 
 TEST_F(SceneLoaderTest, HugeNumberIsRejected) {
-    expectError(write("bad.json", R"({"materials": [{"name": "a", "rho_d": [1e999, 0, 0]}]})"), {"expected valid JSON", "1e999"});
+    expectError(write("bad.json", R"({"materials": [{"name": "a", "rho_d": [1e999, 0, 0]}]})"),
+                {"expected valid JSON", "1e999"});
 }
 
-TEST_F(SceneLoaderTest, UnknownTopLevelKey) { expectJsonError({{"lightz", json::array()}}, {"lightz", "unknown key", "camera, materials"}); }
+TEST_F(SceneLoaderTest, UnknownTopLevelKey) {
+    expectJsonError({{"lightz", json::array()}}, {"lightz", "unknown key", "camera, materials"});
+}
 
 TEST_F(SceneLoaderTest, UnknownMaterialKeyListsAllowedOnes) {
     expectJsonError({{"materials", {{{"name", "white"}, {"rhod", {0.5, 0.5, 0.5}}}}}},
@@ -214,16 +219,18 @@ TEST_F(SceneLoaderTest, ReflectanceOutOfRange) {
 }
 
 TEST_F(SceneLoaderTest, ReflectanceWrongType) {
-    expectJsonError({{"materials", {{{"name", "white"}, {"rho_d", "grey"}}}}}, {"materials[0].rho_d", "3 numbers", "\"grey\""});
+    expectJsonError({{"materials", {{{"name", "white"}, {"rho_d", "grey"}}}}},
+                    {"materials[0].rho_d", "3 numbers", "\"grey\""});
 }
 
 TEST_F(SceneLoaderTest, ReflectanceWrongLength) {
-    expectJsonError({{"materials", {{{"name", "white"}, {"rho_d", {0.5, 0.5}}}}}}, {"materials[0].rho_d", "3 numbers", "[0.5,0.5]"});
+    expectJsonError({{"materials", {{{"name", "white"}, {"rho_d", {0.5, 0.5}}}}}},
+                    {"materials[0].rho_d", "3 numbers", "[0.5,0.5]"});
 }
 
 TEST_F(SceneLoaderTest, EnergyConservationEnforced) {
-    json m = {{"name", "white"}, {"rho_d", {0.6, 0.5, 0.5}},
-              {"specular", {{"kind", "mirror"}, {"rho_s", {0.5, 0.4, 0.4}}}}};
+    json m = {
+        {"name", "white"}, {"rho_d", {0.6, 0.5, 0.5}}, {"specular", {{"kind", "mirror"}, {"rho_s", {0.5, 0.4, 0.4}}}}};
     expectJsonError({{"materials", {m}}}, {"materials[0]", "rho_d + rho_s <= 1", "1.1"});
 }
 
@@ -271,7 +278,8 @@ TEST_F(SceneLoaderTest, UnknownShapeType) {
 }
 
 TEST_F(SceneLoaderTest, MeshIndexOutOfRange) {
-    json s = {{{"type", "mesh"}, {"material", "white"}, {"positions", {0, 0, 0, 1, 0, 0, 0, 1, 0}}, {"indices", {0, 1, 3}}}};
+    json s = {
+        {{"type", "mesh"}, {"material", "white"}, {"positions", {0, 0, 0, 1, 0, 0, 0, 1, 0}}, {"indices", {0, 1, 3}}}};
     expectJsonError({{"shapes", s}}, {"shapes[0].indices[2]", "vertex index in [0, 2]", "3"});
 }
 
@@ -294,7 +302,9 @@ TEST_F(SceneLoaderTest, CameraUpParallelToView) {
     expectJsonError({{"camera", {{"position", {0, 3, 0}}, {"up", {0, 1, 0}}}}}, {"camera.up", "not parallel"});
 }
 
-TEST_F(SceneLoaderTest, CameraFovOutOfRange) { expectJsonError({{"camera", {{"fov", 180}}}}, {"camera.fov", "(0, 180)", "180"}); }
+TEST_F(SceneLoaderTest, CameraFovOutOfRange) {
+    expectJsonError({{"camera", {{"fov", 180}}}}, {"camera.fov", "(0, 180)", "180"});
+}
 
 TEST_F(SceneLoaderTest, CameraResolutionNotIntegers) {
     expectJsonError({{"camera", {{"resolution", {64.5, 48}}}}}, {"camera.resolution", "2 integers", "64.5"});
@@ -335,8 +345,12 @@ TEST_F(SceneLoaderTest, NegativeLightPower) {
 }
 
 TEST_F(SceneLoaderTest, SpotInnerWiderThanOuter) {
-    json l = {{{"type", "spot"}, {"position", {0, 2, 0}}, {"direction", {0, -1, 0}}, {"power", {1, 1, 1}},
-               {"inner_angle", 40}, {"outer_angle", 30}}};
+    json l = {{{"type", "spot"},
+               {"position", {0, 2, 0}},
+               {"direction", {0, -1, 0}},
+               {"power", {1, 1, 1}},
+               {"inner_angle", 40},
+               {"outer_angle", 30}}};
     expectJsonError({{"lights", l}}, {"lights[0].inner_angle", "[0, outer_angle = 30]", "40"});
 }
 
@@ -346,7 +360,11 @@ TEST_F(SceneLoaderTest, DirectionalZeroDirection) {
 }
 
 TEST_F(SceneLoaderTest, ZeroAreaLight) {
-    json l = {{{"type", "area"}, {"shape", "quad"}, {"corner", {0, 1, 0}}, {"edge_u", {1, 0, 0}}, {"edge_v", {2, 0, 0}},
+    json l = {{{"type", "area"},
+               {"shape", "quad"},
+               {"corner", {0, 1, 0}},
+               {"edge_u", {1, 0, 0}},
+               {"edge_v", {2, 0, 0}},
                {"power", {1, 1, 1}}}};
     expectJsonError({{"lights", l}}, {"lights[0]", "non-zero, finite area"});
 }
@@ -377,7 +395,10 @@ TEST_F(SceneLoaderTest, MeshGltfSourceMustBeGltf) {
 }
 
 TEST_F(SceneLoaderTest, TransformUnknownKey) {
-    json s = {{{"type", "mesh"}, {"material", "white"}, {"positions", {0, 0, 0, 1, 0, 0, 0, 1, 0}}, {"indices", {0, 1, 2}},
+    json s = {{{"type", "mesh"},
+               {"material", "white"},
+               {"positions", {0, 0, 0, 1, 0, 0, 0, 1, 0}},
+               {"indices", {0, 1, 2}},
                {"transform", {{"shear", 1}}}}};
     expectJsonError({{"shapes", s}}, {"shapes[0].transform.shear", "translate, rotate, scale, matrix"});
 }
@@ -392,7 +413,8 @@ TEST_F(SceneLoaderTest, GltfUnsupportedRequiredExtension) {
     REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     g.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-    expectError(write("scene.gltf", g.doc.dump()), {"extensionsRequired[0]", "supported extension", "KHR_draco_mesh_compression"});
+    expectError(write("scene.gltf", g.doc.dump()),
+                {"extensionsRequired[0]", "supported extension", "KHR_draco_mesh_compression"});
 }
 
 TEST_F(SceneLoaderTest, GltfBufferUriLeavingFolder) {
@@ -401,12 +423,14 @@ TEST_F(SceneLoaderTest, GltfBufferUriLeavingFolder) {
     write("tri.bin", g.bin);
     g.doc["buffers"][0]["uri"] = "%2e%2e/tri.bin";  // percent-encoded ".."
     fs::create_directories(dir_ / "sub");
-    expectError(write("sub/scene.gltf", g.doc.dump()), {"buffers[0].uri", "inside the scene's folder", "leaves the folder"});
+    expectError(write("sub/scene.gltf", g.doc.dump()),
+                {"buffers[0].uri", "inside the scene's folder", "leaves the folder"});
 }
 
 TEST_F(SceneLoaderTest, GltfDeepNesting) {
     REQUIRE_GLTF();
-    std::string deep = "{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+    std::string deep = "{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + std::string(100000, '[') +
+                       std::string(100000, ']') + "}";
     expectError(write("scene.gltf", deep), {"nested at most"});
 }
 
@@ -443,7 +467,8 @@ TEST_F(SceneLoaderTest, GltfBaseColorOutOfRange) {
     REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
     g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.5, 0, 0, 1};
-    expectError(write("scene.gltf", g.doc.dump()), {"materials[0].pbrMetallicRoughness.baseColorFactor", "[0, 1]", "1.5"});
+    expectError(write("scene.gltf", g.doc.dump()),
+                {"materials[0].pbrMetallicRoughness.baseColorFactor", "[0, 1]", "1.5"});
 }
 
 TEST_F(SceneLoaderTest, GlbTruncated) {
@@ -483,8 +508,12 @@ TEST_F(SceneLoaderTest, PointLightPowerToIntensity) {
 
 TEST_F(SceneLoaderTest, SpotLightPowerToIntensity) {
     json scene = baseScene();
-    scene["lights"] = {{{"type", "spot"}, {"position", {0, 2, 0}}, {"direction", {0, -2, 0}}, {"power", {3, 3, 3}},
-                        {"inner_angle", 20}, {"outer_angle", 30}}};
+    scene["lights"] = {{{"type", "spot"},
+                        {"position", {0, 2, 0}},
+                        {"direction", {0, -2, 0}},
+                        {"power", {3, 3, 3}},
+                        {"inner_angle", 20},
+                        {"outer_angle", 30}}};
     Scene s = loadJson(scene);
     const Light& l = s.lights[0];
     double ci = std::cos(20 * M_PI / 180), co = std::cos(30 * M_PI / 180);
@@ -497,7 +526,10 @@ TEST_F(SceneLoaderTest, SpotLightPowerToIntensity) {
 
 TEST_F(SceneLoaderTest, SpotLightIntensityKeptAsGiven) {
     json scene = baseScene();
-    scene["lights"] = {{{"type", "spot"}, {"position", {0, 2, 0}}, {"direction", {0, -1, 0}}, {"intensity", {2, 3, 4}},
+    scene["lights"] = {{{"type", "spot"},
+                        {"position", {0, 2, 0}},
+                        {"direction", {0, -1, 0}},
+                        {"intensity", {2, 3, 4}},
                         {"outer_angle", 45}}};
     Scene s = loadJson(scene);
     expectNear3(s.lights[0].intensity, {2, 3, 4}, 0, "intensity");
@@ -507,8 +539,13 @@ TEST_F(SceneLoaderTest, SpotLightIntensityKeptAsGiven) {
 TEST_F(SceneLoaderTest, AreaQuadLightRadianceFromPower) {
     json scene = baseScene();
     // 0.5 x 0.4 quad facing down: A = 0.2, L = Φ/(πA).
-    scene["lights"] = {{{"type", "area"}, {"name", "lamp"}, {"shape", "quad"}, {"corner", {0, 2, 0}}, {"edge_u", {0.5, 0, 0}},
-                        {"edge_v", {0, 0, 0.4}}, {"power", {1, 2, 3}}}};
+    scene["lights"] = {{{"type", "area"},
+                        {"name", "lamp"},
+                        {"shape", "quad"},
+                        {"corner", {0, 2, 0}},
+                        {"edge_u", {0.5, 0, 0}},
+                        {"edge_v", {0, 0, 0.4}},
+                        {"power", {1, 2, 3}}}};
     Scene s = loadJson(scene);
     ASSERT_EQ(s.lights.size(), 1u);
     const Light& l = s.lights[0];
@@ -519,13 +556,16 @@ TEST_F(SceneLoaderTest, AreaQuadLightRadianceFromPower) {
     expectNear3(e, Vec3(1, 2, 3) / (kPi * 0.2f), 1e-5f, "L = Φ/(πA)");
     EXPECT_EQ(s.materials[size_t(m.material)].rhoD, Vec3(0.0f));
     // Geometric normal cross(u, v) = (0.5,0,0) x (0,0,0.4) points down.
-    Vec3 n = cross(m.positions[m.indices[1]] - m.positions[m.indices[0]], m.positions[m.indices[2]] - m.positions[m.indices[0]]);
+    Vec3 n = cross(m.positions[m.indices[1]] - m.positions[m.indices[0]],
+                   m.positions[m.indices[2]] - m.positions[m.indices[0]]);
     expectNear3(normalize(n), {0, -1, 0}, 1e-6f, "area light faces -y");
 }
 
 TEST_F(SceneLoaderTest, AreaTriangleLightByRadiance) {
     json scene = baseScene();
-    scene["lights"] = {{{"type", "area"}, {"shape", "triangle"}, {"vertices", {{0, 2, 0}, {0, 2, 1}, {1, 2, 0}}},
+    scene["lights"] = {{{"type", "area"},
+                        {"shape", "triangle"},
+                        {"vertices", {{0, 2, 0}, {0, 2, 1}, {1, 2, 0}}},
                         {"radiance", {5, 5, 5}}}};
     Scene s = loadJson(scene);
     const TriangleMesh& m = s.meshes[size_t(s.lights[0].mesh)];
@@ -535,13 +575,15 @@ TEST_F(SceneLoaderTest, AreaTriangleLightByRadiance) {
 
 TEST_F(SceneLoaderTest, QuadGeometryNormalAndArea) {
     json scene = baseScene();
-    scene["shapes"][0] = {{"type", "quad"}, {"material", "white"}, {"corner", {1, 2, 3}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 3, 0}}};
+    scene["shapes"][0] = {
+        {"type", "quad"}, {"material", "white"}, {"corner", {1, 2, 3}}, {"edge_u", {2, 0, 0}}, {"edge_v", {0, 3, 0}}};
     Scene s = loadJson(scene);
     const TriangleMesh& m = s.meshes[0];
     ASSERT_EQ(m.triangleCount(), 2u);
     float area = 0;
     for (size_t t = 0; t < 2; ++t) {
-        Vec3 p0 = m.positions[m.indices[3 * t]], p1 = m.positions[m.indices[3 * t + 1]], p2 = m.positions[m.indices[3 * t + 2]];
+        Vec3 p0 = m.positions[m.indices[3 * t]], p1 = m.positions[m.indices[3 * t + 1]],
+             p2 = m.positions[m.indices[3 * t + 2]];
         Vec3 n = cross(p1 - p0, p2 - p0);
         area += 0.5f * length(n);
         expectNear3(normalize(n), {0, 0, 1}, 1e-6f, "normal = cross(u, v)");
@@ -553,7 +595,8 @@ TEST_F(SceneLoaderTest, QuadGeometryNormalAndArea) {
 TEST_F(SceneLoaderTest, EmissiveQuadBecomesAreaLight) {
     json scene = baseScene();
     scene["materials"].push_back({{"name", "glow"}, {"emission", {2, 2, 2}}});
-    scene["shapes"].push_back({{"type", "quad"}, {"material", "glow"}, {"corner", {0, 1, 0}}, {"edge_u", {1, 0, 0}}, {"edge_v", {0, 0, 1}}});
+    scene["shapes"].push_back(
+        {{"type", "quad"}, {"material", "glow"}, {"corner", {0, 1, 0}}, {"edge_u", {1, 0, 0}}, {"edge_v", {0, 0, 1}}});
     scene["lights"] = json::array();  // the emitter alone lights the scene
     Scene s = loadJson(scene);
     ASSERT_EQ(s.lights.size(), 1u);
@@ -563,7 +606,8 @@ TEST_F(SceneLoaderTest, EmissiveQuadBecomesAreaLight) {
 
 TEST_F(SceneLoaderTest, DegenerateTrianglesDroppedAndCounted) {
     json scene = baseScene();
-    scene["shapes"].push_back({{"type", "mesh"}, {"material", "white"},
+    scene["shapes"].push_back({{"type", "mesh"},
+                               {"material", "white"},
                                {"positions", {0, 0, 0, 1, 0, 0, 0, 1, 0, 2, 0, 0}},
                                {"indices", {0, 1, 2, 0, 1, 3, 1, 1, 2}}});  // 2nd collinear, 3rd repeats a vertex
     Scene s = loadJson(scene);
@@ -573,7 +617,10 @@ TEST_F(SceneLoaderTest, DegenerateTrianglesDroppedAndCounted) {
 
 TEST_F(SceneLoaderTest, InlineMeshTransformAndMirrorKeepsFrontSide) {
     json scene = baseScene();
-    json mesh = {{"type", "mesh"}, {"material", "white"}, {"positions", {0, 0, 0, 1, 0, 0, 0, 1, 0}}, {"indices", {0, 1, 2}},
+    json mesh = {{"type", "mesh"},
+                 {"material", "white"},
+                 {"positions", {0, 0, 0, 1, 0, 0, 0, 1, 0}},
+                 {"indices", {0, 1, 2}},
                  {"normals", {0, 0, 1, 0, 0, 1, 0, 0, 1}}};
     mesh["transform"] = {{"translate", {1, 2, 3}}, {"rotate", {{"axis", {0, 0, 1}}, {"degrees", 90}}}, {"scale", 2}};
     scene["shapes"].push_back(mesh);
@@ -587,16 +634,18 @@ TEST_F(SceneLoaderTest, InlineMeshTransformAndMirrorKeepsFrontSide) {
     expectNear3(a.normals[0], {0, 0, 1}, 1e-6f, "normal rotated about its own axis");
     const TriangleMesh& b = s.meshes[2];
     expectNear3(b.normals[0], {0, 0, -1}, 1e-6f, "mirrored normal");
-    Vec3 g = cross(b.positions[b.indices[1]] - b.positions[b.indices[0]], b.positions[b.indices[2]] - b.positions[b.indices[0]]);
+    Vec3 g = cross(b.positions[b.indices[1]] - b.positions[b.indices[0]],
+                   b.positions[b.indices[2]] - b.positions[b.indices[0]]);
     EXPECT_GT(dot(g, b.normals[0]), 0) << "geometric normal on the shading normal's side after mirroring";
 }
 
 TEST_F(SceneLoaderTest, MaterialsAndCameraRead) {
     json scene = baseScene();
     scene["materials"].push_back({{"name", "glass"}, {"specular", {{"kind", "dielectric"}, {"ior", 1.33}}}});
-    scene["materials"].push_back({{"name", "shiny"}, {"rho_d", {0.2, 0.2, 0.2}},
+    scene["materials"].push_back({{"name", "shiny"},
+                                  {"rho_d", {0.2, 0.2, 0.2}},
                                   {"specular", {{"kind", "glossy"}, {"rho_s", {0.3, 0.3, 0.3}}, {"exponent", 80}}}});
-    scene["camera"] = {{"type", "thin_lens"}, {"position", {0, 0, 4}}, {"look_at", {0, 0, 0}}, {"fov", 30},
+    scene["camera"] = {{"type", "thin_lens"},     {"position", {0, 0, 4}},   {"look_at", {0, 0, 0}}, {"fov", 30},
                        {"resolution", {100, 50}}, {"aperture_radius", 0.05}, {"shutter", {0.1, 0.3}}};
     Scene s = loadJson(scene);
     EXPECT_EQ(s.materials[1].specular, SpecularKind::Dielectric);
@@ -620,7 +669,8 @@ TEST_F(SceneLoaderTest, GltfNodeHierarchyTransforms) {
     g.doc["nodes"][0] = {{"name", "parent"}, {"translation", {1, 2, 3}}, {"children", {3}}};
     double s = std::sqrt(0.5);
     g.doc["nodes"].push_back({{"name", "child"}, {"rotation", {0, s, 0, s}}, {"scale", {2, 2, 2}}, {"children", {4}}});
-    g.doc["nodes"].push_back({{"name", "leaf"}, {"mesh", 0}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -1, 1}}});
+    g.doc["nodes"].push_back(
+        {{"name", "leaf"}, {"mesh", 0}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -1, 1}}});
     Scene sc = loadScene(write("scene.gltf", g.doc.dump()));
     ASSERT_EQ(sc.meshes.size(), 1u);
     const TriangleMesh& m = sc.meshes[0];
@@ -641,9 +691,14 @@ TEST_F(SceneLoaderTest, GltfMaterialMapping) {
     mats.push_back({{"name", "plastic"}, {"pbrMetallicRoughness", pbr({0.5, 0.5, 0.5, 1}, 0, 1)}});
     mats.push_back({{"name", "metal"}, {"pbrMetallicRoughness", pbr({0.8, 0.6, 0.4, 1}, 1, 0.35)}});
     mats.push_back({{"name", "chrome"}, {"pbrMetallicRoughness", pbr({0.9, 0.9, 0.9, 1}, 1, 0.02)}});
-    mats.push_back({{"name", "glass"}, {"pbrMetallicRoughness", pbr({1, 1, 1, 1}, 0, 0)},
-                    {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}, {"KHR_materials_ior", {{"ior", 1.7}}}}}});
-    mats.push_back({{"name", "lamp"}, {"pbrMetallicRoughness", pbr({0, 0, 0, 1}, 0, 1)}, {"emissiveFactor", {1, 0.5, 0.25}},
+    mats.push_back(
+        {{"name", "glass"},
+         {"pbrMetallicRoughness", pbr({1, 1, 1, 1}, 0, 0)},
+         {"extensions",
+          {{"KHR_materials_transmission", {{"transmissionFactor", 1}}}, {"KHR_materials_ior", {{"ior", 1.7}}}}}});
+    mats.push_back({{"name", "lamp"},
+                    {"pbrMetallicRoughness", pbr({0, 0, 0, 1}, 0, 1)},
+                    {"emissiveFactor", {1, 0.5, 0.25}},
                     {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 8}}}}}});
     json node = g.doc["nodes"][0];
     g.doc["nodes"] = json::array();
@@ -683,10 +738,13 @@ TEST_F(SceneLoaderTest, GltfPunctualLightsAndCamera) {
     GltfDoc g = triangleGltf();
     g.doc["extensions"]["KHR_lights_punctual"]["lights"].push_back(
         {{"type", "spot"}, {"intensity", 1366}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}});
-    g.doc["extensions"]["KHR_lights_punctual"]["lights"].push_back({{"type", "directional"}, {"color", {1, 0.5, 0}}, {"intensity", 6.83}});
+    g.doc["extensions"]["KHR_lights_punctual"]["lights"].push_back(
+        {{"type", "directional"}, {"color", {1, 0.5, 0}}, {"intensity", 6.83}});
     double s = std::sqrt(0.5);
     // Spot at (0,3,0) rotated -90° about X: its -Z axis points down.
-    g.doc["nodes"].push_back({{"translation", {0, 3, 0}}, {"rotation", {-s, 0, 0, s}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+    g.doc["nodes"].push_back({{"translation", {0, 3, 0}},
+                              {"rotation", {-s, 0, 0, s}},
+                              {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
     g.doc["nodes"].push_back({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
     g.doc["scenes"][0]["nodes"] = {0, 1, 2, 3, 4};
     Scene sc = loadScene(write("scene.gltf", g.doc.dump()));
@@ -723,7 +781,8 @@ TEST_F(SceneLoaderTest, GlbAndExternalBufferLoadLikeEmbedded) {
     for (const Scene* s : {&b, &c}) {
         ASSERT_EQ(s->meshes.size(), 1u);
         EXPECT_EQ(s->meshes[0].indices, a.meshes[0].indices);
-        for (size_t i = 0; i < 3; ++i) expectNear3(s->meshes[0].positions[i], a.meshes[0].positions[i], 0, "same vertex");
+        for (size_t i = 0; i < 3; ++i)
+            expectNear3(s->meshes[0].positions[i], a.meshes[0].positions[i], 0, "same vertex");
     }
 }
 
@@ -734,8 +793,8 @@ TEST_F(SceneLoaderTest, JsonIncludesGltf) {
     json scene = baseScene();
     scene.erase("camera");  // taken from the included file
     scene["include"] = {{{"file", "models/tri.gltf"}, {"transform", {{"translate", {10, 0, 0}}}}}};
-    scene["shapes"].push_back({{"type", "mesh"}, {"gltf", "models/tri.gltf"}, {"material", "white"},
-                               {"transform", {{"scale", 3}}}});
+    scene["shapes"].push_back(
+        {{"type", "mesh"}, {"gltf", "models/tri.gltf"}, {"material", "white"}, {"transform", {{"scale", 3}}}});
     Scene s = loadJson(scene);
     // base quad + the mesh shape (override material, scaled) + the include (own material, moved).
     ASSERT_EQ(s.meshes.size(), 3u);
@@ -751,7 +810,8 @@ TEST_F(SceneLoaderTest, JsonIncludesGltf) {
 
 TEST_F(SceneLoaderTest, MotionNeedsShutterButLoadsWithIt) {
     json scene = baseScene();
-    scene["shapes"].push_back({{"type", "sphere"}, {"material", "white"}, {"centre", {0, 1, 0}}, {"radius", 0.5}, {"motion", {1, 0, 0}}});
+    scene["shapes"].push_back(
+        {{"type", "sphere"}, {"material", "white"}, {"centre", {0, 1, 0}}, {"radius", 0.5}, {"motion", {1, 0, 0}}});
     scene["camera"]["shutter"] = {0, 0.5};
     Scene s = loadJson(scene);
     EXPECT_TRUE(s.hasMotion());
@@ -767,9 +827,11 @@ TEST_F(SceneLoaderTest, ShippedScenesLoad) {
         LightType firstLight;
         size_t spheres;
     };
-    for (Expect e : {Expect{"cornell-box.json", 1, LightType::Area, 0}, Expect{"cornell-spheres.json", 1, LightType::Area, 2},
-                     Expect{"cornell-spheres-point.json", 1, LightType::Point, 2}, Expect{"cornell-glossy.json", 1, LightType::Area, 0},
-                     Expect{"motion-dof.json", 2, LightType::Area, 5}, Expect{"gltf-room.gltf", 2, LightType::Point, 0}}) {
+    for (Expect e :
+         {Expect{"cornell-box.json", 1, LightType::Area, 0}, Expect{"cornell-spheres.json", 1, LightType::Area, 2},
+          Expect{"cornell-spheres-point.json", 1, LightType::Point, 2},
+          Expect{"cornell-glossy.json", 1, LightType::Area, 0}, Expect{"motion-dof.json", 2, LightType::Area, 5},
+          Expect{"gltf-room.gltf", 2, LightType::Point, 0}}) {
         SCOPED_TRACE(e.file);
 #ifndef PHOTONCL_HAVE_GLTF
         if (std::string(e.file).find(".gltf") != std::string::npos) continue;
@@ -846,8 +908,9 @@ TEST_F(SceneLoaderTest, FuzzCorpusAndRegressionsGiveSceneOrInputError) {
                     } else {
 #ifdef PHOTONCL_HAVE_GLTF
                         scene.path = "photoncl-fuzz-no-such-dir/scene.gltf";
-                        GltfImportResult r = importGltfFromMemory(
-                            scene, std::vector<unsigned char>(text.begin(), text.end()), scene.path, GltfImportOptions{});
+                        GltfImportResult r = importGltfFromMemory(scene,
+                                                                  std::vector<unsigned char>(text.begin(), text.end()),
+                                                                  scene.path, GltfImportOptions{});
                         if (r.hasCamera) scene.camera = r.camera;
 #endif
                     }

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <iterator>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 
@@ -114,8 +114,8 @@ TEST(FixedPointFilm, AnyGroupingOfPassesGivesTheSameBits) {
     grouped.merge(tail);
     size_t differ = 0;
     for (size_t i = 0; i < seq.sums().size(); ++i) differ += seq.sums()[i] != grouped.sums()[i];
-    std::printf("[figure] double sums differing between two groupings of 12 passes: %zu of %zu; fixed point: 0\n", differ,
-                seq.sums().size());
+    std::printf("[figure] double sums differing between two groupings of 12 passes: %zu of %zu; fixed point: 0\n",
+                differ, seq.sums().size());
 }
 
 TEST(FixedPointFilm, ResolvesWithinItsStepOfTheDoubleFilmAndRefusesNaN) {
@@ -126,7 +126,8 @@ TEST(FixedPointFilm, ResolvesWithinItsStepOfTheDoubleFilmAndRefusesNaN) {
     Film back = fixed.toFilm();
     double worst = 0;
     for (size_t i = 0; i < pass.sums().size(); ++i) worst = std::max(worst, std::fabs(back.sums()[i] - pass.sums()[i]));
-    std::printf("[figure] fixed-point rounding: worst absolute error %.3g (bound 2^-33 = %.3g)\n", worst, 0.5 / FixedPointFilm::kScale);
+    std::printf("[figure] fixed-point rounding: worst absolute error %.3g (bound 2^-33 = %.3g)\n", worst,
+                0.5 / FixedPointFilm::kScale);
     EXPECT_LE(worst, 0.5 / FixedPointFilm::kScale * 1.0001);
 
     Film nan(1, 1);
@@ -152,7 +153,8 @@ TEST(FixedPointFilm, HoldsSunlitSumsAndRefusesOverflowNamingThePixel) {
     for (float v : {1e20f, 0.5f, -1e20f}) fine.addPass(pass(1, 0, v));
     EXPECT_EQ(fine.toFilm().sums()[0], 0.5);
     std::printf("[figure] fixed-point range: ±%.4g per pixel (2^95); 1000 passes of 2e7 sum to %.6g exactly; "
-                "1e20 + 0.5 - 1e20 = %.3g\n", FixedPointFilm::kMaxValue, sun.toFilm().sums()[0], fine.toFilm().sums()[0]);
+                "1e20 + 0.5 - 1e20 = %.3g\n",
+                FixedPointFilm::kMaxValue, sun.toFilm().sums()[0], fine.toFilm().sums()[0]);
 
     auto refusal = [](auto&& what) -> std::string {
         try {
@@ -255,12 +257,14 @@ TEST_F(ShardFileTest, TruncatedDamagedOrForeignFilesAreRefusedWithNameAndReason)
     };
     int refused = 0, cases = 0;
     // Truncations: inside the prefix, the header, the payload, the checksum; and one byte extra.
-    for (size_t keep : {size_t(0), size_t(10), size_t(40), size_t(200), bytes.size() / 2, bytes.size() - 9, bytes.size() - 1}) {
+    for (size_t keep :
+         {size_t(0), size_t(10), size_t(40), size_t(200), bytes.size() / 2, bytes.size() - 9, bytes.size() - 1}) {
         std::string p = put("cut.pcls", bytes.substr(0, keep));
         std::string why = refusal(p);
         ++cases;
         refused += why.find(p) == 0;
-        EXPECT_TRUE(why.find("truncated") != std::string::npos || why.find("not a photoncl shard") != std::string::npos) << keep << ": " << why;
+        EXPECT_TRUE(why.find("truncated") != std::string::npos || why.find("not a photoncl shard") != std::string::npos)
+            << keep << ": " << why;
     }
     EXPECT_NE(refusal(put("long.pcls", bytes + "x")).find("truncated or padded"), std::string::npos);
     // A flipped bit anywhere: magic, lengths, header, payload, checksum.
@@ -285,6 +289,7 @@ TEST_F(ShardFileTest, TruncatedDamagedOrForeignFilesAreRefusedWithNameAndReason)
     EXPECT_EQ(whyOld.find(old), 0u) << whyOld;
     EXPECT_NE(whyOld.find("version 1, expected version 2"), std::string::npos) << whyOld;
     EXPECT_NE(refusal((dir / "absent.pcls").string()).find("cannot be read"), std::string::npos);
-    std::printf("[figure] damaged shard files refused with their name: %d of %d (7 truncations, 40 bit flips)\n", refused, cases);
+    std::printf("[figure] damaged shard files refused with their name: %d of %d (7 truncations, 40 bit flips)\n",
+                refused, cases);
     EXPECT_EQ(refused, cases);
 }

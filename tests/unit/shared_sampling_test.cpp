@@ -81,7 +81,7 @@ TEST(SharedSampling, FresnelAndRefractionFollowSnell) {
     const float ior = 1.5f;
     EXPECT_NEAR(sampling_fresnel_dielectric(1.0f, 1.0f / ior), 0.04, 1e-6);  // ((1-n)/(1+n))²
     EXPECT_NEAR(sampling_fresnel_dielectric(1.0f, ior), 0.04, 1e-6);
-    EXPECT_EQ(sampling_fresnel_dielectric(0.5f, ior), 1.0f);  // beyond the critical angle
+    EXPECT_EQ(sampling_fresnel_dielectric(0.5f, ior), 1.0f);                 // beyond the critical angle
     EXPECT_NEAR(sampling_fresnel_dielectric(1e-4f, 1.0f / ior), 1.0, 1e-3);  // grazing
     std::mt19937 rng(2);
     std::uniform_real_distribution<float> u(0.05f, 0.999f);

@@ -54,8 +54,9 @@ TEST(SlurmScript, ShardScriptIsAnArrayOfOneShardPerTask) {
     EXPECT_TRUE(contains(script, "\n#SBATCH --job-name=photoncl-cornell\n"));
     // One log per task: %a is the array index; the path is double-quoted for sbatch.
     EXPECT_TRUE(contains(script, "\n#SBATCH --output=\"/data/out/cornell.exr.slurm/shard-%a.log\"\n"));
-    EXPECT_TRUE(contains(script,
-                         "\nexec /opt/photoncl/bin/photoncl batch run /data/jobs/cornell.json --shard \"${SLURM_ARRAY_TASK_ID}/4\"\n"));
+    EXPECT_TRUE(contains(
+        script,
+        "\nexec /opt/photoncl/bin/photoncl batch run /data/jobs/cornell.json --shard \"${SLURM_ARRAY_TASK_ID}/4\"\n"));
     // Options left out write no directive.
     for (const char* absent : {"--partition", "--time", "--mem", "--cpus-per-task", "--device", "%2"})
         EXPECT_FALSE(contains(script, absent)) << absent;
@@ -165,7 +166,8 @@ TEST(SlurmScript, PathsWithSpacesReachPhotonclIntact) {
     auto [status, out] = bash(shardScript.string(), "SLURM_ARRAY_TASK_ID=2");
     std::printf("%s", out.c_str());
     EXPECT_EQ(status, 0);
-    EXPECT_EQ(out, "<" + fake.string() + ">\n<batch>\n<run>\n<" + s.jobFile + ">\n<--shard>\n<2/3>\n<--device>\n<NVIDIA H100>\n");
+    EXPECT_EQ(out, "<" + fake.string() + ">\n<batch>\n<run>\n<" + s.jobFile +
+                       ">\n<--shard>\n<2/3>\n<--device>\n<NVIDIA H100>\n");
     // A literal % in a log path is %% for sbatch's filename patterns.
     EXPECT_TRUE(contains(slurmShardScript(s), "logs 50%%/shard-%a.log\""));
 

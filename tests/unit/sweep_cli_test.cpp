@@ -1,4 +1,4 @@
-// `photoncl sweep --quick` (issue 7 part 1) on cornell-box against its reference: the CSV's
+// `photoncl sweep --quick` on cornell-box against its reference: the CSV's
 // columns and rows, every method present with finite numbers, the path tracer's error falling
 // with its budget, the bias²/variance rows of --seeds, the errors, and scripts/chart.py's charts.
 #include <gtest/gtest.h>
@@ -93,12 +93,14 @@ TEST_F(SweepCliTest, QuickSweepWritesEveryMethodsCurveAndCharts) {
     ASSERT_TRUE(fs::exists(csv)) << r.output;
     Csv table = readCsv(csv);
     ASSERT_FALSE(table.rows.empty());
+    // clang-format off
     const std::vector<std::string> expected = {
         "scene",          "curve",           "method",          "variant_settings",  "device",
         "seed",           "passes",          "samples_per_pixel", "seconds",         "seconds_photons",
         "seconds_maps",   "seconds_camera",  "seconds_eye_paths", "seconds_direct",  "seconds_caustic",
         "seconds_indirect", "seconds_accumulate", "rmse",          "relmse",          "mean_ratio",
         "max_error",      "mse",             "bias2",           "variance"};
+    // clang-format on
     EXPECT_EQ(table.header, expected);
 
     std::map<std::string, std::vector<std::map<std::string, std::string>>> perCurve;  // seed 0 rows
@@ -128,9 +130,9 @@ TEST_F(SweepCliTest, QuickSweepWritesEveryMethodsCurveAndCharts) {
         auto first = perCurve[curve].front();
         auto last = perCurve[curve].back();
         double mr = std::strtod(last["mean_ratio"].c_str(), nullptr);
-        std::printf("[figure] quick sweep cornell-box %s: %s -> %s passes, relMSE %s -> %s, %s s, mean ratio %s\n", curve,
-                    first["passes"].c_str(), last["passes"].c_str(), first["relmse"].c_str(), last["relmse"].c_str(),
-                    last["seconds"].c_str(), last["mean_ratio"].c_str());
+        std::printf("[figure] quick sweep cornell-box %s: %s -> %s passes, relMSE %s -> %s, %s s, mean ratio %s\n",
+                    curve, first["passes"].c_str(), last["passes"].c_str(), first["relmse"].c_str(),
+                    last["relmse"].c_str(), last["seconds"].c_str(), last["mean_ratio"].c_str());
         // Energy: the path tracer's last point (over a thousand spp here) within 5 %; the photon
         // methods at 16x16 after a few passes within 35 % (a few partly covered lamp pixels swing
         // the mean by ~15 % each at one sample per pixel: this catches black or doubled images).
@@ -142,7 +144,8 @@ TEST_F(SweepCliTest, QuickSweepWritesEveryMethodsCurveAndCharts) {
     double spp0 = std::strtod(path.front()["passes"].c_str(), nullptr);
     double spp1 = std::strtod(path.back()["passes"].c_str(), nullptr);
     ASSERT_GE(spp1 / spp0, 16.0) << r.output;
-    EXPECT_LT(std::strtod(path.back()["relmse"].c_str(), nullptr), 0.25 * std::strtod(path.front()["relmse"].c_str(), nullptr));
+    EXPECT_LT(std::strtod(path.back()["relmse"].c_str(), nullptr),
+              0.25 * std::strtod(path.front()["relmse"].c_str(), nullptr));
 
     // The charts: made whenever a python3 with matplotlib is found (CI installs Debian's
     // python3-matplotlib: no skip there). A pyenv python3 first on PATH may lack it: try Debian's too.
