@@ -13,25 +13,40 @@ namespace {
 
 template <class Report>
 CheckReport toCheckReport(const std::string& stage, const Report& report) {
-    return {stage, report.table(), report.passed()};
+    CheckReport r;
+    r.stage = stage;
+    r.table = report.table();
+    r.passed = report.passed();
+    return r;
 }
 
-// emit, trace_photons, deposit and pass share one check (photon_stages.h), where the photon
-// tracing stage is called "trace".
-template <const char* Stage>
-std::vector<CheckReport> photonStage(Device& device, const Scene&, const PreparedScene& prepared,
+// emit, trace_photons, deposit and pass share their options and report (photon_stages.h).
+template <PhotonCheckReport (*Check)(Device&, const SceneGeometry&, const SceneBuffers&, const PhotonCheckOptions&)>
+std::vector<CheckReport> photonStage(const char* name, Device& device, const PreparedScene& prepared,
                                      const CheckOptions& o) {
     PhotonCheckOptions options;
     options.photons = o.photons;
     options.seed = o.seed;
-    const std::string inner = std::string(Stage) == "trace_photons" ? "trace" : Stage;
-    return {toCheckReport(Stage, checkPhotonStage(device, prepared.geometry, prepared.buffers, inner, options))};
+    return {toCheckReport(name, Check(device, prepared.geometry, prepared.buffers, options))};
 }
-constexpr char kEmit[] = "emit", kTracePhotons[] = "trace_photons", kDeposit[] = "deposit", kPass[] = "pass";
+std::vector<CheckReport> emit(Device& d, const Scene&, const PreparedScene& p, const CheckOptions& o) {
+    return photonStage<checkEmit>("emit", d, p, o);
+}
+std::vector<CheckReport> tracePhotons(Device& d, const Scene&, const PreparedScene& p, const CheckOptions& o) {
+    return photonStage<checkTracePhotons>("trace_photons", d, p, o);
+}
+std::vector<CheckReport> deposit(Device& d, const Scene&, const PreparedScene& p, const CheckOptions& o) {
+    return photonStage<checkDeposit>("deposit", d, p, o);
+}
+std::vector<CheckReport> pass(Device& d, const Scene&, const PreparedScene& p, const CheckOptions& o) {
+    return photonStage<checkPhotonPass>("pass", d, p, o);
+}
 
 std::vector<CheckReport> trace(Device& device, const Scene& scene, const PreparedScene& prepared,
                                const CheckOptions& o) {
-    return {toCheckReport("trace", checkIntersect(device, scene, prepared.geometry, o.rays, o.seed))};
+    CheckReport r = toCheckReport("trace", checkIntersect(device, scene, prepared.geometry, o.rays, o.seed));
+    r.against = "host BVH traversal";
+    return {r};
 }
 
 MapCheckOptions mapOptions(const CheckOptions& o) {
@@ -81,11 +96,10 @@ std::vector<CheckReport> render(Device& device, const Scene& scene, const Prepar
 const std::vector<CheckStage>& checkStages() {
     static const std::vector<CheckStage> stages = {
         {"trace", "BVH traversal kernel against the host BVH traversal", trace},
-        {"emit", "photon emission, ray by ray", photonStage<kEmit>},
-        {"trace_photons", "photon tracing (Russian roulette, bounces, deposits), path by path",
-         photonStage<kTracePhotons>},
-        {"deposit", "the deterministic deposit into the maps, record by record", photonStage<kDeposit>},
-        {"pass", "the whole photon pass, maps aligned path by path", photonStage<kPass>},
+        {"emit", "photon emission, ray by ray", emit},
+        {"trace_photons", "photon tracing (Russian roulette, bounces, deposits), path by path", tracePhotons},
+        {"deposit", "the deterministic deposit into the maps, record by record", deposit},
+        {"pass", "the whole photon pass, maps aligned path by path", pass},
         {"sort", "the device radix sort against a stable sort", sort},
         {"build", "the kd-tree build, byte for byte and against its definition", build},
         {"knn", "k nearest neighbours on kd-tree and hash grid against brute force", knn},

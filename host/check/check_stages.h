@@ -1,9 +1,10 @@
 // `photoncl check --stage NAME`: every kernel stage against its CPU twin on the same inputs.
-// One list of stages, each with its own file under host/check/ (the typed report of that file
-// keeps the stage's own figures; tests read those): trace (trace.h), emit, trace_photons,
-// deposit and pass (photon_stages.h), sort and build (maps.h), knn (knn.h), estimate
-// (estimate.h and precomputed_irradiance.h), render (render.h). The command prepares the scene
-// once and runs the stages it was asked for in this order.
+// One list of stages, each with its own file under host/check/: trace.cpp, emit.cpp,
+// trace_photons.cpp, deposit.cpp, pass.cpp (their report: photon_stages.h), sort.cpp, build.cpp
+// (maps.h), knn.cpp, estimate.cpp (with precomputed_irradiance.cpp, the estimate stage's second
+// part), render.cpp. Each file's typed report keeps the stage's own figures (tests read those);
+// the command gets them as CheckReport. It prepares the scene once and runs the stages it was
+// asked for in this order.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -24,8 +25,9 @@ struct CheckOptions {
 
 // The one result type every stage gives the command: printable, with a verdict.
 struct CheckReport {
-    std::string stage;  // the --stage name, or a part of it ("estimate (precomputed irradiance)")
-    std::string table;  // the stage's table: one line per comparison, then its tolerances
+    std::string stage;                 // the --stage name, or a part of it ("estimate (precomputed irradiance)")
+    std::string against = "CPU twin";  // what the kernel is compared with
+    std::string table;                 // the stage's table: one line per comparison, then its tolerances
     bool passed = false;
 };
 

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "device/device.h"
+#include "pipeline/photon_pass.h"
 #include "prep/prepared_scene.h"
 #include "scene/scene.h"
 #include "shared/types.h"
@@ -58,6 +59,9 @@ MapCheckReport checkKdTreeBuild(Device& device, const Scene& scene, const MapChe
 // The same two on a prepared scene.
 MapCheckReport checkSort(Device& device, const PreparedScene& prepared, const MapCheckOptions& options = {});
 MapCheckReport checkKdTreeBuild(Device& device, const PreparedScene& prepared, const MapCheckOptions& options = {});
+
+// The scene's global and caustic maps from one device photon pass (both checks' input).
+PhotonMaps mapCheckPhotonMaps(Device& device, const PreparedScene& prepared, const MapCheckOptions& options);
 
 // The comparisons, added into `row` (tests feed them broken results).
 void compareSorted(const std::vector<uint64_t>& twinKeys, const std::vector<uint32_t>& twinValues,

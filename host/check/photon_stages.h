@@ -61,7 +61,7 @@ struct PhotonCheckRow {
 };
 
 struct PhotonCheckReport {
-    std::string stage;  // "emit", "trace" or "deposit"
+    std::string stage;  // "emit", "trace", "deposit" or "pass"
     std::vector<PhotonCheckRow> rows;
     double hostSeconds = 0.0, deviceSeconds = 0.0;
     double maxDivergentFraction = 1e-3;
@@ -69,8 +69,7 @@ struct PhotonCheckReport {
     std::string table() const;  // printable, one line per pass, then the verdict's reason
 };
 
-// stage: "emit", "trace", "deposit" or "pass". Builds the geometry, buffers and projection maps
-// itself. "pass" runs the whole photon pass both ways (pipeline/photon_pass with small device
+// stage: "emit", "trace", "deposit" or "pass". Prepares the scene itself (prepareScene). "pass" runs the whole photon pass both ways (pipeline/photon_pass with small device
 // batches against reference/photon_pass) and aligns the two maps path by path with the twin's
 // per-path deposit counts: a path agrees when its records match the device's at the aligned
 // place within the trace tolerances; after a divergent path the device cursor resynchronises
@@ -82,6 +81,17 @@ PhotonCheckReport checkPhotonStage(Device& device, const Scene& scene, const std
 // The same on already built geometry and buffers (projection maps included, if wanted).
 PhotonCheckReport checkPhotonStage(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
                                    const std::string& stage, const PhotonCheckOptions& options = {});
+
+// The four stages, one file each (emit.cpp, trace_photons.cpp, deposit.cpp, pass.cpp), on built
+// geometry and buffers; checkPhotonStage(stage) calls the one named.
+PhotonCheckReport checkEmit(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                            const PhotonCheckOptions& options = {});
+PhotonCheckReport checkTracePhotons(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                                    const PhotonCheckOptions& options = {});
+PhotonCheckReport checkDeposit(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                               const PhotonCheckOptions& options = {});
+PhotonCheckReport checkPhotonPass(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                                  const PhotonCheckOptions& options = {});
 
 // The comparisons themselves, added into `row` (tests feed them corrupted results to see the
 // check fail). sceneRadius scales the position tolerance.
