@@ -25,44 +25,39 @@ void comparePhotonMaps(const std::vector<PclPhoton>& host, const std::vector<Pcl
 PhotonCheckReport checkDeposit(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
                                const PhotonCheckOptions& options) {
     using namespace photon_check;
-    PhotonCheckReport report;
-    report.stage = "deposit";
-    report.maxDivergentFraction = options.maxDivergentFraction;
-    for (const CheckPass& pass : checkPasses(geometry, buffers, options)) {
-        PhotonCheckRow row;
-        row.pass = pass.name;
-        // The twin's slots of every batch of the pass, deposited both ways.
-        std::vector<uint32_t> allCounts;
-        std::vector<PclPhoton> allSlots;
-        uint32_t slotsPerPath = 0;
-        for (const PclPhotonParams& params : pass.batches) {
-            const std::vector<PclPhotonRay> rays = emitPhotonsReference(buffers, pass.first, params);
-            const ReferencePhotonBatch host = tracePhotonsReference(buffers, geometry, params, rays);
-            slotsPerPath = host.slotsPerPath;
-            allCounts.insert(allCounts.end(), host.counts.begin(), host.counts.end());
-            allSlots.insert(allSlots.end(), host.slots.begin(), host.slots.end());
-        }
-        if (!allCounts.empty()) {
-            auto t = Clock::now();
-            std::vector<PclPhoton> hostMap;
-            depositPhotonsReference(allCounts, allSlots, slotsPerPath, hostMap);
-            report.hostSeconds += since(t);
-            t = Clock::now();
-            // Once into an exactly sized map, once into one a quarter the size (it must grow).
-            std::vector<PclPhoton> exact = depositOnDevice(device, allCounts, allSlots, slotsPerPath, 0);
-            uint32_t growths = 0;
-            std::vector<PclPhoton> grown = depositOnDevice(device, allCounts, allSlots, slotsPerPath,
-                                                           std::max<size_t>(1, hostMap.size() / 4), &growths);
-            report.deviceSeconds += since(t);
-            comparePhotonMaps(hostMap, exact, row);
-            PhotonCheckRow again;
-            comparePhotonMaps(hostMap, grown, again);
-            row.byteMismatches += again.byteMismatches;
-            row.growths = growths;
-        }
-        report.rows.push_back(row);
-    }
-    return report;
+    return perPassReport(
+        "deposit", geometry, buffers, options,
+        [&](const CheckPass& pass, PhotonCheckRow& row, PhotonCheckReport& report) {
+            // The twin's slots of every batch of the pass, deposited both ways.
+            std::vector<uint32_t> allCounts;
+            std::vector<PclPhoton> allSlots;
+            uint32_t slotsPerPath = 0;
+            for (const PclPhotonParams& params : pass.batches) {
+                const std::vector<PclPhotonRay> rays = emitPhotonsReference(buffers, pass.first, params);
+                const ReferencePhotonBatch host = tracePhotonsReference(buffers, geometry, params, rays);
+                slotsPerPath = host.slotsPerPath;
+                allCounts.insert(allCounts.end(), host.counts.begin(), host.counts.end());
+                allSlots.insert(allSlots.end(), host.slots.begin(), host.slots.end());
+            }
+            if (!allCounts.empty()) {
+                auto t = Clock::now();
+                std::vector<PclPhoton> hostMap;
+                depositPhotonsReference(allCounts, allSlots, slotsPerPath, hostMap);
+                report.hostSeconds += since(t);
+                t = Clock::now();
+                // Once into an exactly sized map, once into one a quarter the size (it must grow).
+                std::vector<PclPhoton> exact = depositOnDevice(device, allCounts, allSlots, slotsPerPath, 0);
+                uint32_t growths = 0;
+                std::vector<PclPhoton> grown = depositOnDevice(device, allCounts, allSlots, slotsPerPath,
+                                                               std::max<size_t>(1, hostMap.size() / 4), &growths);
+                report.deviceSeconds += since(t);
+                comparePhotonMaps(hostMap, exact, row);
+                PhotonCheckRow again;
+                comparePhotonMaps(hostMap, grown, again);
+                row.byteMismatches += again.byteMismatches;
+                row.growths = growths;
+            }
+        });
 }
 
 }  // namespace pcl

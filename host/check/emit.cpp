@@ -35,25 +35,18 @@ void comparePhotonRays(const std::vector<PclPhotonRay>& host, const std::vector<
 PhotonCheckReport checkEmit(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
                             const PhotonCheckOptions& options) {
     using namespace photon_check;
-    PhotonCheckReport report;
-    report.stage = "emit";
-    report.maxDivergentFraction = options.maxDivergentFraction;
-    const float radius = buffers.sceneRadius;
-    for (const CheckPass& pass : checkPasses(geometry, buffers, options)) {
-        PhotonCheckRow row;
-        row.pass = pass.name;
-        for (const PclPhotonParams& params : pass.batches) {
-            auto t = Clock::now();
-            const std::vector<PclPhotonRay> rays = emitPhotonsReference(buffers, pass.first, params);
-            report.hostSeconds += since(t);
-            t = Clock::now();
-            const std::vector<PclPhotonRay> dev = emitOnDevice(device, geometry, buffers, pass.first, params);
-            report.deviceSeconds += since(t);
-            comparePhotonRays(rays, dev, radius, row);
-        }
-        report.rows.push_back(row);
-    }
-    return report;
+    return perPassReport(
+        "emit", geometry, buffers, options, [&](const CheckPass& pass, PhotonCheckRow& row, PhotonCheckReport& report) {
+            for (const PclPhotonParams& params : pass.batches) {
+                auto t = Clock::now();
+                const std::vector<PclPhotonRay> rays = emitPhotonsReference(buffers, pass.first, params);
+                report.hostSeconds += since(t);
+                t = Clock::now();
+                const std::vector<PclPhotonRay> dev = emitOnDevice(device, geometry, buffers, pass.first, params);
+                report.deviceSeconds += since(t);
+                comparePhotonRays(rays, dev, buffers.sceneRadius, row);
+            }
+        });
 }
 
 }  // namespace pcl

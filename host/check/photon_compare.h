@@ -45,6 +45,23 @@ inline std::vector<CheckPass> checkPasses(const SceneGeometry& geometry, const S
     return passes;
 }
 
+// The report of `stage` with one row per pass of checkPasses: fill(pass, row, report) compares
+// the pass's batches into its row (and adds its seconds to the report).
+template <class Fill>
+PhotonCheckReport perPassReport(const char* stage, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                                const PhotonCheckOptions& options, Fill&& fill) {
+    PhotonCheckReport report;
+    report.stage = stage;
+    report.maxDivergentFraction = options.maxDivergentFraction;
+    for (const CheckPass& pass : checkPasses(geometry, buffers, options)) {
+        PhotonCheckRow row;
+        row.pass = pass.name;
+        fill(pass, row, report);
+        report.rows.push_back(row);
+    }
+    return report;
+}
+
 inline Vec3 originOf(const PclPhotonRay& r) { return {r.ox, r.oy, r.oz}; }
 inline Vec3 directionOf(const PclPhotonRay& r) { return {r.dx, r.dy, r.dz}; }
 inline float maxAbs(Vec3 v) { return std::max(std::fabs(v.x), std::max(std::fabs(v.y), std::fabs(v.z))); }

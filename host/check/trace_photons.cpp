@@ -55,26 +55,20 @@ void comparePhotonPaths(const ReferencePhotonBatch& host, const PhotonTraceResul
 PhotonCheckReport checkTracePhotons(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
                                     const PhotonCheckOptions& options) {
     using namespace photon_check;
-    PhotonCheckReport report;
-    report.stage = "trace";
-    report.maxDivergentFraction = options.maxDivergentFraction;
-    const float radius = buffers.sceneRadius;
-    for (const CheckPass& pass : checkPasses(geometry, buffers, options)) {
-        PhotonCheckRow row;
-        row.pass = pass.name;
-        for (const PclPhotonParams& params : pass.batches) {
-            const std::vector<PclPhotonRay> rays = emitPhotonsReference(buffers, pass.first, params);
-            auto t = Clock::now();
-            const ReferencePhotonBatch host = tracePhotonsReference(buffers, geometry, params, rays);
-            report.hostSeconds += since(t);
-            t = Clock::now();
-            const PhotonTraceResult dev = tracePhotonsOnDevice(device, geometry, buffers, rays, params);
-            report.deviceSeconds += since(t);
-            comparePhotonPaths(host, dev, radius, row);
-        }
-        report.rows.push_back(row);
-    }
-    return report;
+    return perPassReport(
+        "trace", geometry, buffers, options,
+        [&](const CheckPass& pass, PhotonCheckRow& row, PhotonCheckReport& report) {
+            for (const PclPhotonParams& params : pass.batches) {
+                const std::vector<PclPhotonRay> rays = emitPhotonsReference(buffers, pass.first, params);
+                auto t = Clock::now();
+                const ReferencePhotonBatch host = tracePhotonsReference(buffers, geometry, params, rays);
+                report.hostSeconds += since(t);
+                t = Clock::now();
+                const PhotonTraceResult dev = tracePhotonsOnDevice(device, geometry, buffers, rays, params);
+                report.deviceSeconds += since(t);
+                comparePhotonPaths(host, dev, buffers.sceneRadius, row);
+            }
+        });
 }
 
 }  // namespace pcl
