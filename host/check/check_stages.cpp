@@ -44,9 +44,7 @@ std::vector<CheckReport> pass(Device& d, const Scene&, const PreparedScene& p, c
 
 std::vector<CheckReport> trace(Device& device, const Scene& scene, const PreparedScene& prepared,
                                const CheckOptions& o) {
-    CheckReport r = toCheckReport("trace", checkIntersect(device, scene, prepared.geometry, o.rays, o.seed));
-    r.against = "host BVH traversal";
-    return {r};
+    return {toCheckReport("trace", checkIntersect(device, scene, prepared.geometry, o.rays, o.seed))};
 }
 
 MapCheckOptions mapOptions(const CheckOptions& o) {
@@ -95,22 +93,23 @@ std::vector<CheckReport> render(Device& device, const Scene& scene, const Prepar
 
 const std::vector<CheckStage>& checkStages() {
     static const std::vector<CheckStage> stages = {
-        {"trace", "BVH traversal kernel against the host BVH traversal", trace},
-        {"emit", "photon emission, ray by ray", emit},
-        {"trace_photons", "photon tracing (Russian roulette, bounces, deposits), path by path", tracePhotons},
-        {"deposit", "the deterministic deposit into the maps, record by record", deposit},
-        {"pass", "the whole photon pass, maps aligned path by path", pass},
-        {"sort", "the device radix sort against a stable sort", sort},
-        {"build", "the kd-tree build, byte for byte and against its definition", build},
-        {"knn", "k nearest neighbours on kd-tree and hash grid against brute force", knn},
+        {"trace", "BVH traversal kernel against the host BVH traversal", "host BVH traversal", trace},
+        {"emit", "photon emission, ray by ray", "CPU twin", emit},
+        {"trace_photons", "photon tracing (Russian roulette, bounces, deposits), path by path", "CPU twin",
+         tracePhotons},
+        {"deposit", "the deterministic deposit into the maps, record by record", "CPU twin", deposit},
+        {"pass", "the whole photon pass, maps aligned path by path", "CPU twin", pass},
+        {"sort", "the device radix sort against a stable sort", "CPU twin", sort},
+        {"build", "the kd-tree build, byte for byte and against its definition", "CPU twin", build},
+        {"knn", "k nearest neighbours on kd-tree and hash grid against brute force", "CPU twin", knn},
         {"estimate",
          "the filtered irradiance estimate (every filter, both structures, with and without the visibility test) "
          "and the precomputed irradiance lookup",
-         estimate},
+         "CPU twin", estimate},
         {"render",
          "the eye pass (camera, eye paths, direct light, caustics, final gather, direct visualisation) per stage and "
          "per pixel on a small image",
-         render},
+         "CPU twin", render},
     };
     return stages;
 }

@@ -25,15 +25,15 @@ struct CheckOptions {
 
 // The one result type every stage gives the command: printable, with a verdict.
 struct CheckReport {
-    std::string stage;                 // the --stage name, or a part of it ("estimate (precomputed irradiance)")
-    std::string against = "CPU twin";  // what the kernel is compared with
-    std::string table;                 // the stage's table: one line per comparison, then its tolerances
+    std::string stage;  // the --stage name, or a part of it ("estimate (precomputed irradiance)")
+    std::string table;  // the stage's table: one line per comparison, then its tolerances
     bool passed = false;
 };
 
 struct CheckStage {
     const char* name;     // --stage NAME
     const char* summary;  // what is compared with what (for --help)
+    const char* against;  // what the kernel is compared with, for the report's title
     std::vector<CheckReport> (*run)(Device& device, const Scene& scene, const PreparedScene& prepared,
                                     const CheckOptions& options);
 };

@@ -26,12 +26,6 @@ PclEstimateQuery makeQuery(Vec3 p, Vec3 n, float maxRadius2, uint32_t k) {
     return q;
 }
 
-// maxRadius2 uniform in [1/4, 1] × r².
-float radius2(std::mt19937_64& rng, float maxRadius) {
-    std::uniform_real_distribution<float> u(0.25f, 1.0f);
-    return u(rng) * maxRadius * maxRadius;
-}
-
 std::vector<PclEstimateQuery> randomEstimateQueries(const float lo[3], const float hi[3], uint32_t count,
                                                     float maxRadius, uint32_t k, uint64_t seed) {
     std::mt19937_64 rng(seed);
@@ -43,7 +37,7 @@ std::vector<PclEstimateQuery> randomEstimateQueries(const float lo[3], const flo
                      lo[2] + u(rng) * (hi[2] - lo[2]));
         Vec3 n(g(rng), g(rng), g(rng));
         n = length(n) > 1e-6f ? normalize(n) : Vec3(0.0f, 0.0f, 1.0f);
-        q = makeQuery(p, n, radius2(rng, maxRadius), k);
+        q = makeQuery(p, n, randomQueryRadius2(rng, maxRadius), k);
     }
     return qs;
 }
@@ -92,7 +86,7 @@ std::vector<PclEstimateQuery> surfaceEstimateQueries(const Scene& scene, const S
     std::mt19937_64 rng(seed + 1);
     std::vector<PclEstimateQuery> qs;
     for (const CameraSurfaceHit& h : cameraSurfaceHits(scene, geometry, count, seed))
-        qs.push_back(makeQuery(h.p, h.n, radius2(rng, maxRadius), k));
+        qs.push_back(makeQuery(h.p, h.n, randomQueryRadius2(rng, maxRadius), k));
     return qs;
 }
 

@@ -27,12 +27,6 @@ PclKnnQuery makeQuery(float x, float y, float z, float maxRadius2, uint32_t k) {
     return q;
 }
 
-// maxRadius2 uniform in [1/4, 1] × r².
-float radius2(std::mt19937_64& rng, float maxRadius) {
-    std::uniform_real_distribution<float> u(0.25f, 1.0f);
-    return u(rng) * maxRadius * maxRadius;
-}
-
 }  // namespace
 
 bool KnnCheckRow::passed() const {
@@ -75,7 +69,7 @@ std::vector<PclKnnQuery> surfaceKnnQueries(const Scene& scene, const SceneGeomet
     std::mt19937_64 rng(seed + 1);
     std::vector<PclKnnQuery> qs;
     for (const CameraSurfaceHit& h : cameraSurfaceHits(scene, geometry, count, seed))
-        qs.push_back(makeQuery(h.p.x, h.p.y, h.p.z, radius2(rng, maxRadius), k));
+        qs.push_back(makeQuery(h.p.x, h.p.y, h.p.z, randomQueryRadius2(rng, maxRadius), k));
     return qs;
 }
 
@@ -87,7 +81,7 @@ std::vector<PclKnnQuery> randomKnnQueries(const float lo[3], const float hi[3], 
     for (auto& q : qs) {
         float p[3];
         for (int a = 0; a < 3; ++a) p[a] = lo[a] + u(rng) * (hi[a] - lo[a]);
-        q = makeQuery(p[0], p[1], p[2], radius2(rng, maxRadius), k);
+        q = makeQuery(p[0], p[1], p[2], randomQueryRadius2(rng, maxRadius), k);
     }
     return qs;
 }

@@ -54,7 +54,7 @@ Run addCheckCommand(CLI::App& app) {
         for (const CheckStage& stage : checkStages()) {
             if (o->stage != "all" && o->stage != stage.name) continue;
             for (const CheckReport& r : stage.run(device, scene, prepared, o->check)) {
-                std::printf("stage %s: kernel vs %s\n%s", r.stage.c_str(), r.against.c_str(), r.table.c_str());
+                std::printf("stage %s: kernel vs %s\n%s", r.stage.c_str(), stage.against, r.table.c_str());
                 std::printf("stage %s: %s\n", r.stage.c_str(), r.passed ? "PASSED" : "FAILED");
                 std::fflush(stdout);
                 ok = ok && r.passed;

@@ -399,7 +399,6 @@ std::string PhotonRenderer::summary() const {
 }
 
 PhotonRenderResult PhotonRenderer::run() {
-    const Clock::time_point start = start_;
     const bool progressive = s_.method == RenderMethod::Progressive;
     result_.sums = FixedPointFilm(width_, height_);
     if (s_.aovs)
@@ -417,7 +416,7 @@ PhotonRenderResult PhotonRenderer::run() {
     Film passFilm;
     for (uint32_t done = 0;; ++done) {
         if (s_.passes && done >= s_.passes) break;
-        if (done > 0 && s_.seconds > 0 && since(start) >= s_.seconds) break;
+        if (done > 0 && s_.seconds > 0 && since(start_) >= s_.seconds) break;
         if (done > 0 && s_.stop && s_.stop->load()) {
             result_.stopped = true;
             break;
@@ -453,7 +452,7 @@ PhotonRenderResult PhotonRenderer::run() {
         }
         result_.passes = done + 1;
         double fraction = s_.passes ? double(result_.passes) / s_.passes : 0.0;
-        if (s_.seconds > 0) fraction = std::max(fraction, std::min(1.0, since(start) / s_.seconds));
+        if (s_.seconds > 0) fraction = std::max(fraction, std::min(1.0, since(start_) / s_.seconds));
         if (s_.log)
             std::fprintf(stderr, "pass %u: %zu global + %zu caustic photons stored%s\n", pass, photons.global.size(),
                          photons.caustic.size(),
@@ -464,7 +463,7 @@ PhotonRenderResult PhotonRenderer::run() {
         result_.stopped = true;
     passFilm = Film();  // (host memory: a 4K film is 265 MB)
     result_.film = result_.sums.toFilm();
-    result_.times.total = since(start);
+    result_.times.total = since(start_);
     return std::move(result_);
 }
 
