@@ -2,9 +2,21 @@
  * 2001 §6.3, "locate photons" with a bounded max-heap), one query per work-item.
  *
  * knn_pack_kdtree  in: nodes[n] (photons in left-balanced heap order, split axis in bits 27..28
- *                    of packed), nodeIndex[n] (each node's photon index in the map)
- *                    out: packed[n] = (x, y, z, index | axis << 30): the search's node array
- * knn_kdtree    in:  packed nodes[n], queries
+ *                    of packed), nodeIndex[n] (each node's photon index in the map), bucketFirst
+ *                    out: packed[h] = (x, y, z, index | axis << 30) for the upper nodes h <
+ *                    bucketFirst; then the buckets (below)
+ * knn_kdtree    in:  packed nodes (upper nodes, then buckets), n, bucketFirst, queries
+ *
+ * Buckets: the last PCL_KD_BUCKET_LEVELS = 3 levels of the heap (pipeline/knn.h
+ * knnBucketFirst: bucketFirst = 2^D − 1 with D = max(levels − 3, 0)) are stored by subtree:
+ * bucket b (root bucketFirst + b) holds the root's subtree of at most 7 nodes in breadth-first
+ * order in 8 slots, as four float8 rows x[8], y[8], z[8], w[8] (w: index | axis << 30; empty
+ * slots have NaN coordinates, which no d² test accepts). The search descends the upper nodes
+ * one by one as before and tests a reached bucket's 8 slots with float8 arithmetic at once
+ * (PoCL runs a work-item as scalar code: explicit vectors are its SIMD; the traversal kernel's
+ * float8 node test is the same idea). Testing a whole bucket offers a superset of the photons
+ * the node-by-node descent would offer, so the result is the same (k smallest by (d², index)).
+ *
  * knn_hashgrid  in:  grid params, points[n] (float4 x, y, z, photon index bits, in (hash, index)
  *                    order), cellStart/cellEnd[tableSize], queries
  * out (both):   counts[q] ≤ k, indices[q·stride + j] and dist2[q·stride + j] for j < count in
@@ -36,50 +48,48 @@
 #define PCL_KNN_STACK 48
 #define PCL_GRID_COORD_LIMIT 1.0e9f
 
+/* A candidate as one 64-bit key: the bits of d² (≥ 0, so they order as the floats do) above
+ * the photon index. (d², index) order is then one integer comparison. */
 typedef struct KnnHeap {
-    float d[PCL_KNN_CAP];
-    uint idx[PCL_KNN_CAP];
+    ulong key[PCL_KNN_CAP];
     uint n, k;
     float maxRadius2;
 } KnnHeap;
 
-inline bool knn_above(float da, uint ia, float db, uint ib) { return da > db || (da == db && ia > ib); }
+inline ulong knn_key(float d, uint idx) { return (ulong)as_uint(d) << 32 | (ulong)idx; }
+inline float knn_key_d2(ulong key) { return as_float((uint)(key >> 32)); }
+inline uint knn_key_index(ulong key) { return (uint)key; }
 
 /* The bound a candidate's (or a plane's) d² is compared with. */
-inline float knn_bound(const KnnHeap* h) { return h->n < h->k ? h->maxRadius2 : h->d[0]; }
+inline float knn_bound(const KnnHeap* h) { return h->n < h->k ? h->maxRadius2 : knn_key_d2(h->key[0]); }
 
 inline void knn_sift_down(KnnHeap* h, uint i, uint n) {
-    const float d = h->d[i];
-    const uint idx = h->idx[i];
+    const ulong key = h->key[i];
     for (;;) {
         uint c = 2u * i + 1u;
         if (c >= n) break;
-        if (c + 1u < n && knn_above(h->d[c + 1u], h->idx[c + 1u], h->d[c], h->idx[c])) ++c;
-        if (!knn_above(h->d[c], h->idx[c], d, idx)) break;
-        h->d[i] = h->d[c];
-        h->idx[i] = h->idx[c];
+        if (c + 1u < n && h->key[c + 1u] > h->key[c]) ++c;
+        if (!(h->key[c] > key)) break;
+        h->key[i] = h->key[c];
         i = c;
     }
-    h->d[i] = d;
-    h->idx[i] = idx;
+    h->key[i] = key;
 }
 
 inline void knn_offer(KnnHeap* h, float d, uint idx) {
     if (!(d <= h->maxRadius2)) return;
+    const ulong key = knn_key(d, idx);
     if (h->n < h->k) {
         uint i = h->n++;
         while (i > 0u) {
             const uint parent = (i - 1u) >> 1;
-            if (!knn_above(d, idx, h->d[parent], h->idx[parent])) break;
-            h->d[i] = h->d[parent];
-            h->idx[i] = h->idx[parent];
+            if (!(key > h->key[parent])) break;
+            h->key[i] = h->key[parent];
             i = parent;
         }
-        h->d[i] = d;
-        h->idx[i] = idx;
-    } else if (knn_above(h->d[0], h->idx[0], d, idx)) {
-        h->d[0] = d;
-        h->idx[0] = idx;
+        h->key[i] = key;
+    } else if (h->key[0] > key) {
+        h->key[0] = key;
         knn_sift_down(h, 0u, h->n);
     }
 }
@@ -94,21 +104,18 @@ inline void knn_init(KnnHeap* h, const PclKnnQuery q) {
 inline void knn_write(KnnHeap* h, uint q, uint stride, __global uint* counts, __global uint* indices,
                       __global float* dist2, __global float* radius2) {
     for (uint end = h->n; end > 1u; --end) {
-        const float d = h->d[0];
-        const uint idx = h->idx[0];
-        h->d[0] = h->d[end - 1u];
-        h->idx[0] = h->idx[end - 1u];
-        h->d[end - 1u] = d;
-        h->idx[end - 1u] = idx;
+        const ulong top = h->key[0];
+        h->key[0] = h->key[end - 1u];
+        h->key[end - 1u] = top;
         knn_sift_down(h, 0u, end - 1u);
     }
     const size_t base = (size_t)q * stride;
     for (uint j = 0u; j < stride; ++j) {
-        indices[base + j] = j < h->n ? h->idx[j] : PCL_NO_HIT;
-        dist2[base + j] = j < h->n ? h->d[j] : 0.0f;
+        indices[base + j] = j < h->n ? knn_key_index(h->key[j]) : PCL_NO_HIT;
+        dist2[base + j] = j < h->n ? knn_key_d2(h->key[j]) : 0.0f;
     }
     counts[q] = h->n;
-    radius2[q] = h->n ? h->d[h->n - 1u] : 0.0f;
+    radius2[q] = h->n ? knn_key_d2(h->key[h->n - 1u]) : 0.0f;
 }
 
 inline float knn_dist2(float px, float py, float pz, float qx, float qy, float qz) {
@@ -117,19 +124,57 @@ inline float knn_dist2(float px, float py, float pz, float qx, float qy, float q
 }
 
 /* kd-tree nodes packed for the search: (x, y, z, photon index | axis << 30 as bits of w), one
- * 16-byte load per visited node. */
+ * 16-byte load per visited upper node; the buckets' rows after them. One work-item per upper
+ * node and one per bucket slot (bucketFirst + 8·buckets items in all). */
+#define PCL_KD_BUCKET_SLOTS 8u
 __kernel void knn_pack_kdtree(__global const PclPhoton* nodes, __global const uint* nodeIndex, uint n,
-                              __global float4* packed) {
+                              uint bucketFirst, uint bucketCount, __global float4* packed) {
     const uint i = (uint)get_global_id(0);
-    if (i >= n) return;
-    const PclPhoton p = nodes[i];
-    const uint axis = (p.packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT;
-    packed[i] = (float4)(p.x, p.y, p.z, as_float(nodeIndex[i] | (axis << 30)));
+    if (i >= bucketFirst + PCL_KD_BUCKET_SLOTS * bucketCount) return;
+    uint h = i;
+    if (i >= bucketFirst) {
+        /* slot s of bucket b: relative depth t (0: the root; 1: slots 1, 2; 2: slots 3..6) */
+        const uint b = (i - bucketFirst) / PCL_KD_BUCKET_SLOTS, s = (i - bucketFirst) % PCL_KD_BUCKET_SLOTS;
+        const uint t = s == 0u ? 0u : (s < 3u ? 1u : 2u);
+        const uint offset = s + 1u - (1u << t);
+        h = s == 7u ? n : ((bucketFirst + b + 1u) << t) - 1u + offset;
+    }
+    float x = as_float(0x7FC00000u), y = x, z = x;
+    uint w = 0xFFFFFFFFu;
+    if (h < n) {
+        const PclPhoton p = nodes[h];
+        const uint axis = (p.packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT;
+        x = p.x, y = p.y, z = p.z;
+        w = nodeIndex[h] | (axis << 30);
+    }
+    if (i < bucketFirst) {
+        packed[i] = (float4)(x, y, z, as_float(w));
+    } else {
+        __global float* row = (__global float*)(packed + bucketFirst) + (size_t)(i - bucketFirst) / 8u * 32u;
+        const uint s = (i - bucketFirst) % 8u;
+        row[s] = x, row[8u + s] = y, row[16u + s] = z, row[24u + s] = as_float(w);
+    }
 }
 
-__kernel void knn_kdtree(__global const float4* nodes, uint n, __global const PclKnnQuery* queries, uint queryCount,
-                         uint stride, __global uint* counts, __global uint* indices, __global float* dist2,
-                         __global float* radius2) {
+/* A bucket's 8 slots against the query, then each accepted one into the heap in slot order. */
+inline void knn_offer_bucket(KnnHeap* h, __global const float4* nodes, uint bucketFirst, uint bucket, float qx,
+                             float qy, float qz) {
+    __global const float* row = (__global const float*)(nodes + bucketFirst) + (size_t)bucket * 32u;
+    const float8 dx = vload8(0, row) - (float8)(qx), dy = vload8(1, row) - (float8)(qy),
+                 dz = vload8(2, row) - (float8)(qz);
+    const float8 d = (dx * dx + dy * dy) + dz * dz;
+    const int8 near = d <= (float8)(knn_bound(h));
+    if (!any(near)) return;
+    const uint8 w = as_uint8(vload8(3, row));
+    const float dd[8] = {d.s0, d.s1, d.s2, d.s3, d.s4, d.s5, d.s6, d.s7};
+    const uint ww[8] = {w.s0, w.s1, w.s2, w.s3, w.s4, w.s5, w.s6, w.s7};
+    for (uint s = 0u; s < 8u; ++s)
+        if (dd[s] <= knn_bound(h)) knn_offer(h, dd[s], ww[s] & 0x3FFFFFFFu);
+}
+
+__kernel void knn_kdtree(__global const float4* nodes, uint n, uint bucketFirst, __global const PclKnnQuery* queries,
+                         uint queryCount, uint stride, __global uint* counts, __global uint* indices,
+                         __global float* dist2, __global float* radius2) {
     const uint qi = (uint)get_global_id(0);
     if (qi >= queryCount) return;
     const PclKnnQuery q = queries[qi];
@@ -141,6 +186,10 @@ __kernel void knn_kdtree(__global const float4* nodes, uint n, __global const Pc
     uint node = (n > 0u && h.k > 0u) ? 0u : n;
     for (;;) {
         while (node < n) {
+            if (node >= bucketFirst) {
+                knn_offer_bucket(&h, nodes, bucketFirst, node - bucketFirst, q.x, q.y, q.z);
+                break;
+            }
             const float4 p = nodes[node];
             const uint w = as_uint(p.w);
             const uint axis = w >> 30;

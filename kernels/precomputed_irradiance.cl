@@ -21,8 +21,15 @@
  *                                     27..28 of packed), index[h] (heap position → point), points, cover
  *                                out: nodes[h] = points[index[h]], split axis in bits 30..31 of
  *                                     photon; nodeCover[h] = cover[index[h]]
- * precomputed_irradiance_lookup  in:  nodes[n], nodeCover[n] (the packed tree), queries[q],
- *                                     minNormalCos
+ * precomputed_irradiance_buckets in: nodes[n], nodeCover[n], bucketFirst (pipeline/knn.h
+ *                                     knnBucketFirst)
+ *                                out: buckets: the tree's last three levels by subtree, as in
+ *                                     knn.cl: bucket b (root bucketFirst + b) holds its subtree's
+ *                                     ≤ 7 nodes breadth first in 8 slots, eight float8 rows x, y,
+ *                                     z, cover, decoded normal x, y, z, heap node (uint bits);
+ *                                     empty slots NaN
+ * precomputed_irradiance_lookup  in:  nodes[n], nodeCover[n] (the packed tree), bucketFirst,
+ *                                     buckets, queries[q], minNormalCos
  *                                out: irradiance[q] = (r, g, b, d²) of the nearest node within
  *                                     maxRadius2 that covers the query and whose normal agrees,
  *                                     (0, 0, 0, 0) when none; chosen[q] = its photon index,
@@ -37,7 +44,10 @@
  * tests sit inside the search: a rejected point does not shrink the bound, so the search goes on
  * until the nearest acceptable point is found. A far subtree is skipped only when its splitting plane's d² is
  * strictly above the bound (maxRadius2 until a point is taken, then the best d²). d² is
- * ((px−qx)² + (py−qy)²) + (pz−qz)² without contraction, as in knn.cl. */
+ * ((px−qx)² + (py−qy)²) + (pz−qz)² without contraction, as in knn.cl. A reached bucket is
+ * tested whole with float8 arithmetic (the same d², cover and normal tests on all 8 slots, then
+ * the accepted slots in order): a superset of what the node-by-node descent tests, so the same
+ * point wins. */
 #pragma OPENCL FP_CONTRACT OFF
 #include "shared/types.h"
 #include "shared/sampling.h"
@@ -120,8 +130,32 @@ inline float irradiance_dist2(float px, float py, float pz, float qx, float qy, 
     return dx * dx + dy * dy + dz * dz;
 }
 
+#define PCL_IRRADIANCE_BUCKET_FLOATS 64u
+
+__kernel void precomputed_irradiance_buckets(__global const PclIrradiancePoint* nodes,
+                                             __global const float* nodeCover, uint n, uint bucketFirst,
+                                             uint bucketCount, __global float* buckets) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= 8u * bucketCount) return;
+    const uint b = i / 8u, s = i % 8u;
+    const uint t = s == 0u ? 0u : (s < 3u ? 1u : 2u);
+    const uint h = s == 7u ? n : ((bucketFirst + b + 1u) << t) - 1u + (s + 1u - (1u << t));
+    float v[8];
+    for (uint r = 0u; r < 7u; ++r) v[r] = as_float(0x7FC00000u);
+    v[7] = as_float(PCL_NO_HIT);
+    if (h < n) {
+        const PclIrradiancePoint p = nodes[h];
+        const PclV3 np = photon_normal_decode(p.normal);
+        v[0] = p.x, v[1] = p.y, v[2] = p.z, v[3] = nodeCover[h];
+        v[4] = np.x, v[5] = np.y, v[6] = np.z, v[7] = as_float(h);
+    }
+    __global float* row = buckets + (size_t)b * PCL_IRRADIANCE_BUCKET_FLOATS + s;
+    for (uint r = 0u; r < 8u; ++r) row[8u * r] = v[r];
+}
+
 __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* nodes, __global const float* nodeCover,
-                                            uint n, __global const PclEstimateQuery* queries, uint queryCount,
+                                            uint n, uint bucketFirst, __global const float* buckets,
+                                            __global const PclEstimateQuery* queries, uint queryCount,
                                             float minNormalCos, __global float4* irradiance,
                                             __global uint* chosen) {
     const uint qi = (uint)get_global_id(0);
@@ -136,6 +170,31 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
     uint node = (n > 0u && q.maxRadius2 >= 0.0f) ? 0u : n;
     for (;;) {
         while (node < n) {
+            if (node >= bucketFirst) {
+                __global const float* row = buckets + (size_t)(node - bucketFirst) * PCL_IRRADIANCE_BUCKET_FLOATS;
+                const float8 dx = vload8(0, row) - (float8)(q.x), dy = vload8(1, row) - (float8)(q.y),
+                             dz = vload8(2, row) - (float8)(q.z);
+                const float8 d = (dx * dx + dy * dy) + dz * dz;
+                const float8 c = (vload8(4, row) * (float8)(q.nx) + vload8(5, row) * (float8)(q.ny)) +
+                                 vload8(6, row) * (float8)(q.nz);
+                const int8 ok = (d <= (float8)(bestD2)) & (d <= vload8(3, row)) & (c >= (float8)(minNormalCos));
+                if (any(ok)) {
+                    const float dd[8] = {d.s0, d.s1, d.s2, d.s3, d.s4, d.s5, d.s6, d.s7};
+                    const int oo[8] = {ok.s0, ok.s1, ok.s2, ok.s3, ok.s4, ok.s5, ok.s6, ok.s7};
+                    const uint8 hh = as_uint8(vload8(7, row));
+                    const uint hs[8] = {hh.s0, hh.s1, hh.s2, hh.s3, hh.s4, hh.s5, hh.s6, hh.s7};
+                    for (uint s = 0u; s < 8u; ++s) {
+                        if (!oo[s] || dd[s] > bestD2) continue;
+                        const uint photon = nodes[hs[s]].photon & PCL_IRRADIANCE_INDEX_MASK;
+                        if (dd[s] < bestD2 || photon < bestPhoton) {
+                            bestD2 = dd[s];
+                            best = hs[s];
+                            bestPhoton = photon;
+                        }
+                    }
+                }
+                break;
+            }
             const __global PclIrradiancePoint* p = nodes + node;
             const float px = p->x, py = p->y, pz = p->z;
             const uint w = p->photon;

@@ -39,6 +39,7 @@ struct RenderOptions {
     bool quiet = false, noPng = false;
     uint64_t maxBufferMib = 0;  // --max-buffer-mib: applyBufferCap on the OpenCL device
     std::string aov;
+    bool profile = false;
 };
 
 std::string defaultOutput(const std::string& scenePath) {
@@ -102,6 +103,21 @@ std::vector<std::string> parseAovs(const std::string& list) {
     return out;
 }
 
+std::string kernelProfileTable(const std::vector<Device::KernelTime>& profile, uint32_t passes) {
+    double total = 0.0;
+    for (const Device::KernelTime& k : profile) total += k.seconds;
+    std::string out = "device time by kernel (seconds per pass, launches per pass):\n";
+    char line[160];
+    const double p = std::max(passes, 1u);
+    for (const Device::KernelTime& k : profile) {
+        std::snprintf(line, sizeof line, "  %-36s %9.4f s  %5.1f %%  %7.1f\n", k.kernel.c_str(), k.seconds / p,
+                      total > 0 ? 100.0 * k.seconds / total : 0.0, k.launches / p);
+        out += line;
+    }
+    std::snprintf(line, sizeof line, "  %-36s %9.4f s\n", "all kernels", total / p);
+    return out + line;
+}
+
 int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedScene& prepared,
                     const std::string& output, Clock::time_point start) {
     const RenderRequest& q = o.request;
@@ -119,6 +135,7 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
 
     Device device = Device::open(o.device);
     applyBufferCap(device, o.maxBufferMib);
+    device.setProfiling(o.profile);
     // The memory plan for one pass's photon maps, before any work (fails early with advice).
     s.photonBatch = planRenderMemory(device.info(), geometry, buffers, s, plan).photonBatch;
 
@@ -189,6 +206,7 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
         std::fprintf(stderr, "photons: %llu global, %llu caustic emitted over %u passes\ntime by stage:\n%s",
                      static_cast<unsigned long long>(r.globalEmitted),
                      static_cast<unsigned long long>(r.causticEmitted), r.passes, r.times.table().c_str());
+    if (o.profile) std::fprintf(stderr, "%s", kernelProfileTable(device.kernelProfile(), r.passes).c_str());
     if (r.nonFiniteSamples)
         std::fprintf(stderr, "warning: %llu non-finite eye samples were dropped\n",
                      static_cast<unsigned long long>(r.nonFiniteSamples));
@@ -320,6 +338,8 @@ Run addRenderCommand(CLI::App& app) {
     addMaxBufferMibOption(sub, o->maxBufferMib,
                           "Cap every OpenCL buffer at this many MiB (photon methods; smaller batches, same image; "
                           "--method path allocates none)");
+    sub->add_flag("--profile", o->profile,
+                  "Photon methods: after the render, device seconds and launches per kernel (per pass and in all)");
     sub->add_flag("-q,--quiet", o->quiet, "No progress output");
     return [o] { return runRender(*o); };
 }

@@ -287,4 +287,24 @@ double Device::elapsedSeconds(const cl::Event& e) {
     });
 }
 
+void Device::record(const cl::Kernel& k, const cl::Event& e) {
+    profile_->launches.emplace_back(guard("profiling", [&] { return k.getInfo<CL_KERNEL_FUNCTION_NAME>(); }), e);
+}
+
+std::vector<Device::KernelTime> Device::kernelProfile() const {
+    std::map<std::string, KernelTime> byName;
+    if (profile_)
+        for (const auto& [name, e] : profile_->launches) {
+            KernelTime& t = byName[name];
+            t.kernel = name;
+            ++t.launches;
+            guard("profiling", [&] { e.wait(); });
+            t.seconds += elapsedSeconds(e);
+        }
+    std::vector<KernelTime> out;
+    for (auto& [name, t] : byName) out.push_back(t);
+    std::sort(out.begin(), out.end(), [](const KernelTime& a, const KernelTime& b) { return a.seconds > b.seconds; });
+    return out;
+}
+
 }  // namespace pcl

@@ -111,7 +111,9 @@ public:
     template <class... Ts, class... Args>
     cl::Event launch(const std::string& stage, cl::KernelFunctor<Ts...>& k, const cl::NDRange& global, Args&&... args) {
         if (isEmpty(global)) return cl::Event();
-        return guard(stage, [&] { return k(cl::EnqueueArgs(queue_, global), std::forward<Args>(args)...); });
+        cl::Event e = guard(stage, [&] { return k(cl::EnqueueArgs(queue_, global), std::forward<Args>(args)...); });
+        if (profile_) record(k.getKernel(), e);
+        return e;
     }
     // The same with an explicit work-group size (a separate name: an NDRange argument would
     // otherwise be taken for a kernel argument by the overload above).
@@ -119,8 +121,21 @@ public:
     cl::Event launchLocal(const std::string& stage, cl::KernelFunctor<Ts...>& k, const cl::NDRange& global,
                           const cl::NDRange& local, Args&&... args) {
         if (isEmpty(global)) return cl::Event();
-        return guard(stage, [&] { return k(cl::EnqueueArgs(queue_, global, local), std::forward<Args>(args)...); });
+        cl::Event e =
+            guard(stage, [&] { return k(cl::EnqueueArgs(queue_, global, local), std::forward<Args>(args)...); });
+        if (profile_) record(k.getKernel(), e);
+        return e;
     }
+
+    // Launch profile: while on, every launch's event is kept; kernelProfile() waits for them and
+    // gives device seconds and launch counts per kernel name, largest first (render --profile).
+    struct KernelTime {
+        std::string kernel;
+        size_t launches = 0;
+        double seconds = 0.0;
+    };
+    void setProfiling(bool on) { profile_ = on ? std::make_shared<Profile>() : nullptr; }
+    std::vector<KernelTime> kernelProfile() const;
 
     // Caps every buffer this Device allocates at `bytes` (0: no cap). info().maxAlloc becomes
     // min(driver's, bytes), so every stage that sizes its batches from it splits its work under
@@ -184,12 +199,18 @@ private:
 
     [[noreturn]] void throwTooLarge(const std::string& what, size_t count, size_t elementBytes) const;
 
+    struct Profile {
+        std::vector<std::pair<std::string, cl::Event>> launches;
+    };
+    void record(const cl::Kernel& k, const cl::Event& e);
+
     struct Programs;  // the memo and the ProgramCache, shared by copies
     DeviceInfo info_;
     AllocationObserver observer_;
     cl::Context context_;
     cl::CommandQueue queue_;
     std::shared_ptr<Programs> programs_;
+    std::shared_ptr<Profile> profile_;
 };
 
 }  // namespace pcl

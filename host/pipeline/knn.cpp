@@ -60,17 +60,33 @@ uint32_t knnMaxK(const std::vector<PclKnnQuery>& queries) {
     return maxK;
 }
 
+uint32_t knnBucketFirst(size_t count) {
+    int levels = 0;
+    for (size_t v = count; v; v >>= 1) ++levels;
+    return levels <= 3 ? 0u : (uint32_t(1) << (levels - 3)) - 1u;
+}
+
+size_t knnPackedKdTreeElements(size_t count) {
+    const size_t first = knnBucketFirst(count);
+    const size_t buckets = count > first ? std::min(first + 1, count - first) : 0;  // roots on level D
+    return first + 8 * buckets;
+}
+
 KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree) {
     if (tree.count >= (size_t(1) << 30))
         throw InputError("knn: a kd-tree of " + std::to_string(tree.count) +
                          " photons exceeds the 2^30 of the packed index");
     KnnKdTree packed;
     packed.count = tree.count;
-    packed.nodes = device.allocate<cl_float4>(tree.count, CL_MEM_READ_WRITE, "knn: packed kd-tree");
+    packed.bucketFirst = knnBucketFirst(tree.count);
+    const size_t elements = knnPackedKdTreeElements(tree.count);
+    const size_t buckets = (elements - packed.bucketFirst) / 8;
+    packed.nodes = device.allocate<cl_float4>(elements, CL_MEM_READ_WRITE, "knn: packed kd-tree");
     // Any specialisation holds the packing kernel: the smallest one.
-    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>("knn", "knn_pack_kdtree", capOption(1));
-    device.launchLocal("knn", k, wholeWorkGroups(tree.count), workGroup(), tree.photons, tree.index,
-                       cl_uint(tree.count), packed.nodes);
+    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer>("knn", "knn_pack_kdtree",
+                                                                                          capOption(1));
+    device.launchLocal("knn", k, wholeWorkGroups(elements), workGroup(), tree.photons, tree.index, cl_uint(tree.count),
+                       cl_uint(packed.bucketFirst), cl_uint(buckets), packed.nodes);
     return packed;
 }
 
@@ -78,11 +94,11 @@ double knnSearchKdTree(Device& device, const KnnKdTree& tree, const cl::Buffer& 
                        uint32_t maxK, DeviceKnnOutput& out) {
     out = allocateOutput(device, queryCount, maxK);
     if (queryCount == 0) return 0.0;
-    auto k = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer,
-                           cl::Buffer>("knn", "knn_kdtree", capOption(maxK));
+    auto k = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer,
+                           cl::Buffer, cl::Buffer>("knn", "knn_kdtree", capOption(maxK));
     cl::Event e = device.launchLocal("knn", k, wholeWorkGroups(queryCount), workGroup(), tree.nodes,
-                                     cl_uint(tree.count), queries, cl_uint(queryCount), cl_uint(maxK), out.counts,
-                                     out.indices, out.dist2, out.radius2);
+                                     cl_uint(tree.count), cl_uint(tree.bucketFirst), queries, cl_uint(queryCount),
+                                     cl_uint(maxK), out.counts, out.indices, out.dist2, out.radius2);
     e.wait();
     return Device::elapsedSeconds(e);
 }

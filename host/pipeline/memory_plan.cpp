@@ -164,7 +164,7 @@ private:
         add(phase, "kd-tree: segment ends", n, sizeof(uint32_t), 0, 0, n);
         sortWorkspace(phase, n, 32, n);
         if (kdTreeUses64BitKeys(n, kdTreeFinishSize(lim.type))) sortWorkspace(phase, n, 64, n);
-        add(phase, "knn: packed kd-tree", n, 4 * sizeof(float), 0, 0, n);
+        add(phase, "knn: packed kd-tree", knnPackedKdTreeElements(n), 4 * sizeof(float), 0, 0, n);
     }
 
     // buildHashGrid of the map on the device (table: the power of two ≥ n).

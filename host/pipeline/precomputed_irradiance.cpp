@@ -9,11 +9,15 @@
 #include "core/error.h"
 #include "device/work_group.h"
 #include "pipeline/kdtree.h"
+#include "pipeline/knn.h"
 
 namespace pcl {
 namespace {
 
 const char* const kStage = "precomputed_irradiance";
+
+// Floats of the lookup's buckets: 64 per root on the bucket level (knn.h's layout, 8 rows).
+size_t irradianceBucketFloats(size_t count) { return (knnPackedKdTreeElements(count) - knnBucketFirst(count)) * 8; }
 
 }  // namespace
 
@@ -27,6 +31,7 @@ std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, u
         {"precomputed irradiance: estimates", count, sizeof(PclEstimate)},
         {"precomputed irradiance: tree nodes", count, sizeof(PclIrradiancePoint)},
         {"precomputed irradiance: tree covers", count, sizeof(float)},
+        {"precomputed irradiance: tree buckets", irradianceBucketFloats(count), sizeof(float)},
         {"precomputed irradiance: tree input", count, sizeof(PclPhoton)},
     };
     if (lookupQueries) {
@@ -125,6 +130,15 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
             kStage, "precomputed_irradiance_pack");
         device.launchLocal(kStage, pack, wholeWorkGroups(count), workGroup(), tree.photons, tree.index, points, cover,
                            cl_uint(count), map.nodes, map.nodeCover);
+    }
+    map.bucketFirst = knnBucketFirst(count);
+    const size_t bucketFloats = irradianceBucketFloats(count);
+    map.buckets = device.allocate<float>(bucketFloats, CL_MEM_READ_WRITE, "precomputed irradiance: tree buckets");
+    if (count) {
+        auto buckets = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer>(
+            kStage, "precomputed_irradiance_buckets");
+        device.launchLocal(kStage, buckets, wholeWorkGroups(bucketFloats / 8), workGroup(), map.nodes, map.nodeCover,
+                           cl_uint(count), cl_uint(map.bucketFirst), cl_uint(bucketFloats / 64), map.buckets);
         device.finish();
     }
     map.timing.treeSeconds = since(t0);
@@ -158,11 +172,11 @@ double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl
         out.queries = queryCount;
     }
     if (queryCount == 0) return 0.0;
-    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_float, cl::Buffer, cl::Buffer>(
-        kStage, "precomputed_irradiance_lookup");
+    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl_uint, cl_float,
+                           cl::Buffer, cl::Buffer>(kStage, "precomputed_irradiance_lookup");
     cl::Event e = device.launchLocal(kStage, k, wholeWorkGroups(queryCount), workGroup(), map.nodes, map.nodeCover,
-                                     cl_uint(map.count), queries, cl_uint(queryCount), cl_float(map.minNormalCos),
-                                     out.irradiance, out.chosen);
+                                     cl_uint(map.count), cl_uint(map.bucketFirst), map.buckets, queries,
+                                     cl_uint(queryCount), cl_float(map.minNormalCos), out.irradiance, out.chosen);
     e.wait();
     return Device::elapsedSeconds(e);
 }

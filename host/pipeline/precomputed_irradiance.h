@@ -50,11 +50,14 @@ struct IrradianceTiming {
 
 // The stored points on the device.
 struct DeviceIrradianceMap {
-    cl::Buffer points;     // PclIrradiancePoint[count] in selection order: point j is photon j·m
-    cl::Buffer cover;      // float[count], selection order: (f r)², r² each point's estimate's
-    cl::Buffer nodes;      // the same points in left-balanced heap order (node h's children
-                           // 2h+1, 2h+2), split axis in bits 30..31 of `photon`
-    cl::Buffer nodeCover;  // float[count], heap order
+    cl::Buffer points;         // PclIrradiancePoint[count] in selection order: point j is photon j·m
+    cl::Buffer cover;          // float[count], selection order: (f r)², r² each point's estimate's
+    cl::Buffer nodes;          // the same points in left-balanced heap order (node h's children
+                               // 2h+1, 2h+2), split axis in bits 30..31 of `photon`
+    cl::Buffer nodeCover;      // float[count], heap order
+    cl::Buffer buckets;        // the last three levels by subtree, 64 floats per bucket (the lookup's
+                               // float8 tests; kernels/precomputed_irradiance.cl)
+    uint32_t bucketFirst = 0;  // the first heap node stored in a bucket (knnBucketFirst)
     size_t count = 0;
     float minNormalCos = 0.9f;  // the lookup's normal threshold
     IrradianceTiming timing;
