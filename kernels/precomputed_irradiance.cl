@@ -26,8 +26,8 @@
  *                                out: buckets: the tree's last three levels by subtree, as in
  *                                     knn.cl: bucket b (root bucketFirst + b) holds its subtree's
  *                                     ≤ 7 nodes breadth first in 8 slots, eight float8 rows x, y,
- *                                     z, cover, decoded normal x, y, z, heap node (uint bits);
- *                                     empty slots NaN
+ *                                     z, cover, decoded normal x, y, z, then photon index and
+ *                                     heap node (uint bits); empty slots NaN
  * precomputed_irradiance_lookup  in:  nodes[n], nodeCover[n] (the packed tree), bucketFirst,
  *                                     buckets, queries[q], minNormalCos
  *                                out: irradiance[q] = (r, g, b, d²) of the nearest node within
@@ -130,7 +130,8 @@ inline float irradiance_dist2(float px, float py, float pz, float qx, float qy, 
     return dx * dx + dy * dy + dz * dz;
 }
 
-#define PCL_IRRADIANCE_BUCKET_FLOATS 64u
+#define PCL_IRRADIANCE_BUCKET_ROWS 9u
+#define PCL_IRRADIANCE_BUCKET_FLOATS (8u * PCL_IRRADIANCE_BUCKET_ROWS)
 
 __kernel void precomputed_irradiance_buckets(__global const PclIrradiancePoint* nodes,
                                              __global const float* nodeCover, uint n, uint bucketFirst,
@@ -140,17 +141,18 @@ __kernel void precomputed_irradiance_buckets(__global const PclIrradiancePoint* 
     const uint b = i / 8u, s = i % 8u;
     const uint t = s == 0u ? 0u : (s < 3u ? 1u : 2u);
     const uint h = s == 7u ? n : ((bucketFirst + b + 1u) << t) - 1u + (s + 1u - (1u << t));
-    float v[8];
+    float v[PCL_IRRADIANCE_BUCKET_ROWS];
     for (uint r = 0u; r < 7u; ++r) v[r] = as_float(0x7FC00000u);
-    v[7] = as_float(PCL_NO_HIT);
+    v[7] = v[8] = as_float(PCL_NO_HIT);
     if (h < n) {
         const PclIrradiancePoint p = nodes[h];
         const PclV3 np = photon_normal_decode(p.normal);
         v[0] = p.x, v[1] = p.y, v[2] = p.z, v[3] = nodeCover[h];
-        v[4] = np.x, v[5] = np.y, v[6] = np.z, v[7] = as_float(h);
+        v[4] = np.x, v[5] = np.y, v[6] = np.z;
+        v[7] = as_float(p.photon & PCL_IRRADIANCE_INDEX_MASK), v[8] = as_float(h);
     }
     __global float* row = buckets + (size_t)b * PCL_IRRADIANCE_BUCKET_FLOATS + s;
-    for (uint r = 0u; r < 8u; ++r) row[8u * r] = v[r];
+    for (uint r = 0u; r < PCL_IRRADIANCE_BUCKET_ROWS; ++r) row[8u * r] = v[r];
 }
 
 __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* nodes, __global const float* nodeCover,
@@ -181,14 +183,14 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
                 if (any(ok)) {
                     const float dd[8] = {d.s0, d.s1, d.s2, d.s3, d.s4, d.s5, d.s6, d.s7};
                     const int oo[8] = {ok.s0, ok.s1, ok.s2, ok.s3, ok.s4, ok.s5, ok.s6, ok.s7};
-                    const uint8 hh = as_uint8(vload8(7, row));
-                    const uint hs[8] = {hh.s0, hh.s1, hh.s2, hh.s3, hh.s4, hh.s5, hh.s6, hh.s7};
+                    /* the photon index row (ties) and the heap node row (the winner's irradiance) */
+                    __global const uint* photons = (__global const uint*)(row + 56);
                     for (uint s = 0u; s < 8u; ++s) {
                         if (!oo[s] || dd[s] > bestD2) continue;
-                        const uint photon = nodes[hs[s]].photon & PCL_IRRADIANCE_INDEX_MASK;
+                        const uint photon = photons[s];
                         if (dd[s] < bestD2 || photon < bestPhoton) {
                             bestD2 = dd[s];
-                            best = hs[s];
+                            best = photons[8u + s];
                             bestPhoton = photon;
                         }
                     }

@@ -8,6 +8,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "device/buffer_pool.h"
 #include "device/program_cache.h"
 
 namespace pcl {
@@ -245,6 +246,8 @@ Device Device::open(const std::string& spec) {
     });
     dev.programs_ = std::make_shared<Programs>();
     dev.programs_->cache = std::make_unique<ProgramCache>(dev.context_, dev.info_);
+    // Idle buffers kept for reuse: at most an eighth of the device's memory, 2 GiB.
+    dev.pool_ = std::make_shared<BufferPool>(std::min<size_t>(dev.info_.globalMem / 8, size_t(2) << 30));
     return dev;
 }
 
@@ -275,7 +278,14 @@ cl::Buffer Device::allocateBytes(size_t bytes, cl_mem_flags flags, const std::st
         throw DeviceError((what.empty() ? std::string("allocate: a buffer") : what) + " needs " + formatMiB(bytes) +
                           " (" + std::to_string(bytes) + " bytes), above the device's max allocation " +
                           describeMaxAlloc(info_));
-    return guard(what.empty() ? std::string("allocate") : what, [&] { return cl::Buffer(context_, flags, bytes); });
+    const std::string stage = what.empty() ? std::string("allocate") : what;
+    if (!pool_) return guard(stage, [&] { return cl::Buffer(context_, flags, bytes); });
+    cl::Buffer reused = guard(stage, [&] { return pool_->take(bytes, flags); });
+    if (reused()) return reused;
+    const size_t sized = BufferPool::sizeClass(bytes, info_.maxAlloc);
+    cl::Buffer made = guard(stage, [&] { return cl::Buffer(context_, flags, sized); });
+    guard(stage, [&] { pool_->keep(made, sized, flags); });
+    return made;
 }
 
 double Device::elapsedSeconds(const cl::Event& e) {

@@ -29,6 +29,7 @@
 
 namespace pcl {
 
+class BufferPool;
 class ProgramCache;
 
 struct DeviceInfo {
@@ -148,7 +149,8 @@ public:
     using AllocationObserver = std::function<void(const std::string& what, size_t bytes)>;
     void setAllocationObserver(AllocationObserver observer) { observer_ = std::move(observer); }
 
-    // The one way a buffer is made: `what` names it in errors ("photon pass: slots"). A buffer
+    // The one way a buffer is made: `what` names it in errors ("photon pass: slots"). Large
+    // buffers come from the device's BufferPool when one of their size is free. A buffer
     // above info().maxAlloc throws DeviceError "<what> needs N MiB, above the device's max
     // allocation M MiB (cap from --max-buffer-mib)" instead of failing later, or silently, in
     // the driver. Zero bytes become one element's worth (OpenCL refuses empty buffers).
@@ -211,6 +213,7 @@ private:
     cl::CommandQueue queue_;
     std::shared_ptr<Programs> programs_;
     std::shared_ptr<Profile> profile_;
+    std::shared_ptr<BufferPool> pool_;  // large buffers for reuse (device/buffer_pool.h), shared by copies
 };
 
 }  // namespace pcl

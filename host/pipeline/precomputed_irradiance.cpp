@@ -16,8 +16,11 @@ namespace {
 
 const char* const kStage = "precomputed_irradiance";
 
-// Floats of the lookup's buckets: 64 per root on the bucket level (knn.h's layout, 8 rows).
-size_t irradianceBucketFloats(size_t count) { return (knnPackedKdTreeElements(count) - knnBucketFirst(count)) * 8; }
+// Floats of the lookup's buckets: 72 per root on the bucket level (knn.h's layout, 9 rows of 8).
+constexpr size_t kBucketFloats = 72;
+size_t irradianceBucketFloats(size_t count) {
+    return (knnPackedKdTreeElements(count) - knnBucketFirst(count)) / 8 * kBucketFloats;
+}
 
 }  // namespace
 
@@ -137,8 +140,8 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
     if (count) {
         auto buckets = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer>(
             kStage, "precomputed_irradiance_buckets");
-        device.launchLocal(kStage, buckets, wholeWorkGroups(bucketFloats / 8), workGroup(), map.nodes, map.nodeCover,
-                           cl_uint(count), cl_uint(map.bucketFirst), cl_uint(bucketFloats / 64), map.buckets);
+        device.launchLocal(kStage, buckets, wholeWorkGroups(bucketFloats / kBucketFloats * 8), workGroup(), map.nodes, map.nodeCover,
+                           cl_uint(count), cl_uint(map.bucketFirst), cl_uint(bucketFloats / kBucketFloats), map.buckets);
         device.finish();
     }
     map.timing.treeSeconds = since(t0);
