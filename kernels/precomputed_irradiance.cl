@@ -10,7 +10,15 @@
  * precomputed_irradiance_unselected  in: photons[n], every = m
  *                                out: others[i − ⌊i/m⌋ − 1] = photon i for every i not a multiple
  *                                     of m (deposit order kept): the map the estimates search
- * precomputed_irradiance_store   in:  estimates[j] (PclEstimate of queries[j] in the others),
+ * precomputed_irradiance_order_keys in: queries[count], invCell
+ *                                out: keys[j] = the 30-bit Morton code of query j's cell of side
+ *                                     1/invCell (coordinates wrapped to 10 bits), values[j] = j:
+ *                                     sorted, the estimates run in space-filling-curve order, so
+ *                                     consecutive work-items search the same part of the tree
+ *                                     (the selection order is the deposit order: all over the scene)
+ * precomputed_irradiance_gather_queries in: queries, order[count]  out: sorted[s] = queries[order[s]]
+ * precomputed_irradiance_store   in:  estimates[s] (PclEstimate of sorted query s, i.e. of point
+ *                                     j = order[s], in the others), order,
  *                                     scale = (float)m / (float)(m − 1), coverScale2 = f² (f: the
  *                                     cover radius over the estimate's radius)
  *                                out: points[j].r, g, b = estimate · scale; cover[j] =
@@ -88,11 +96,45 @@ __kernel void precomputed_irradiance_unselected(__global const PclPhoton* photon
     others[i - i / every - 1u] = photons[i];
 }
 
-__kernel void precomputed_irradiance_store(__global const PclEstimate* estimates, float scale, float coverScale2,
-                                           uint count, __global PclIrradiancePoint* points, __global float* cover) {
+/* Bits 0..9 of v spread to every third bit. */
+inline uint irradiance_spread10(uint v) {
+    v &= 0x3FFu;
+    v = (v | (v << 16)) & 0x030000FFu;
+    v = (v | (v << 8)) & 0x0300F00Fu;
+    v = (v | (v << 4)) & 0x030C30C3u;
+    v = (v | (v << 2)) & 0x09249249u;
+    return v;
+}
+
+__kernel void precomputed_irradiance_order_keys(__global const PclEstimateQuery* queries, uint count, float invCell,
+                                                __global uint* keys, __global uint* values) {
     const uint j = (uint)get_global_id(0);
     if (j >= count) return;
-    const PclEstimate e = estimates[j];
+    const PclEstimateQuery q = queries[j];
+    /* (int) of a float beyond the int range is undefined: clamp first; the wrap to 10 bits only
+     * costs coherence, never correctness */
+    const int ix = (int)clamp(floor(q.x * invCell), -1.0e9f, 1.0e9f);
+    const int iy = (int)clamp(floor(q.y * invCell), -1.0e9f, 1.0e9f);
+    const int iz = (int)clamp(floor(q.z * invCell), -1.0e9f, 1.0e9f);
+    keys[j] = irradiance_spread10((uint)ix) | irradiance_spread10((uint)iy) << 1 | irradiance_spread10((uint)iz) << 2;
+    values[j] = j;
+}
+
+__kernel void precomputed_irradiance_gather_queries(__global const PclEstimateQuery* queries,
+                                                    __global const uint* order, uint count,
+                                                    __global PclEstimateQuery* sorted) {
+    const uint s = (uint)get_global_id(0);
+    if (s >= count) return;
+    sorted[s] = queries[order[s]];
+}
+
+__kernel void precomputed_irradiance_store(__global const PclEstimate* estimates, __global const uint* order,
+                                           float scale, float coverScale2, uint count,
+                                           __global PclIrradiancePoint* points, __global float* cover) {
+    const uint s = (uint)get_global_id(0);
+    if (s >= count) return;
+    const uint j = order[s];
+    const PclEstimate e = estimates[s];
     points[j].r = e.r * scale;
     points[j].g = e.g * scale;
     points[j].b = e.b * scale;

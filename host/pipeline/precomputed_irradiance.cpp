@@ -10,6 +10,7 @@
 #include "device/work_group.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
+#include "pipeline/sort.h"
 
 namespace pcl {
 namespace {
@@ -32,6 +33,9 @@ std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, u
         {"precomputed irradiance: covers", count, sizeof(float)},
         {"precomputed irradiance: other photons", records - count, sizeof(PclPhoton)},
         {"precomputed irradiance: estimates", count, sizeof(PclEstimate)},
+        {"precomputed irradiance: order keys", count, sizeof(uint32_t)},
+        {"precomputed irradiance: order", count, sizeof(uint32_t)},
+        {"precomputed irradiance: sorted queries", count, sizeof(PclEstimateQuery)},
         {"precomputed irradiance: tree nodes", count, sizeof(PclIrradiancePoint)},
         {"precomputed irradiance: tree covers", count, sizeof(float)},
         {"precomputed irradiance: tree buckets", irradianceBucketFloats(count), sizeof(float)},
@@ -79,15 +83,30 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
         const PhotonMapOnDevice otherMap(device, otherPhotons, others, options.estimate.structure, options.maxRadius,
                                          lo ? lo : zero);
         timing.mapSeconds = otherMap.buildSeconds();
+        // The estimates in Morton order of cells of r_max / 8 (the selection is in deposit order,
+        // all over the scene): neighbouring work-items then read the same tree nodes and photons
+        // (cornell-box: kNN 1.3-1.5x, the estimate 1.5x faster). The results are unchanged.
+        cl::Buffer keys = device.allocate<uint32_t>(count, CL_MEM_READ_WRITE, "precomputed irradiance: order keys");
+        cl::Buffer order = device.allocate<uint32_t>(count, CL_MEM_READ_WRITE, "precomputed irradiance: order");
+        cl::Buffer sorted =
+            device.allocate<PclEstimateQuery>(count, CL_MEM_READ_WRITE, "precomputed irradiance: sorted queries");
+        auto orderKeys = device.kernel<cl::Buffer, cl_uint, cl_float, cl::Buffer, cl::Buffer>(
+            kStage, "precomputed_irradiance_order_keys");
+        auto gather =
+            device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_gather_queries");
+        device.launchLocal(kStage, orderKeys, wholeWorkGroups(count), workGroup(), queries, cl_uint(count),
+                           cl_float(8.0f / options.maxRadius), keys, order);
+        sortPairsOnDevice(device, keys, order, count, 32, 30);
+        device.launchLocal(kStage, gather, wholeWorkGroups(count), workGroup(), queries, order, cl_uint(count), sorted);
         cl::Buffer estimates =
             device.allocate<PclEstimate>(count, CL_MEM_READ_WRITE, "precomputed irradiance: estimates");
         timing.estimate =
-            estimateBuffers(device, otherMap, queries, count, options.k, options.estimate, scene, estimates);
+            estimateBuffers(device, otherMap, sorted, count, options.k, options.estimate, scene, estimates);
         const float scale = float(options.every) / float(options.every - 1);
         const float coverScale2 = options.coverFactor * options.coverFactor;
-        auto store = device.kernel<cl::Buffer, cl_float, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
+        auto store = device.kernel<cl::Buffer, cl::Buffer, cl_float, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
             kStage, "precomputed_irradiance_store");
-        device.launchLocal(kStage, store, wholeWorkGroups(count), workGroup(), estimates, cl_float(scale),
+        device.launchLocal(kStage, store, wholeWorkGroups(count), workGroup(), estimates, order, cl_float(scale),
                            cl_float(coverScale2), cl_uint(count), points, cover);
     }
     DeviceIrradianceMap map = buildIrradianceTree(device, points, cover, count, options.estimate.minNormalCos);
@@ -140,8 +159,9 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
     if (count) {
         auto buckets = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer>(
             kStage, "precomputed_irradiance_buckets");
-        device.launchLocal(kStage, buckets, wholeWorkGroups(bucketFloats / kBucketFloats * 8), workGroup(), map.nodes, map.nodeCover,
-                           cl_uint(count), cl_uint(map.bucketFirst), cl_uint(bucketFloats / kBucketFloats), map.buckets);
+        device.launchLocal(kStage, buckets, wholeWorkGroups(bucketFloats / kBucketFloats * 8), workGroup(), map.nodes,
+                           map.nodeCover, cl_uint(count), cl_uint(map.bucketFirst),
+                           cl_uint(bucketFloats / kBucketFloats), map.buckets);
         device.finish();
     }
     map.timing.treeSeconds = since(t0);
