@@ -4,18 +4,16 @@
  * knn_pack_kdtree  in: nodes[n] (photons in left-balanced heap order, split axis in bits 27..28
  *                    of packed), nodeIndex[n] (each node's photon index in the map), bucketFirst
  *                    out: packed[h] = (x, y, z, index | axis << 30) for the upper nodes h <
- *                    bucketFirst; then the buckets (below)
+ *                    bucketFirst; then the buckets (below): n + 2 float4 in all
  * knn_kdtree    in:  packed nodes (upper nodes, then buckets), n, bucketFirst, queries
  *
- * Buckets: the last PCL_KD_BUCKET_LEVELS = 3 levels of the heap (pipeline/knn.h
- * knnBucketFirst: bucketFirst = 2^D − 1 with D = max(levels − 3, 0)) are stored by subtree:
- * bucket b (root bucketFirst + b) holds the root's subtree of at most 7 nodes in breadth-first
- * order in 8 slots, as four float8 rows x[8], y[8], z[8], w[8] (w: index | axis << 30; empty
- * slots have NaN coordinates, which no d² test accepts). The search descends the upper nodes
- * one by one as before and tests a reached bucket's 8 slots with float8 arithmetic at once
- * (PoCL runs a work-item as scalar code: explicit vectors are its SIMD; the traversal kernel's
- * float8 node test is the same idea). Testing a whole bucket offers a superset of the photons
- * the node-by-node descent would offer, so the result is the same (k smallest by (d², index)).
+ * Buckets (shared/kd_buckets.h): the heap's last three levels are stored by subtree, compactly:
+ * bucket b (root bucketFirst + b) holds its ≤ 7 existing nodes breadth first as four rows x, y,
+ * z, w of `count` floats (w: index | axis << 30). The search descends the upper nodes one by one
+ * as before and tests a reached bucket's nodes with float8 arithmetic at once (PoCL runs a
+ * work-item as scalar code: explicit vectors are its SIMD, as in the traversal's float8 node
+ * test). Testing a whole bucket offers a superset of the photons the node-by-node descent would
+ * offer, so the result is the same (the k smallest by (d², index)).
  *
  * knn_hashgrid  in:  grid params, points[n] (float4 x, y, z, photon index bits, in (hash, index)
  *                    order), cellStart/cellEnd[tableSize], queries
@@ -41,6 +39,7 @@
  * PCL_KNN_CAP (-D, default PCL_KNN_MAX_K): heap capacity, ≥ every query's k. */
 #pragma OPENCL FP_CONTRACT OFF
 #include "shared/types.h"
+#include "shared/kd_buckets.h"
 
 #ifndef PCL_KNN_CAP
 #define PCL_KNN_CAP PCL_KNN_MAX_K
@@ -124,51 +123,41 @@ inline float knn_dist2(float px, float py, float pz, float qx, float qy, float q
 }
 
 /* kd-tree nodes packed for the search: (x, y, z, photon index | axis << 30 as bits of w), one
- * 16-byte load per visited upper node; the buckets' rows after them. One work-item per upper
- * node and one per bucket slot (bucketFirst + 8·buckets items in all). */
-#define PCL_KD_BUCKET_SLOTS 8u
+ * 16-byte load per visited upper node; the buckets' rows after them. One work-item per node. */
 __kernel void knn_pack_kdtree(__global const PclPhoton* nodes, __global const uint* nodeIndex, uint n,
-                              uint bucketFirst, uint bucketCount, __global float4* packed) {
-    const uint i = (uint)get_global_id(0);
-    if (i >= bucketFirst + PCL_KD_BUCKET_SLOTS * bucketCount) return;
-    uint h = i;
-    if (i >= bucketFirst) {
-        /* slot s of bucket b: relative depth t (0: the root; 1: slots 1, 2; 2: slots 3..6) */
-        const uint b = (i - bucketFirst) / PCL_KD_BUCKET_SLOTS, s = (i - bucketFirst) % PCL_KD_BUCKET_SLOTS;
-        const uint t = s == 0u ? 0u : (s < 3u ? 1u : 2u);
-        const uint offset = s + 1u - (1u << t);
-        h = s == 7u ? n : ((bucketFirst + b + 1u) << t) - 1u + offset;
+                              uint bucketFirst, __global float4* packed) {
+    const uint h = (uint)get_global_id(0);
+    if (h >= n) return;
+    const PclPhoton p = nodes[h];
+    const uint axis = (p.packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT;
+    const uint w = nodeIndex[h] | (axis << 30);
+    if (h < bucketFirst) {
+        packed[h] = (float4)(p.x, p.y, p.z, as_float(w));
+        return;
     }
-    float x = as_float(0x7FC00000u), y = x, z = x;
-    uint w = 0xFFFFFFFFu;
-    if (h < n) {
-        const PclPhoton p = nodes[h];
-        const uint axis = (p.packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT;
-        x = p.x, y = p.y, z = p.z;
-        w = nodeIndex[h] | (axis << 30);
-    }
-    if (i < bucketFirst) {
-        packed[i] = (float4)(x, y, z, as_float(w));
-    } else {
-        __global float* row = (__global float*)(packed + bucketFirst) + (size_t)(i - bucketFirst) / 8u * 32u;
-        const uint s = (i - bucketFirst) % 8u;
-        row[s] = x, row[8u + s] = y, row[16u + s] = z, row[24u + s] = as_float(w);
-    }
+    uint b, s;
+    kd_bucket_slot(h, bucketFirst, &b, &s);
+    const uint count = kd_bucket_count(n, bucketFirst, b);
+    __global float* row = (__global float*)(packed + bucketFirst) + (size_t)4u * kd_bucket_offset(n, bucketFirst, b) + s;
+    row[0] = p.x, row[count] = p.y, row[2u * count] = p.z, row[3u * count] = as_float(w);
 }
 
-/* A bucket's 8 slots against the query, then each accepted one into the heap in slot order. */
-inline void knn_offer_bucket(KnnHeap* h, __global const float4* nodes, uint bucketFirst, uint bucket, float qx,
+/* A bucket's nodes against the query, then each accepted one into the heap in slot order. */
+inline void knn_offer_bucket(KnnHeap* h, __global const float4* nodes, uint n, uint bucketFirst, uint bucket, float qx,
                              float qy, float qz) {
-    __global const float* row = (__global const float*)(nodes + bucketFirst) + (size_t)bucket * 32u;
-    const float8 dx = vload8(0, row) - (float8)(qx), dy = vload8(1, row) - (float8)(qy),
-                 dz = vload8(2, row) - (float8)(qz);
+    const uint count = kd_bucket_count(n, bucketFirst, bucket);
+    __global const float* row = (__global const float*)(nodes + bucketFirst) +
+                                (size_t)4u * kd_bucket_offset(n, bucketFirst, bucket);
+    const float8 dx = vload8(0, row) - (float8)(qx), dy = vload8(0, row + count) - (float8)(qy),
+                 dz = vload8(0, row + 2u * count) - (float8)(qz);
     const float8 d = (dx * dx + dy * dy) + dz * dz;
-    const int8 near = d <= (float8)(knn_bound(h));
+    const int8 lanes = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+    const int8 near = (lanes < (int8)((int)count)) & (d <= (float8)(knn_bound(h)));
     if (!any(near)) return;
-    const uint8 w = as_uint8(vload8(3, row));
+    const uint8 w = as_uint8(vload8(0, row + 3u * count));
     const float dd[8] = {d.s0, d.s1, d.s2, d.s3, d.s4, d.s5, d.s6, d.s7};
     const uint ww[8] = {w.s0, w.s1, w.s2, w.s3, w.s4, w.s5, w.s6, w.s7};
-    for (uint s = 0u; s < 8u; ++s)
+    for (uint s = 0u; s < count; ++s)
         if (dd[s] <= knn_bound(h)) knn_offer(h, dd[s], ww[s] & 0x3FFFFFFFu);
 }
 
@@ -187,7 +176,7 @@ __kernel void knn_kdtree(__global const float4* nodes, uint n, uint bucketFirst,
     for (;;) {
         while (node < n) {
             if (node >= bucketFirst) {
-                knn_offer_bucket(&h, nodes, bucketFirst, node - bucketFirst, q.x, q.y, q.z);
+                knn_offer_bucket(&h, nodes, n, bucketFirst, node - bucketFirst, q.x, q.y, q.z);
                 break;
             }
             const float4 p = nodes[node];

@@ -10,15 +10,8 @@
  * precomputed_irradiance_unselected  in: photons[n], every = m
  *                                out: others[i − ⌊i/m⌋ − 1] = photon i for every i not a multiple
  *                                     of m (deposit order kept): the map the estimates search
- * precomputed_irradiance_order_keys in: queries[count], invCell
- *                                out: keys[j] = the 30-bit Morton code of query j's cell of side
- *                                     1/invCell (coordinates wrapped to 10 bits), values[j] = j:
- *                                     sorted, the estimates run in space-filling-curve order, so
- *                                     consecutive work-items search the same part of the tree
- *                                     (the selection order is the deposit order: all over the scene)
- * precomputed_irradiance_gather_queries in: queries, order[count]  out: sorted[s] = queries[order[s]]
- * precomputed_irradiance_store   in:  estimates[s] (PclEstimate of sorted query s, i.e. of point
- *                                     j = order[s], in the others), order,
+ * precomputed_irradiance_store   in:  estimates[s] (PclEstimate of query order[s] = point j in the
+ *                                     others; the queries ran in pipeline/query_order's order), order,
  *                                     scale = (float)m / (float)(m − 1), coverScale2 = f² (f: the
  *                                     cover radius over the estimate's radius)
  *                                out: points[j].r, g, b = estimate · scale; cover[j] =
@@ -31,11 +24,10 @@
  *                                     photon; nodeCover[h] = cover[index[h]]
  * precomputed_irradiance_buckets in: nodes[n], nodeCover[n], bucketFirst (pipeline/knn.h
  *                                     knnBucketFirst)
- *                                out: buckets: the tree's last three levels by subtree, as in
- *                                     knn.cl: bucket b (root bucketFirst + b) holds its subtree's
- *                                     ≤ 7 nodes breadth first in 8 slots, eight float8 rows x, y,
+ *                                out: buckets: the tree's last three levels by subtree as in
+ *                                     knn.cl (shared/kd_buckets.h), nine rows per bucket: x, y,
  *                                     z, cover, decoded normal x, y, z, then photon index and
- *                                     heap node (uint bits); empty slots NaN
+ *                                     heap node (uint bits)
  * precomputed_irradiance_lookup  in:  nodes[n], nodeCover[n] (the packed tree), bucketFirst,
  *                                     buckets, queries[q], minNormalCos
  *                                out: irradiance[q] = (r, g, b, d²) of the nearest node within
@@ -59,6 +51,7 @@
 #pragma OPENCL FP_CONTRACT OFF
 #include "shared/types.h"
 #include "shared/sampling.h"
+#include "shared/kd_buckets.h"
 
 #define PCL_IRRADIANCE_STACK 48
 
@@ -94,38 +87,6 @@ __kernel void precomputed_irradiance_unselected(__global const PclPhoton* photon
     const uint i = (uint)get_global_id(0);
     if (i >= n || i % every == 0u) return;
     others[i - i / every - 1u] = photons[i];
-}
-
-/* Bits 0..9 of v spread to every third bit. */
-inline uint irradiance_spread10(uint v) {
-    v &= 0x3FFu;
-    v = (v | (v << 16)) & 0x030000FFu;
-    v = (v | (v << 8)) & 0x0300F00Fu;
-    v = (v | (v << 4)) & 0x030C30C3u;
-    v = (v | (v << 2)) & 0x09249249u;
-    return v;
-}
-
-__kernel void precomputed_irradiance_order_keys(__global const PclEstimateQuery* queries, uint count, float invCell,
-                                                __global uint* keys, __global uint* values) {
-    const uint j = (uint)get_global_id(0);
-    if (j >= count) return;
-    const PclEstimateQuery q = queries[j];
-    /* (int) of a float beyond the int range is undefined: clamp first; the wrap to 10 bits only
-     * costs coherence, never correctness */
-    const int ix = (int)clamp(floor(q.x * invCell), -1.0e9f, 1.0e9f);
-    const int iy = (int)clamp(floor(q.y * invCell), -1.0e9f, 1.0e9f);
-    const int iz = (int)clamp(floor(q.z * invCell), -1.0e9f, 1.0e9f);
-    keys[j] = irradiance_spread10((uint)ix) | irradiance_spread10((uint)iy) << 1 | irradiance_spread10((uint)iz) << 2;
-    values[j] = j;
-}
-
-__kernel void precomputed_irradiance_gather_queries(__global const PclEstimateQuery* queries,
-                                                    __global const uint* order, uint count,
-                                                    __global PclEstimateQuery* sorted) {
-    const uint s = (uint)get_global_id(0);
-    if (s >= count) return;
-    sorted[s] = queries[order[s]];
 }
 
 __kernel void precomputed_irradiance_store(__global const PclEstimate* estimates, __global const uint* order,
@@ -173,28 +134,22 @@ inline float irradiance_dist2(float px, float py, float pz, float qx, float qy, 
 }
 
 #define PCL_IRRADIANCE_BUCKET_ROWS 9u
-#define PCL_IRRADIANCE_BUCKET_FLOATS (8u * PCL_IRRADIANCE_BUCKET_ROWS)
 
+/* One work-item per node on the bucket levels (h = bucketFirst + i). */
 __kernel void precomputed_irradiance_buckets(__global const PclIrradiancePoint* nodes,
                                              __global const float* nodeCover, uint n, uint bucketFirst,
-                                             uint bucketCount, __global float* buckets) {
-    const uint i = (uint)get_global_id(0);
-    if (i >= 8u * bucketCount) return;
-    const uint b = i / 8u, s = i % 8u;
-    const uint t = s == 0u ? 0u : (s < 3u ? 1u : 2u);
-    const uint h = s == 7u ? n : ((bucketFirst + b + 1u) << t) - 1u + (s + 1u - (1u << t));
-    float v[PCL_IRRADIANCE_BUCKET_ROWS];
-    for (uint r = 0u; r < 7u; ++r) v[r] = as_float(0x7FC00000u);
-    v[7] = v[8] = as_float(PCL_NO_HIT);
-    if (h < n) {
-        const PclIrradiancePoint p = nodes[h];
-        const PclV3 np = photon_normal_decode(p.normal);
-        v[0] = p.x, v[1] = p.y, v[2] = p.z, v[3] = nodeCover[h];
-        v[4] = np.x, v[5] = np.y, v[6] = np.z;
-        v[7] = as_float(p.photon & PCL_IRRADIANCE_INDEX_MASK), v[8] = as_float(h);
-    }
-    __global float* row = buckets + (size_t)b * PCL_IRRADIANCE_BUCKET_FLOATS + s;
-    for (uint r = 0u; r < PCL_IRRADIANCE_BUCKET_ROWS; ++r) row[8u * r] = v[r];
+                                             __global float* buckets) {
+    const uint h = bucketFirst + (uint)get_global_id(0);
+    if (h >= n) return;
+    const PclIrradiancePoint p = nodes[h];
+    const PclV3 np = photon_normal_decode(p.normal);
+    uint b, s;
+    kd_bucket_slot(h, bucketFirst, &b, &s);
+    const uint count = kd_bucket_count(n, bucketFirst, b);
+    __global float* row = buckets + (size_t)PCL_IRRADIANCE_BUCKET_ROWS * kd_bucket_offset(n, bucketFirst, b) + s;
+    const float v[PCL_IRRADIANCE_BUCKET_ROWS] = {p.x, p.y, p.z, nodeCover[h], np.x, np.y, np.z,
+                                                 as_float(p.photon & PCL_IRRADIANCE_INDEX_MASK), as_float(h)};
+    for (uint r = 0u; r < PCL_IRRADIANCE_BUCKET_ROWS; ++r) row[r * count] = v[r];
 }
 
 __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* nodes, __global const float* nodeCover,
@@ -215,24 +170,28 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
     for (;;) {
         while (node < n) {
             if (node >= bucketFirst) {
-                __global const float* row = buckets + (size_t)(node - bucketFirst) * PCL_IRRADIANCE_BUCKET_FLOATS;
-                const float8 dx = vload8(0, row) - (float8)(q.x), dy = vload8(1, row) - (float8)(q.y),
-                             dz = vload8(2, row) - (float8)(q.z);
+                const uint b = node - bucketFirst, m = kd_bucket_count(n, bucketFirst, b);
+                __global const float* row =
+                    buckets + (size_t)PCL_IRRADIANCE_BUCKET_ROWS * kd_bucket_offset(n, bucketFirst, b);
+                const float8 dx = vload8(0, row) - (float8)(q.x), dy = vload8(0, row + m) - (float8)(q.y),
+                             dz = vload8(0, row + 2u * m) - (float8)(q.z);
                 const float8 d = (dx * dx + dy * dy) + dz * dz;
-                const float8 c = (vload8(4, row) * (float8)(q.nx) + vload8(5, row) * (float8)(q.ny)) +
-                                 vload8(6, row) * (float8)(q.nz);
-                const int8 ok = (d <= (float8)(bestD2)) & (d <= vload8(3, row)) & (c >= (float8)(minNormalCos));
+                const float8 c = (vload8(0, row + 4u * m) * (float8)(q.nx) + vload8(0, row + 5u * m) * (float8)(q.ny)) +
+                                 vload8(0, row + 6u * m) * (float8)(q.nz);
+                const int8 lanes = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
+                const int8 ok = (lanes < (int8)((int)m)) & (d <= (float8)(bestD2)) & (d <= vload8(0, row + 3u * m)) &
+                                (c >= (float8)(minNormalCos));
                 if (any(ok)) {
                     const float dd[8] = {d.s0, d.s1, d.s2, d.s3, d.s4, d.s5, d.s6, d.s7};
                     const int oo[8] = {ok.s0, ok.s1, ok.s2, ok.s3, ok.s4, ok.s5, ok.s6, ok.s7};
                     /* the photon index row (ties) and the heap node row (the winner's irradiance) */
-                    __global const uint* photons = (__global const uint*)(row + 56);
-                    for (uint s = 0u; s < 8u; ++s) {
+                    __global const uint* photons = (__global const uint*)(row + 7u * m);
+                    for (uint s = 0u; s < m; ++s) {
                         if (!oo[s] || dd[s] > bestD2) continue;
                         const uint photon = photons[s];
                         if (dd[s] < bestD2 || photon < bestPhoton) {
                             bestD2 = dd[s];
-                            best = photons[8u + s];
+                            best = photons[m + s];
                             bestPhoton = photon;
                         }
                     }

@@ -66,11 +66,7 @@ uint32_t knnBucketFirst(size_t count) {
     return levels <= 3 ? 0u : (uint32_t(1) << (levels - 3)) - 1u;
 }
 
-size_t knnPackedKdTreeElements(size_t count) {
-    const size_t first = knnBucketFirst(count);
-    const size_t buckets = count > first ? std::min(first + 1, count - first) : 0;  // roots on level D
-    return first + 8 * buckets;
-}
+size_t knnPackedKdTreeElements(size_t count) { return count + 2; }  // + the last bucket's 8-wide loads
 
 KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree) {
     if (tree.count >= (size_t(1) << 30))
@@ -79,14 +75,13 @@ KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree) {
     KnnKdTree packed;
     packed.count = tree.count;
     packed.bucketFirst = knnBucketFirst(tree.count);
-    const size_t elements = knnPackedKdTreeElements(tree.count);
-    const size_t buckets = (elements - packed.bucketFirst) / 8;
-    packed.nodes = device.allocate<cl_float4>(elements, CL_MEM_READ_WRITE, "knn: packed kd-tree");
+    packed.nodes =
+        device.allocate<cl_float4>(knnPackedKdTreeElements(tree.count), CL_MEM_READ_WRITE, "knn: packed kd-tree");
     // Any specialisation holds the packing kernel: the smallest one.
-    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer>("knn", "knn_pack_kdtree",
-                                                                                          capOption(1));
-    device.launchLocal("knn", k, wholeWorkGroups(elements), workGroup(), tree.photons, tree.index, cl_uint(tree.count),
-                       cl_uint(packed.bucketFirst), cl_uint(buckets), packed.nodes);
+    auto k =
+        device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer>("knn", "knn_pack_kdtree", capOption(1));
+    device.launchLocal("knn", k, wholeWorkGroups(tree.count), workGroup(), tree.photons, tree.index,
+                       cl_uint(tree.count), cl_uint(packed.bucketFirst), packed.nodes);
     return packed;
 }
 

@@ -34,14 +34,15 @@ struct DeviceKnnOutput {
 
 // A kd-tree ready for the search (knn_pack_kdtree): buildKdTree's upper nodes packed as float4
 // (x, y, z, photon index | split axis << 30 as the bits of w), one load per visited node, then
-// the last three levels as buckets of 8 slots that the search tests with float8 arithmetic.
+// the last three levels as buckets of ≤ 7 nodes that the search tests with float8 arithmetic
+// (kernels/shared/kd_buckets.h).
 struct KnnKdTree {
     cl::Buffer nodes;
     size_t count = 0;
     uint32_t bucketFirst = 0;  // the first bucket root: 2^D − 1, D = max(levels − 3, 0)
 };
-// The first heap node stored in a bucket, and the float4 elements of the packed tree: the
-// upper nodes and 8 per bucket (the memory plan's size).
+// The first heap node stored in a bucket, and the float4 elements of the packed tree (the
+// memory plan's size): one per node, and two of padding.
 uint32_t knnBucketFirst(size_t count);
 size_t knnPackedKdTreeElements(size_t count);
 // InputError for trees of 2^30 photons or more (the index field).

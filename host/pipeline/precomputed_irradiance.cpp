@@ -10,18 +10,16 @@
 #include "device/work_group.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
-#include "pipeline/sort.h"
+#include "pipeline/query_order.h"
 
 namespace pcl {
 namespace {
 
 const char* const kStage = "precomputed_irradiance";
 
-// Floats of the lookup's buckets: 72 per root on the bucket level (knn.h's layout, 9 rows of 8).
-constexpr size_t kBucketFloats = 72;
-size_t irradianceBucketFloats(size_t count) {
-    return (knnPackedKdTreeElements(count) - knnBucketFirst(count)) / 8 * kBucketFloats;
-}
+// Floats of the lookup's buckets: 9 rows of one float per node on the bucket levels
+// (shared/kd_buckets.h), and 8 of padding for the last bucket's 8-wide loads.
+size_t irradianceBucketFloats(size_t count) { return 9 * (count - knnBucketFirst(count)) + 8; }
 
 }  // namespace
 
@@ -33,9 +31,9 @@ std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, u
         {"precomputed irradiance: covers", count, sizeof(float)},
         {"precomputed irradiance: other photons", records - count, sizeof(PclPhoton)},
         {"precomputed irradiance: estimates", count, sizeof(PclEstimate)},
-        {"precomputed irradiance: order keys", count, sizeof(uint32_t)},
-        {"precomputed irradiance: order", count, sizeof(uint32_t)},
-        {"precomputed irradiance: sorted queries", count, sizeof(PclEstimateQuery)},
+        {"query order: keys", count, sizeof(uint32_t)},
+        {"query order: order", count, sizeof(uint32_t)},
+        {"query order: sorted queries", count, sizeof(PclEstimateQuery)},
         {"precomputed irradiance: tree nodes", count, sizeof(PclIrradiancePoint)},
         {"precomputed irradiance: tree covers", count, sizeof(float)},
         {"precomputed irradiance: tree buckets", irradianceBucketFloats(count), sizeof(float)},
@@ -85,28 +83,17 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
         timing.mapSeconds = otherMap.buildSeconds();
         // The estimates in Morton order of cells of r_max / 8 (the selection is in deposit order,
         // all over the scene): neighbouring work-items then read the same tree nodes and photons
-        // (cornell-box: kNN 1.3-1.5x, the estimate 1.5x faster). The results are unchanged.
-        cl::Buffer keys = device.allocate<uint32_t>(count, CL_MEM_READ_WRITE, "precomputed irradiance: order keys");
-        cl::Buffer order = device.allocate<uint32_t>(count, CL_MEM_READ_WRITE, "precomputed irradiance: order");
-        cl::Buffer sorted =
-            device.allocate<PclEstimateQuery>(count, CL_MEM_READ_WRITE, "precomputed irradiance: sorted queries");
-        auto orderKeys = device.kernel<cl::Buffer, cl_uint, cl_float, cl::Buffer, cl::Buffer>(
-            kStage, "precomputed_irradiance_order_keys");
-        auto gather =
-            device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_gather_queries");
-        device.launchLocal(kStage, orderKeys, wholeWorkGroups(count), workGroup(), queries, cl_uint(count),
-                           cl_float(8.0f / options.maxRadius), keys, order);
-        sortPairsOnDevice(device, keys, order, count, 32, 30);
-        device.launchLocal(kStage, gather, wholeWorkGroups(count), workGroup(), queries, order, cl_uint(count), sorted);
+        // (cornell-box: the kNN 1.3-3x faster, more so on a loaded machine). Results unchanged.
+        const QueryOrder order = orderQueries(device, queries, count, options.maxRadius / 8.0f);
         cl::Buffer estimates =
             device.allocate<PclEstimate>(count, CL_MEM_READ_WRITE, "precomputed irradiance: estimates");
         timing.estimate =
-            estimateBuffers(device, otherMap, sorted, count, options.k, options.estimate, scene, estimates);
+            estimateBuffers(device, otherMap, order.sorted, count, options.k, options.estimate, scene, estimates);
         const float scale = float(options.every) / float(options.every - 1);
         const float coverScale2 = options.coverFactor * options.coverFactor;
         auto store = device.kernel<cl::Buffer, cl::Buffer, cl_float, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
             kStage, "precomputed_irradiance_store");
-        device.launchLocal(kStage, store, wholeWorkGroups(count), workGroup(), estimates, order, cl_float(scale),
+        device.launchLocal(kStage, store, wholeWorkGroups(count), workGroup(), estimates, order.order, cl_float(scale),
                            cl_float(coverScale2), cl_uint(count), points, cover);
     }
     DeviceIrradianceMap map = buildIrradianceTree(device, points, cover, count, options.estimate.minNormalCos);
@@ -154,14 +141,13 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
                            cl_uint(count), map.nodes, map.nodeCover);
     }
     map.bucketFirst = knnBucketFirst(count);
-    const size_t bucketFloats = irradianceBucketFloats(count);
-    map.buckets = device.allocate<float>(bucketFloats, CL_MEM_READ_WRITE, "precomputed irradiance: tree buckets");
+    map.buckets = device.allocate<float>(irradianceBucketFloats(count), CL_MEM_READ_WRITE,
+                                         "precomputed irradiance: tree buckets");
     if (count) {
-        auto buckets = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer>(
+        auto buckets = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer>(
             kStage, "precomputed_irradiance_buckets");
-        device.launchLocal(kStage, buckets, wholeWorkGroups(bucketFloats / kBucketFloats * 8), workGroup(), map.nodes,
-                           map.nodeCover, cl_uint(count), cl_uint(map.bucketFirst),
-                           cl_uint(bucketFloats / kBucketFloats), map.buckets);
+        device.launchLocal(kStage, buckets, wholeWorkGroups(count - map.bucketFirst), workGroup(), map.nodes,
+                           map.nodeCover, cl_uint(count), cl_uint(map.bucketFirst), map.buckets);
         device.finish();
     }
     map.timing.treeSeconds = since(t0);

@@ -55,7 +55,7 @@ struct DeviceIrradianceMap {
     cl::Buffer nodes;          // the same points in left-balanced heap order (node h's children
                                // 2h+1, 2h+2), split axis in bits 30..31 of `photon`
     cl::Buffer nodeCover;      // float[count], heap order
-    cl::Buffer buckets;        // the last three levels by subtree, 72 floats per bucket (the lookup's
+    cl::Buffer buckets;        // the last three levels by subtree, 9 rows per bucket (the lookup's
                                // float8 tests; kernels/precomputed_irradiance.cl)
     uint32_t bucketFirst = 0;  // the first heap node stored in a bucket (knnBucketFirst)
     size_t count = 0;
