@@ -5,7 +5,8 @@
  *                    of packed), nodeIndex[n] (each node's photon index in the map), bucketFirst
  *                    out: packed[h] = (x, y, z, index | axis << 30) for the upper nodes h <
  *                    bucketFirst; then the buckets (below): n + 2 float4 in all
- * knn_kdtree    in:  packed nodes (upper nodes, then buckets), n, bucketFirst, queries
+ * knn_kdtree    in:  packed nodes (upper nodes, then buckets), n, bucketFirst, firstRadius2 (a
+ *                    first, tighter search bound; ∞: none), queries
  *
  * Buckets (shared/kd_buckets.h): the heap's last three levels are stored by subtree, compactly:
  * bucket b (root bucketFirst + b) holds its ≤ 7 existing nodes breadth first as four rows x, y,
@@ -161,22 +162,16 @@ inline void knn_offer_bucket(KnnHeap* h, __global const float4* nodes, uint n, u
         if (dd[s] <= knn_bound(h)) knn_offer(h, dd[s], ww[s] & 0x3FFFFFFFu);
 }
 
-__kernel void knn_kdtree(__global const float4* nodes, uint n, uint bucketFirst, __global const PclKnnQuery* queries,
-                         uint queryCount, uint stride, __global uint* counts, __global uint* indices,
-                         __global float* dist2, __global float* radius2) {
-    const uint qi = (uint)get_global_id(0);
-    if (qi >= queryCount) return;
-    const PclKnnQuery q = queries[qi];
-    KnnHeap h;
-    knn_init(&h, q);
+/* The kd-tree descent: every photon within the heap's bound offered. */
+inline void knn_kdtree_search(KnnHeap* h, __global const float4* nodes, uint n, uint bucketFirst, const PclKnnQuery q) {
     uint stackNode[PCL_KNN_STACK];
     float stackD[PCL_KNN_STACK];
     uint sp = 0u;
-    uint node = (n > 0u && h.k > 0u) ? 0u : n;
+    uint node = (n > 0u && h->k > 0u) ? 0u : n;
     for (;;) {
         while (node < n) {
             if (node >= bucketFirst) {
-                knn_offer_bucket(&h, nodes, n, bucketFirst, node - bucketFirst, q.x, q.y, q.z);
+                knn_offer_bucket(h, nodes, n, bucketFirst, node - bucketFirst, q.x, q.y, q.z);
                 break;
             }
             const float4 p = nodes[node];
@@ -187,24 +182,49 @@ __kernel void knn_kdtree(__global const float4* nodes, uint n, uint bucketFirst,
             const uint nearChild = diff < 0.0f ? left : left + 1u;
             const uint farChild = diff < 0.0f ? left + 1u : left;
             const float planeD2 = diff * diff;
-            if (farChild < n && planeD2 <= knn_bound(&h)) {
+            if (farChild < n && planeD2 <= knn_bound(h)) {
                 stackNode[sp] = farChild;
                 stackD[sp] = planeD2;
                 ++sp;
             }
             const float d = knn_dist2(p.x, p.y, p.z, q.x, q.y, q.z);
-            if (d <= knn_bound(&h)) knn_offer(&h, d, w & 0x3FFFFFFFu);
+            if (d <= knn_bound(h)) knn_offer(h, d, w & 0x3FFFFFFFu);
             node = nearChild;
         }
         node = n;
         while (sp > 0u) {
             --sp;
-            if (stackD[sp] <= knn_bound(&h)) {
+            if (stackD[sp] <= knn_bound(h)) {
                 node = stackNode[sp];
                 break;
             }
         }
         if (node >= n) break;
+    }
+}
+
+/* firstRadius2: a first search within min(maxRadius2, firstRadius2) (a guess of the k-th
+ * photon's d² from the map's mean density, pipeline/estimate.h): until the heap is full every
+ * photon under the bound enters it, so a tight first bound saves most heap work. When it finds
+ * k photons those are the k nearest within maxRadius2 (every other photon is farther); when it
+ * finds fewer the search runs again with maxRadius2. The result is the same either way. */
+__kernel void knn_kdtree(__global const float4* nodes, uint n, uint bucketFirst, float firstRadius2,
+                         __global const PclKnnQuery* queries, uint queryCount, uint stride, __global uint* counts,
+                         __global uint* indices, __global float* dist2, __global float* radius2) {
+    const uint qi = (uint)get_global_id(0);
+    if (qi >= queryCount) return;
+    const PclKnnQuery q = queries[qi];
+    KnnHeap h;
+    knn_init(&h, q);
+    if (firstRadius2 < h.maxRadius2) {
+        h.maxRadius2 = firstRadius2;
+        knn_kdtree_search(&h, nodes, n, bucketFirst, q);
+        if (h.n < h.k) {
+            knn_init(&h, q);
+            knn_kdtree_search(&h, nodes, n, bucketFirst, q);
+        }
+    } else {
+        knn_kdtree_search(&h, nodes, n, bucketFirst, q);
     }
     knn_write(&h, qi, stride, counts, indices, dist2, radius2);
 }

@@ -82,8 +82,9 @@ void PhotonMapOnDevice::build(Device& device, const float lo[3]) {
 }
 
 double PhotonMapOnDevice::search(Device& device, const cl::Buffer& queries, size_t queryCount, uint32_t maxK,
-                                 DeviceKnnOutput& out) const {
-    if (structure_ == KnnStructure::KdTree) return knnSearchKdTree(device, tree_, queries, queryCount, maxK, out);
+                                 DeviceKnnOutput& out, float firstRadius2) const {
+    if (structure_ == KnnStructure::KdTree)
+        return knnSearchKdTree(device, tree_, queries, queryCount, maxK, out, firstRadius2);
     return knnSearchHashGrid(device, grid_, queries, queryCount, maxK, out);
 }
 
@@ -135,7 +136,7 @@ EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, con
         cl::Event c = device.launchLocal("estimate", convert, wholeWorkGroups(n), workGroup(), params,
                                          cl_float(searchRadius2), queries, knnQueries);
         DeviceKnnOutput knn;
-        timing.knnSeconds += map.search(device, knnQueries, n, maxK, knn);
+        timing.knnSeconds += map.search(device, knnQueries, n, maxK, knn, settings.firstRadius2);
         cl::Event e = device.launchLocal("estimate", estimate, wholeWorkGroups(n), workGroup(), params, queries,
                                          map.photons(), knn.counts, knn.indices, knn.dist2, knn.radius2, nodes, packets,
                                          spheres, dirTable, results);

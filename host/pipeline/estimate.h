@@ -47,8 +47,8 @@ public:
 
     // The kNN search of `queryCount` PclKnnQuery in `queries` (stride maxK) into `out`; returns
     // the kernel's device seconds.
-    double search(Device& device, const cl::Buffer& queries, size_t queryCount, uint32_t maxK,
-                  DeviceKnnOutput& out) const;
+    double search(Device& device, const cl::Buffer& queries, size_t queryCount, uint32_t maxK, DeviceKnnOutput& out,
+                  float firstRadius2 = INFINITY) const;
 
 private:
     void build(Device& device, const float lo[3]);

@@ -1,6 +1,7 @@
 #include "pipeline/knn.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "core/error.h"
@@ -86,14 +87,17 @@ KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree) {
 }
 
 double knnSearchKdTree(Device& device, const KnnKdTree& tree, const cl::Buffer& queries, size_t queryCount,
-                       uint32_t maxK, DeviceKnnOutput& out) {
+                       uint32_t maxK, DeviceKnnOutput& out, float firstRadius2) {
+    if (std::isnan(firstRadius2) || firstRadius2 < 0.0f)
+        throw InputError("knn: first search radius² " + std::to_string(firstRadius2) + ": expected ≥ 0 or ∞");
     out = allocateOutput(device, queryCount, maxK);
     if (queryCount == 0) return 0.0;
-    auto k = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer,
+    auto k = device.kernel<cl::Buffer, cl_uint, cl_uint, cl_float, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer,
                            cl::Buffer, cl::Buffer>("knn", "knn_kdtree", capOption(maxK));
     cl::Event e = device.launchLocal("knn", k, wholeWorkGroups(queryCount), workGroup(), tree.nodes,
-                                     cl_uint(tree.count), cl_uint(tree.bucketFirst), queries, cl_uint(queryCount),
-                                     cl_uint(maxK), out.counts, out.indices, out.dist2, out.radius2);
+                                     cl_uint(tree.count), cl_uint(tree.bucketFirst), cl_float(firstRadius2), queries,
+                                     cl_uint(queryCount), cl_uint(maxK), out.counts, out.indices, out.dist2,
+                                     out.radius2);
     e.wait();
     return Device::elapsedSeconds(e);
 }

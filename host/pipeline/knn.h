@@ -13,6 +13,7 @@
 // Host vectors in and out, for the checks and the tests: knnOnDevice and the others in
 // check/on_device.h.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -63,8 +64,10 @@ size_t knnQueryBatch(size_t maxAlloc, size_t globalMem, uint32_t maxK);
 // pipeline/kdtree's buildKdTree, packed); `out` is allocated for
 // queryCount × maxK. Return the kernel's device seconds. The hash-grid search needs every
 // query's radius ≤ cellSize / 2 (the caller checks).
+// firstRadius2 (kd-tree): a first search bound, a guess of the k-th photon's d²; queries that
+// find fewer than k within it search again with their maxRadius2. Only the speed depends on it.
 double knnSearchKdTree(Device& device, const KnnKdTree& tree, const cl::Buffer& queries, size_t queryCount,
-                       uint32_t maxK, DeviceKnnOutput& out);
+                       uint32_t maxK, DeviceKnnOutput& out, float firstRadius2 = INFINITY);
 double knnSearchHashGrid(Device& device, const DeviceHashGrid& grid, const cl::Buffer& queries, size_t queryCount,
                          uint32_t maxK, DeviceKnnOutput& out);
 

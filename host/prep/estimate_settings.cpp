@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/math.h"
 
 namespace pcl {
 namespace {
@@ -47,6 +48,8 @@ uint32_t estimateFilterCode(EstimateFilter f) {
 }
 
 void validateEstimateSettings(const EstimateSettings& s) {
+    if (std::isnan(s.firstRadius2) || s.firstRadius2 < 0.0f)
+        throw InputError("estimate: first search radius² " + std::to_string(s.firstRadius2) + ": expected ≥ 0 or ∞");
     if (!(s.coneK >= 1.0f) || !std::isfinite(s.coneK))
         throw InputError("estimate: cone filter k = " + std::to_string(s.coneK) + ", expected a finite k ≥ 1");
     if (std::isnan(s.minNormalCos)) throw InputError("estimate: minNormalCos is NaN, expected a cosine in [-1, 1]");
@@ -102,6 +105,11 @@ uint32_t estimateMaxK(const std::vector<PclEstimateQuery>& queries) {
         maxK = std::max(maxK, q.k);
     }
     return maxK;
+}
+
+float firstSearchRadius2(size_t photons, uint32_t k, double area) {
+    if (photons == 0 || k == 0 || !(area > 0.0) || !std::isfinite(area)) return INFINITY;
+    return float(9.0 * double(k) * area / (kPiD * double(photons)));
 }
 
 }  // namespace pcl

@@ -6,6 +6,8 @@
 // facing the same way, optionally an unoccluded lifted segment). The filter's norm is defined
 // here once, so both sides divide by the same number.
 #pragma once
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -33,7 +35,14 @@ struct EstimateSettings {
     float rayEpsilon = 1e-6f;                       // visibility lift h = rayEpsilon + 0.25 r: SceneBuffers::rayEpsilon
     KnnStructure structure = KnnStructure::KdTree;  // the map structure precomputeIrradiance builds
                                                     // (and estimateOnDevice, check/on_device.h)
+    // A first kNN search bound (kd-tree): a guess of the k-th photon's d² (firstSearchRadius2);
+    // queries finding fewer search again without it. Speed only: the estimates are the same.
+    float firstRadius2 = INFINITY;
 };
+
+// A first search bound for k-nearest queries in a map of `photons` over `area` m² of surface: 9×
+// the disc that holds k photons at the mean density (∞ when either is 0).
+float firstSearchRadius2(size_t photons, uint32_t k, double area);
 
 // InputError when coneK < 1 or not finite, minNormalCos is NaN or rayEpsilon is negative/NaN.
 void validateEstimateSettings(const EstimateSettings& s);

@@ -150,6 +150,12 @@ private:
     PhotonMaps tracePhotons(uint32_t pass);
     double firstRadius2(const PhotonMaps& pass0) const;
     PassMaps buildMaps(const PhotonMaps& photons, float radius2);
+    // est_ with the first kNN bound for k-nearest queries into a map of `photons` (speed only).
+    EstimateSettings hinted(size_t photons, uint32_t k) const {
+        EstimateSettings e = est_;
+        e.firstRadius2 = firstSearchRadius2(photons, k, area_);
+        return e;
+    }
     void eyePass(uint32_t pass, const PassMaps& maps, Film& passFilm);
     ChunkParts shadeFinalGather(const PassMaps& maps, const PclEyeParams& ep, uint32_t count);
     ChunkParts shadeDirectVisualisation(const PassMaps& maps, uint32_t count);
@@ -215,12 +221,14 @@ PhotonRenderer::PassMaps PhotonRenderer::buildMaps(const PhotonMaps& photons, fl
             po.k = s_.globalK;
             po.maxRadius = maxRadius_;
             po.estimate = est_;
+            po.estimate.firstRadius2 = firstSearchRadius2(photons.global.size() * 3 / 4, s_.globalK, area_);
             m.irradiance =
                 std::make_unique<DeviceIrradianceMap>(precomputeIrradiance(device_, photons.global, po, &dscene_));
             m.globalSource = precomputedIrradianceSource(*m.irradiance);
         } else {
             m.global = std::make_unique<PhotonMapOnDevice>(device_, photons.global, s_.structure, searchRadius);
-            m.globalSource = estimateIrradianceSource(*m.global, s_.globalK, est_, &dscene_);
+            m.globalSource =
+                estimateIrradianceSource(*m.global, s_.globalK, hinted(photons.global.size(), s_.globalK), &dscene_);
         }
     }
     if (fg && s_.histogramCells > 0 && m.globalSource) {
@@ -230,7 +238,8 @@ PhotonRenderer::PassMaps PhotonRenderer::buildMaps(const PhotonMaps& photons, fl
     if (maps_.caustic && !photons.caustic.empty()) {
         m.caustic = std::make_unique<PhotonMapOnDevice>(device_, photons.caustic, s_.structure, searchRadius);
         m.causticSource = progressive ? fixedRadiusSource(*m.caustic, PCL_KNN_MAX_K, est_, radius2, &dscene_)
-                                      : estimateIrradianceSource(*m.caustic, s_.causticK, est_, &dscene_);
+                                      : estimateIrradianceSource(*m.caustic, s_.causticK,
+                                                                 hinted(photons.caustic.size(), s_.causticK), &dscene_);
     }
     return m;
 }

@@ -9,9 +9,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <random>
+#include <tuple>
 #include <vector>
 
 #include "check/knn.h"
@@ -318,6 +320,42 @@ TEST(Knn, ShippedScenesSurfaceAndRandomQueries) {
         for (const auto& r : report.rows) causticRows += r.map == "caustic" && r.neighbours > 0;
     }
     EXPECT_GT(causticRows, 0u);  // some scene's caustic map is searched too
+}
+
+}  // namespace
+}  // namespace pcl
+
+namespace pcl {
+namespace {
+
+// The first search bound (knnSearchKdTree's firstRadius2) changes only the speed: a bound far
+// too small (every query searches again), about right (most succeed at once) and none give the
+// same counts, indices and distances bit for bit; the mean-density guess is what the renderer uses.
+TEST(Knn, FirstSearchBoundGivesTheSameNeighbours) {
+    Device& device = test::testDevice();
+    const std::vector<PclPhoton> map = uniformMap(20000, 7);
+    std::mt19937_64 rng(8);
+    std::uniform_real_distribution<float> u(-0.1f, 1.1f);
+    std::vector<PclKnnQuery> qs;
+    for (int i = 0; i < 4096; ++i) qs.push_back(query(u(rng), u(rng), u(rng), 0.04f, i % 3 ? 50u : 8u));
+    const KnnKdTree tree = packKdTree(device, buildKdTree(device, device.upload(map), map.size()));
+    const cl::Buffer qb = device.upload(qs);
+    auto run = [&](float first) {
+        DeviceKnnOutput out;
+        knnSearchKdTree(device, tree, qb, qs.size(), 50, out, first);
+        return std::make_tuple(
+            device.download<uint32_t>(out.counts, qs.size()), device.download<uint32_t>(out.indices, qs.size() * 50),
+            device.download<float>(out.dist2, qs.size() * 50), device.download<float>(out.radius2, qs.size()));
+    };
+    const auto none = run(INFINITY);
+    // Volume density 20000 per unit cube: k = 50 lies within r² ≈ 0.0071; 1e-6 is far too small.
+    for (float first : {1e-6f, 0.004f, 0.0071f, 0.02f, firstSearchRadius2(map.size(), 50, 6.0)})
+        EXPECT_TRUE(run(first) == none) << "firstRadius2 " << first;
+    DeviceKnnOutput out;
+    EXPECT_THROW(knnSearchKdTree(device, tree, qb, qs.size(), 50, out, -1.0f), InputError);
+    EXPECT_THROW(knnSearchKdTree(device, tree, qb, qs.size(), 50, out, NAN), InputError);
+    EXPECT_EQ(firstSearchRadius2(0, 50, 1.0), INFINITY);
+    EXPECT_NEAR(firstSearchRadius2(1000, 50, 2.0), 9.0 * 50 * 2.0 / (3.14159265 * 1000), 1e-6);
 }
 
 }  // namespace
