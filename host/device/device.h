@@ -178,6 +178,13 @@ public:
         if (count) guard("download", [&] { queue_.enqueueReadBuffer(buf, CL_TRUE, 0, count * sizeof(T), out.data()); });
         return out;
     }
+    // The same into `out` (resized to count): a caller that downloads every chunk keeps one vector
+    // and its pages instead of faulting in fresh ones each time.
+    template <class T>
+    void downloadInto(const cl::Buffer& buf, size_t count, std::vector<T>& out) {
+        out.resize(count);
+        if (count) guard("download", [&] { queue_.enqueueReadBuffer(buf, CL_TRUE, 0, count * sizeof(T), out.data()); });
+    }
     // Fills `count` elements of `buf` with `value`.
     template <class T>
     void fill(cl::Buffer& buf, const T& value, size_t count) {

@@ -182,6 +182,8 @@ private:
     DeviceAreaLights lights_;
     size_t chunk_ = 0;
     cl::Buffer rays_, hits_, directRad_, causticRad_, indirectRad_;
+    std::vector<PclEyeHit> hostHits_;        // a chunk's downloads, kept across chunks and passes
+    std::vector<PclRadiance> hostParts_[3];  // direct, caustic, indirect
     EstimateSettings est_;
     double r0Squared_ = 0.0;
     PhotonRenderResult result_;
@@ -326,12 +328,16 @@ PhotonRenderer::ChunkParts PhotonRenderer::shadeProgressive(const PassMaps& m, c
 void PhotonRenderer::accumulate(size_t first, uint32_t count, ChunkParts parts, Film& passFilm) {
     auto t = Clock::now();
     const PclRadiance zero{0, 0, 0, 0};
-    std::vector<PclEyeHit> eye = device_.download<PclEyeHit>(hits_, count);
-    auto part = [&](bool have, cl::Buffer& b) {
-        return have ? device_.download<PclRadiance>(b, count) : std::vector<PclRadiance>(count, zero);
+    std::vector<PclEyeHit>& eye = hostHits_;
+    device_.downloadInto(hits_, count, eye);
+    auto part = [&](bool have, cl::Buffer& b, std::vector<PclRadiance>& v) -> const std::vector<PclRadiance>& {
+        if (have) device_.downloadInto(b, count, v);
+        else v.assign(count, zero);
+        return v;
     };
-    std::vector<PclRadiance> direct = part(parts.direct, directRad_), caustic = part(parts.caustic, causticRad_),
-                             indirect = part(parts.indirect, indirectRad_);
+    const std::vector<PclRadiance>&direct = part(parts.direct, directRad_, hostParts_[0]),
+          &caustic = part(parts.caustic, causticRad_, hostParts_[1]),
+          &indirect = part(parts.indirect, indirectRad_, hostParts_[2]);
     for (uint32_t i = 0; i < count; ++i) {
         size_t pixel = (first + i) / spp_;
         int x = static_cast<int>(pixel % width_), y = static_cast<int>(pixel / width_);
