@@ -12,16 +12,7 @@
  * query_order_scatter  in:  sortedResults[s·m .. s·m + m) (m float4 per record), order
  *                      out: results[order[s]·m ..] = those m float4 */
 #include "shared/types.h"
-
-/* Bits 0..7 of v spread to every third bit. */
-inline uint query_order_spread8(uint v) {
-    v &= 0xFFu;
-    v = (v | (v << 16)) & 0x030000FFu;
-    v = (v | (v << 8)) & 0x0300F00Fu;
-    v = (v | (v << 4)) & 0x030C30C3u;
-    v = (v | (v << 2)) & 0x09249249u;
-    return v;
-}
+#include "shared/morton.h"
 
 /* (int) of a float beyond the int range is undefined: clamped first (NaN gives cell 0). */
 inline uint query_order_cell(float x, float invCell) {
@@ -34,9 +25,8 @@ __kernel void query_order_keys(__global const PclEstimateQuery* queries, uint co
     const uint j = (uint)get_global_id(0);
     if (j >= count) return;
     const PclEstimateQuery q = queries[j];
-    keys[j] = query_order_spread8(query_order_cell(q.x, invCell)) |
-              query_order_spread8(query_order_cell(q.y, invCell)) << 1 |
-              query_order_spread8(query_order_cell(q.z, invCell)) << 2;
+    keys[j] = morton_key8(query_order_cell(q.x, invCell), query_order_cell(q.y, invCell),
+                          query_order_cell(q.z, invCell));
     values[j] = j;
 }
 

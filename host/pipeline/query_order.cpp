@@ -7,21 +7,13 @@
 #include "core/error.h"
 #include "device/work_group.h"
 #include "pipeline/sort.h"
+#include "shared/morton.h"
 #include "shared/types.h"
 
 namespace pcl {
 namespace {
 
 const char* const kStage = "query_order";
-
-uint32_t spread8(uint32_t v) {
-    v &= 0xFFu;
-    v = (v | (v << 16)) & 0x030000FFu;
-    v = (v | (v << 8)) & 0x0300F00Fu;
-    v = (v | (v << 4)) & 0x030C30C3u;
-    v = (v | (v << 2)) & 0x09249249u;
-    return v;
-}
 
 uint32_t cellOf(float x, float invCell) {
     const float c = std::floor(x * invCell);
@@ -32,7 +24,7 @@ uint32_t cellOf(float x, float invCell) {
 
 uint32_t queryOrderKey(float x, float y, float z, float cell) {
     const float inv = 1.0f / cell;
-    return spread8(cellOf(x, inv)) | spread8(cellOf(y, inv)) << 1 | spread8(cellOf(z, inv)) << 2;
+    return morton_key8(cellOf(x, inv), cellOf(y, inv), cellOf(z, inv));
 }
 
 QueryOrder orderQueries(Device& device, const cl::Buffer& queries, size_t count, float cell) {
