@@ -49,12 +49,4 @@ void BufferPool::trim() {
     }
 }
 
-size_t BufferPool::idleBytes() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    size_t total = 0;
-    for (const Entry& e : entries_)
-        if (idle(e)) total += e.bytes;
-    return total;
-}
-
 }  // namespace pcl

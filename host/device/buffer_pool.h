@@ -31,8 +31,6 @@ public:
     // Buffers below this are not pooled: their allocation is cheap.
     static constexpr size_t kMinBytes = size_t(1) << 20;
 
-    size_t idleBytes();
-
 private:
     struct Entry {
         cl::Buffer buffer;
