@@ -27,6 +27,10 @@ PAIRS = [
     ("EstimateKdTree/", "EstimateTwin/", "queries_per_cpu_s", "radiance estimate, device kd-tree vs CPU twin, queries/CPU-s"),
     ("EstimateHashGrid/", "EstimateTwin/", "queries_per_cpu_s", "radiance estimate, device hash grid vs CPU twin, queries/CPU-s"),
     ("IrradianceLookup/", "FullEstimate/", "queries_per_s", "precomputed irradiance lookup vs the full estimate, queries/s"),
+    ("IrradianceLookup/", "NanoflannNearest/", "queries_per_s",
+     "precomputed irradiance lookup (queries as given) vs nanoflann k = 1 on the same points, all cores, queries/s"),
+    ("IrradianceLookupOrdered/", "NanoflannNearest/", "queries_per_s",
+     "precomputed irradiance lookup in query order, sort included (as render) vs nanoflann k = 1, queries/s"),
 ]
 
 

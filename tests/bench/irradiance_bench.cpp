@@ -22,11 +22,17 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
+
+#ifdef PHOTONCL_HAVE_NANOFLANN
+#include <nanoflann.hpp>
+#endif
 
 #include "bench_common.h"
 #include "pipeline/estimate.h"
 #include "pipeline/precomputed_irradiance.h"
+#include "pipeline/query_order.h"
 #include "reference/trace_photons.h"
 
 namespace pcl {
@@ -168,6 +174,84 @@ void BM_Lookup(benchmark::State& state, uint32_t k) {
     rates()["lookup-cpu/" + std::to_string(k)] = done / cpu;
 }
 
+// As render's final gather reads it: the queries put in Morton order first (pipeline/query_order),
+// the lookup, the results scattered back; wall time of the three (the sort included).
+void BM_LookupOrdered(benchmark::State& state, uint32_t k) {
+    Device& dev = device();
+    const Built& b = built(k);
+    const std::vector<PclEstimateQuery> qs = queries(k);
+    cl::Buffer qbuf = dev.upload(qs);
+    cl::Buffer results = dev.allocate<cl_float4>(qs.size(), CL_MEM_READ_WRITE, "bench: lookups");
+    DeviceIrradianceLookup out;
+    auto once = [&] {
+        const QueryOrder order = orderQueries(dev, qbuf, qs.size(), radiusFor(k) / 4.0f);
+        lookupIrradiance(dev, b.irradiance, order.sorted, qs.size(), out);
+        scatterResults(dev, order, out.irradiance, 4, results);
+        dev.finish();
+    };
+    once();  // warm-up: program builds
+    double wall = 0;
+    size_t done = 0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        once();
+        const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        wall += t;
+        done += qs.size();
+        state.SetIterationTime(t);
+    }
+    state.counters["queries_per_s"] = done / wall;
+}
+
+#ifdef PHOTONCL_HAVE_NANOFLANN
+// The peer of the lookup: nanoflann's k = 1 search over the same points on all cores (no cover
+// or normal test, so less work than the lookup does).
+struct PointCloud {
+    std::vector<float> xyz;
+    size_t kdtree_get_point_count() const { return xyz.size() / 3; }
+    float kdtree_get_pt(size_t i, size_t dim) const { return xyz[3 * i + dim]; }
+    template <class B>
+    bool kdtree_get_bbox(B&) const {
+        return false;
+    }
+};
+using NearestTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PointCloud>, PointCloud, 3, uint32_t>;
+
+void BM_NanoflannNearest(benchmark::State& state, uint32_t k) {
+    Device& dev = device();
+    const Built& b = built(k);
+    PointCloud cloud;
+    for (const PclIrradiancePoint& p : downloadIrradiancePoints(dev, b.irradiance))
+        cloud.xyz.insert(cloud.xyz.end(), {p.x, p.y, p.z});
+    NearestTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+    const std::vector<PclEstimateQuery> qs = queries(k);
+    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    std::vector<uint32_t> nearest(qs.size());
+    double wall = 0;
+    size_t done = 0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<std::thread> pool;
+        for (unsigned t = 0; t < threads; ++t)
+            pool.emplace_back([&, t] {
+                for (size_t q = t * qs.size() / threads; q < (t + 1) * qs.size() / threads; ++q) {
+                    const float at[3] = {qs[q].x, qs[q].y, qs[q].z};
+                    float d2 = 0.0f;
+                    tree.knnSearch(at, 1, &nearest[q], &d2);
+                }
+            });
+        for (std::thread& th : pool) th.join();
+        const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        wall += t;
+        done += qs.size();
+        state.SetIterationTime(t);
+    }
+    state.counters["queries_per_s"] = done / wall;
+    state.counters["threads"] = threads;
+}
+#endif
+
 // The one-off cost per photon map: selection, the others' kd-tree, the estimates, the lookup tree.
 void BM_Precompute(benchmark::State& state, uint32_t k) {
     Device& dev = device();
@@ -197,6 +281,16 @@ void registerAll() {
             ->Unit(benchmark::kMillisecond)
             ->UseManualTime()
             ->Iterations(5);
+        benchmark::RegisterBenchmark(("IrradianceLookupOrdered" + suffix).c_str(), BM_LookupOrdered, k)
+            ->Unit(benchmark::kMillisecond)
+            ->UseManualTime()
+            ->Iterations(5);
+#ifdef PHOTONCL_HAVE_NANOFLANN
+        benchmark::RegisterBenchmark(("NanoflannNearest" + suffix).c_str(), BM_NanoflannNearest, k)
+            ->Unit(benchmark::kMillisecond)
+            ->UseManualTime()
+            ->Iterations(5);
+#endif
         benchmark::RegisterBenchmark(("IrradiancePrecompute" + suffix).c_str(), BM_Precompute, k)
             ->Unit(benchmark::kMillisecond)
             ->UseManualTime()
