@@ -133,8 +133,6 @@ inline float irradiance_dist2(float px, float py, float pz, float qx, float qy, 
     return dx * dx + dy * dy + dz * dz;
 }
 
-#define PCL_IRRADIANCE_BUCKET_ROWS 9u
-
 /* One work-item per node on the bucket levels (h = bucketFirst + i). */
 __kernel void precomputed_irradiance_buckets(__global const PclIrradiancePoint* nodes,
                                              __global const float* nodeCover, uint n, uint bucketFirst,

@@ -174,8 +174,8 @@ public:
     // The first `count` elements of `buf` (blocking read: waits for the kernels writing it).
     template <class T>
     std::vector<T> download(const cl::Buffer& buf, size_t count) {
-        std::vector<T> out(count);
-        if (count) guard("download", [&] { queue_.enqueueReadBuffer(buf, CL_TRUE, 0, count * sizeof(T), out.data()); });
+        std::vector<T> out;
+        downloadInto(buf, count, out);
         return out;
     }
     // The same into `out` (resized to count): a caller that downloads every chunk keeps one vector

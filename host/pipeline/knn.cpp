@@ -67,7 +67,7 @@ uint32_t knnBucketFirst(size_t count) {
     return levels <= 3 ? 0u : (uint32_t(1) << (levels - 3)) - 1u;
 }
 
-size_t knnPackedKdTreeElements(size_t count) { return count + 2; }  // + the last bucket's 8-wide loads
+size_t knnPackedKdTreeElements(size_t count) { return count + PCL_KD_BUCKET_PAD_FLOATS / 4; }
 
 KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree) {
     if (tree.count >= (size_t(1) << 30))

@@ -43,7 +43,7 @@ struct KnnKdTree {
     uint32_t bucketFirst = 0;  // the first bucket root: 2^D − 1, D = max(levels − 3, 0)
 };
 // The first heap node stored in a bucket, and the float4 elements of the packed tree (the
-// memory plan's size): one per node, and two of padding.
+// memory plan's size): one per node, and PCL_KD_BUCKET_PAD_FLOATS of padding.
 uint32_t knnBucketFirst(size_t count);
 size_t knnPackedKdTreeElements(size_t count);
 // InputError for trees of 2^30 photons or more (the index field).

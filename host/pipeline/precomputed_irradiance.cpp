@@ -17,9 +17,10 @@ namespace {
 
 const char* const kStage = "precomputed_irradiance";
 
-// Floats of the lookup's buckets: 9 rows of one float per node on the bucket levels
-// (shared/kd_buckets.h), and 8 of padding for the last bucket's 8-wide loads.
-size_t irradianceBucketFloats(size_t count) { return 9 * (count - knnBucketFirst(count)) + 8; }
+// Floats of the lookup's buckets: the rows of every node on the bucket levels, and the padding.
+size_t irradianceBucketFloats(size_t count) {
+    return PCL_IRRADIANCE_BUCKET_ROWS * (count - knnBucketFirst(count)) + PCL_KD_BUCKET_PAD_FLOATS;
+}
 
 }  // namespace
 

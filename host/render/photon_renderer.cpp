@@ -222,8 +222,7 @@ PhotonRenderer::PassMaps PhotonRenderer::buildMaps(const PhotonMaps& photons, fl
             PrecomputedIrradianceOptions po;
             po.k = s_.globalK;
             po.maxRadius = maxRadius_;
-            po.estimate = est_;
-            po.estimate.firstRadius2 = firstSearchRadius2(photons.global.size() * 3 / 4, s_.globalK, area_);
+            po.estimate = hinted(photons.global.size() - photons.global.size() / po.every, s_.globalK);  // the others
             m.irradiance =
                 std::make_unique<DeviceIrradianceMap>(precomputeIrradiance(device_, photons.global, po, &dscene_));
             m.globalSource = precomputedIrradianceSource(*m.irradiance);

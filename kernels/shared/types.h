@@ -262,6 +262,11 @@ PCL_STATIC_ASSERT(sizeof(PclEstimate) == 32, PclEstimate_size);
  * so one query buffer serves the full estimate and the lookup. */
 #define PCL_IRRADIANCE_AXIS_SHIFT 30
 #define PCL_IRRADIANCE_INDEX_MASK 0x3FFFFFFFu
+/* The lookup's buckets (precomputed_irradiance.cl, shared/kd_buckets.h): 9 rows of one float per
+ * node: x, y, z, cover, normal x, y, z, photon index, heap node. */
+#define PCL_IRRADIANCE_BUCKET_ROWS 9u
+/* Floats after the last kd-tree bucket, so its 8-wide row loads stay inside the buffer. */
+#define PCL_KD_BUCKET_PAD_FLOATS 8u
 typedef struct PclIrradiancePoint {
     pcl_f32 x, y, z;
     pcl_u32 normal;   /* the photon's octahedral normal word (photon_normal_encode) */
