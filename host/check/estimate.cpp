@@ -51,10 +51,7 @@ bool EstimateCheckRow::passed() const {
 }
 
 bool EstimateCheckReport::passed() const {
-    if (rows.empty()) return false;
-    for (const auto& r : rows)
-        if (!r.passed()) return false;
-    return true;
+    return !rows.empty() && std::all_of(rows.begin(), rows.end(), [](const auto& r) { return r.passed(); });
 }
 
 std::string EstimateCheckReport::table() const {

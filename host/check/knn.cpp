@@ -34,10 +34,7 @@ bool KnnCheckRow::passed() const {
 }
 
 bool KnnCheckReport::passed() const {
-    if (rows.empty()) return false;
-    for (const auto& r : rows)
-        if (!r.passed()) return false;
-    return true;
+    return !rows.empty() && std::all_of(rows.begin(), rows.end(), [](const auto& r) { return r.passed(); });
 }
 
 std::string KnnCheckReport::table() const {
