@@ -103,8 +103,15 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
         }
         const float pd = eye_diffuse_probability(M);
         if (pd < 0.0f) break;
-        rng_block(seed, h.pixel, bounceWord, b + 1u, PCL_RNG_STREAM_GATHER, w);
-        if (rng_u01(w[0]) < pd) {
+        /* A purely diffuse surface (pd = 1) takes the diffuse lobe for every u0 < 1: its block
+         * is drawn only where a specular lobe can be chosen (the same choices, one Philox block
+         * fewer per gather ray in most scenes). */
+        bool diffuse = pd >= 1.0f;
+        if (!diffuse) {
+            rng_block(seed, h.pixel, bounceWord, b + 1u, PCL_RNG_STREAM_GATHER, w);
+            diffuse = rng_u01(w[0]) < pd;
+        }
+        if (diffuse) {
             q.x = p.x; q.y = p.y; q.z = p.z;
             q.nx = nf.x; q.ny = nf.y; q.nz = nf.z;
             q.maxRadius2 = params.maxRadius2;
