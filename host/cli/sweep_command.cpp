@@ -24,7 +24,14 @@ struct SweepCliOptions {
 
 int runSweepCommand(SweepCliOptions& o) {
     namespace fs = std::filesystem;
-    if (!fs::is_directory(o.outDir)) throw InputError("sweep: output folder " + o.outDir + " does not exist");
+    // A missing output folder is made (with its parents), as a user running a new sweep expects;
+    // a path that exists and is not a folder, or one that cannot be made, is refused.
+    std::error_code ec;
+    if (!fs::is_directory(o.outDir)) fs::create_directories(o.outDir, ec);
+    if (!fs::is_directory(o.outDir))
+        throw InputError(
+            "sweep: output folder " + o.outDir + ": " +
+            (fs::exists(o.outDir) ? "exists and is not a folder" : "cannot be created (" + ec.message() + ")"));
     SweepOptions s = o.sweep;
     s.maxSeconds = o.maxSeconds > 0 ? o.maxSeconds : (s.quick ? 2.0 : 60.0);
     std::stringstream list(o.curves);
@@ -61,7 +68,8 @@ Run addSweepCommand(CLI::App& app) {
     sub->add_flag("--quick", o->sweep.quick,
                   "CI form: the image at a quarter of the reference's width (the reference box-averaged), 1/8 of the "
                   "photons, 1/4 of the gather rays, curves of about 2 s, the five methods only");
-    sub->add_option("-o,--output-dir", o->outDir, "Folder for sweep-<scene>.csv")->capture_default_str();
+    sub->add_option("-o,--output-dir", o->outDir, "Folder for sweep-<scene>.csv (made if missing)")
+        ->capture_default_str();
     sub->add_option("--device", o->sweep.device,
                     "OpenCL device of the photon methods: cpu, gpu, auto, <index> or <name substring> (the path "
                     "tracer always runs on the CPU)")

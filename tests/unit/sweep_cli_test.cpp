@@ -86,10 +86,12 @@ protected:
 
 TEST_F(SweepCliTest, QuickSweepWritesEveryMethodsCurveAndCharts) {
     // Two seeds: the bias²/variance rows too. --quick: 16x16, curves of about 1 s each here.
+    // The output folder does not exist yet: sweep makes it, parents too.
+    const fs::path out = dir / "made" / "by-sweep";
     Result r = run("sweep " + source("scenes/cornell-box.json") + " --reference " +
-                   source("tests/data/ref-cornell-box.exr") + " --quick --seeds 2 --max-seconds 1 -o " + dir.string());
+                   source("tests/data/ref-cornell-box.exr") + " --quick --seeds 2 --max-seconds 1 -o " + out.string());
     ASSERT_EQ(r.status, 0) << r.output;
-    const fs::path csv = dir / "sweep-cornell-box.csv";
+    const fs::path csv = out / "sweep-cornell-box.csv";
     ASSERT_TRUE(fs::exists(csv)) << r.output;
     Csv table = readCsv(csv);
     ASSERT_FALSE(table.rows.empty());
@@ -183,7 +185,10 @@ TEST_F(SweepCliTest, ClearErrors) {
                      " --curves sparkle -o " + dir.string());
     EXPECT_EQ(bad.status, 2) << bad.output;
     EXPECT_NE(bad.output.find("unknown curve 'sparkle'"), std::string::npos) << bad.output;
+    // -o names a file: refused (a missing folder is made: the quick sweep test writes into one).
+    std::ofstream(dir / "a-file") << "x";
     Result noDir = run("sweep " + scene + " --reference " + source("tests/data/ref-cornell-box.exr") + " -o " +
-                       (dir / "absent").string());
+                       (dir / "a-file").string());
     EXPECT_EQ(noDir.status, 2) << noDir.output;
+    EXPECT_NE(noDir.output.find("exists and is not a folder"), std::string::npos) << noDir.output;
 }
