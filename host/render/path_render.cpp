@@ -32,9 +32,10 @@ PathRenderResult renderPathTraced(const Scene& scene, const SceneGeometry& geome
     if (s.fixedPoint) r.sums = FixedPointFilm(width, height);
     else r.film = Film(width, height);
     pt.samplesPerPixel = 1;
+    const auto passesStart = Clock::now();
     for (uint32_t done = 0;; ++done) {
         if (s.samples && done >= s.samples) break;
-        if (done > 0 && s.seconds > 0 && since(start) >= s.seconds) break;
+        if (s.seconds > 0 && !anotherPassFits(since(start), s.seconds, done, since(passesStart))) break;
         if (done > 0 && s.stop && s.stop->load()) {
             r.stopped = true;
             break;

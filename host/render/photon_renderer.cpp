@@ -428,9 +428,10 @@ PhotonRenderResult PhotonRenderer::run() {
     result_.summary = summary();
 
     Film passFilm;
+    const auto passesStart = Clock::now();
     for (uint32_t done = 0;; ++done) {
         if (s_.passes && done >= s_.passes) break;
-        if (done > 0 && s_.seconds > 0 && since(start_) >= s_.seconds) break;
+        if (s_.seconds > 0 && !anotherPassFits(since(start_), s_.seconds, done, since(passesStart))) break;
         if (done > 0 && s_.stop && s_.stop->load()) {
             result_.stopped = true;
             break;

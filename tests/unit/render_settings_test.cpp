@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/clock.h"
 #include "core/error.h"
 #include "prep/prepared_scene.h"
 #include "render/render_settings.h"
@@ -96,6 +97,18 @@ TEST(RenderSettings, EveryDefaultSaysWhyAndEveryGivenValueSaysGiven) {
     const PhotonRenderSettings timed = resolve("fg", box, [](RenderRequest& q) { q.seconds = 5; }).settings;
     EXPECT_EQ(timed.passes, 0u);
     EXPECT_EQ(timed.seconds, 5.0);
+}
+
+TEST(RenderSettings, TimeBudgetEndsWithinHalfAPass) {
+    // The first pass always runs, even past the budget.
+    EXPECT_TRUE(anotherPassFits(50.0, 10.0, 0, 0.0));
+    // Passes of 4 s (2 done in 8 s): a third would end at 12 s, 2 s past 10 = stopping 2 s short:
+    // it runs (ties go on); with passes of 4.2 s it would end 2.6 s past and stops at 8.4 s.
+    EXPECT_TRUE(anotherPassFits(8.0, 10.0, 2, 8.0));
+    EXPECT_FALSE(anotherPassFits(8.4, 10.0, 2, 8.4));
+    // Short passes run until the budget is (nearly) spent.
+    EXPECT_TRUE(anotherPassFits(9.9, 10.0, 99, 9.9));
+    EXPECT_FALSE(anotherPassFits(10.0, 10.0, 100, 10.0));
 }
 
 TEST(RenderSettings, OverridesOnlyWhereTheMethodHasTheSetting) {
