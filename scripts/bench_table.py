@@ -65,6 +65,18 @@ def main():
             other = max(candidates, key=lambda b: b[counter])
             print(f"| {what} | {suffix} | {mine[counter]:.3g} | {other[counter]:.3g} | "
                   f"{mine[counter] / other[counter]:.2f}x |")
+    # The photon pass against its bound: the traversal kernel's rays per CPU-second over the mean
+    # rays a photon path traces (both in this run): 1.0 would be a pass that only traverses.
+    for name in sorted(rows):
+        if not name.startswith("Device/"):
+            continue
+        scene = name[len("Device/"):]
+        mine, kernel = rows[name], rows.get("KernelClosest/" + scene)
+        if not kernel or not mine.get("rays_per_path") or not mine.get("paths_per_s"):
+            continue
+        bound = kernel["rays_per_s"] / mine["rays_per_path"]
+        print(f"| photon pass vs the traversal bound (kernel rays/CPU-s ÷ {mine['rays_per_path']:.2f} rays per path), "
+              f"paths/CPU-s | {scene} | {mine['paths_per_s']:.3g} | {bound:.3g} | {mine['paths_per_s'] / bound:.2f}x |")
     build = rows.get("Build/mesh1M")
     if build:
         print(f"\nBVH of the 1M-triangle mesh: build {build['build_s']:.2f} s, SAH cost {build['sah']:.1f}, "

@@ -7,7 +7,9 @@
 // host's waiting, so there read the wall-clock counter paths_per_wall_s instead.
 //
 //   photon_pass_bench --benchmark_filter=Device     the device pass only
-//   counters: paths_per_s, paths_per_wall_s, records, emit_s / trace_s / deposit_s (device time per run)
+//   counters: paths_per_s, paths_per_wall_s, records, rays_per_path (BVH rays a path traced, on
+//   average: scripts/bench_table.py sets paths/s against the traversal kernel's rays/s over it),
+//   emit_s / trace_s / deposit_s (device time per run)
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -65,7 +67,7 @@ void BM_Device(benchmark::State& state, std::string name) {
     o.seed = kSeed;
     runPhotonPass(device(), l.geometry, l.buffers, o);  // programs built and cached before timing
     double cpu = 0, wall = 0, emitS = 0, traceS = 0, depositS = 0;
-    size_t paths = 0, records = 0;
+    size_t paths = 0, records = 0, rays = 0;
     for (auto _ : state) {
         double c0 = cpuSeconds();
         auto w0 = std::chrono::steady_clock::now();
@@ -73,6 +75,7 @@ void BM_Device(benchmark::State& state, std::string name) {
         wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
         cpu += cpuSeconds() - c0;
         paths += maps.stats.global.emitted + maps.stats.caustic.emitted;
+        rays += maps.stats.global.bounces + maps.stats.caustic.bounces;  // a path ending at bounce b traced b rays
         records = maps.global.size() + maps.caustic.size();
         emitS = maps.stats.emitSeconds;
         traceS = maps.stats.traceSeconds;
@@ -81,6 +84,7 @@ void BM_Device(benchmark::State& state, std::string name) {
     state.counters["paths_per_s"] = paths / cpu;
     state.counters["paths_per_wall_s"] = paths / wall;
     state.counters["records"] = double(records);
+    state.counters["rays_per_path"] = paths ? double(rays) / double(paths) : 0.0;
     state.counters["emit_s"] = emitS;
     state.counters["trace_s"] = traceS;
     state.counters["deposit_s"] = depositS;
