@@ -94,14 +94,10 @@ BatchPlanEstimate estimateBatch(const BatchScene& bs, const DeviceInfo& info, De
     const BatchJob& job = bs.job;
     if (s.method == RenderMethod::PathTracing) return estimatePathTracer(bs, calibrate, threads);
     const RenderMaps maps = mapsFor(s.method, bs.plan);
-    const bool fg = s.method == RenderMethod::FinalGather;
     const size_t pixels = size_t(job.width) * job.height;
     const size_t passSamples = pixels * s.strata * s.strata;
 
-    // The renderer's chunk (photon_renderer.cpp): per-sample gather buffers within a quarter of
-    // the max allocation, 256 .. 2^18 samples.
-    const size_t perSample = 32u * (fg ? s.gatherRays : 1u);
-    e.eyeChunk = std::min(std::clamp<size_t>(info.maxAlloc / 4 / perSample, 256, size_t(1) << 18), passSamples);
+    e.eyeChunk = eyeChunkSamples(s, info.maxAlloc, passSamples);  // the renderer's chunk
     e.deviceEyeBytes = uint64_t(e.eyeChunk) * eyeBytesPerSample(s);
 
     PhotonPassOptions pass;

@@ -115,12 +115,7 @@ public:
           maxRadius_(s.maxRadius > 0 ? s.maxRadius : 0.05f * length(geometry.bounds().extent())),
           area_(sceneSurfaceArea(scene)), dscene_(device, geometry, buffers),
           table_(buildAreaLightTable(buffers, geometry.primitiveCount())), lights_(device, table_) {
-        // Chunks of eye samples: the gather's per-ray buffers (32 bytes each, N per sample) and
-        // the estimate's results within a quarter of the max allocation, at most 2^18 samples.
-        const size_t perSample = 32u * (s.method == RenderMethod::FinalGather ? s.gatherRays : 1u);
-        chunk_ = s.chunkSamples ? s.chunkSamples
-                                : std::clamp<size_t>(device.info().maxAlloc / 4 / perSample, 256, size_t(1) << 18);
-        chunk_ = std::min(chunk_, passSamples_);
+        chunk_ = eyeChunkSamples(s, device.info().maxAlloc, passSamples_);
         rays_ = device.allocate<PclRay>(chunk_, CL_MEM_READ_WRITE, "render: camera rays");
         hits_ = device.allocate<PclEyeHit>(chunk_, CL_MEM_READ_WRITE, "render: eye hits");
         directRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: direct radiance");

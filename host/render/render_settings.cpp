@@ -255,4 +255,10 @@ uint64_t settingsHash(const std::string& text) {
     return h.h;
 }
 
+size_t eyeChunkSamples(const PhotonRenderSettings& s, size_t maxAlloc, size_t passSamples) {
+    if (s.chunkSamples) return std::min(s.chunkSamples, passSamples);
+    const size_t rays = s.method == RenderMethod::FinalGather ? std::max<size_t>(s.gatherRays, 1) : 1u;
+    return std::min(std::clamp<size_t>(maxAlloc / 4 / (32u * rays), 256, size_t(1) << 18), passSamples);
+}
+
 }  // namespace pcl
