@@ -54,7 +54,9 @@ uint32_t selfHits(const SceneGeometry& g, float eps, uint32_t prim, Vec3 p, Vec3
 }  // namespace
 
 // A floor (ρ 0.5) lit by a directional light 89° from its normal and seen 85° from its normal:
-// final gathering reads ρ/π E cos 89° within 5 %, every pixel finite.
+// final gathering reads ρ/π E cos 89° within 0.1 %, every pixel finite. (Only direct light
+// reaches the eye: shadow rays toward a directional light give the answer to about 1e-5; a
+// cosine taken 0.1° off at 89° is 10 % off.)
 TEST(Grazing, LightAndViewAtGrazingAngles) {
     Scene s;
     const int m = test::addMaterial(s, Vec3(0.5f));
@@ -83,9 +85,9 @@ TEST(Grazing, LightAndViewAtGrazingAngles) {
     Image img = r.film.resolve();
     expectFinite(r, img, "grazing");
     const double expected = 0.5 / M_PI * std::cos(th), mean = accuracy::meanValue(img);
-    std::printf("[figure] grazing: light 89 deg, view 85 deg: mean %.6f expected %.6f (%+.2f%%, tolerance 5%%)\n", mean,
-                expected, 100.0 * (mean / expected - 1.0));
-    EXPECT_NEAR(mean / expected, 1.0, 0.05);
+    std::printf("[figure] grazing: light 89 deg, view 85 deg: mean %.7f expected %.7f (%+.4f%%, tolerance 0.1%%)\n",
+                mean, expected, 100.0 * (mean / expected - 1.0));
+    EXPECT_NEAR(mean / expected, 1.0, 1e-3);
 }
 
 // A point light inside a glass cube (ior 1.5) above a floor. Directions within 48.2° of none of

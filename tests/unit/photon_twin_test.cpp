@@ -154,6 +154,19 @@ struct PathFlux {
     std::vector<double> firstHit, allHits;  // per path
 };
 
+// Fresnel reflectance in double from the angles by Born & Wolf's sine and tangent laws, a form
+// independent of the cosine form the kernels and the twin both compute; 1 beyond the critical
+// angle, ((η_i − η_t)/(η_i + η_t))² at normal incidence (where the tangent law is 0/0).
+double fresnelFromAngles(double thetaI, double etaI, double etaT) {
+    const double s = etaI / etaT * std::sin(thetaI);
+    if (s >= 1.0) return 1.0;
+    if (thetaI == 0.0) return std::pow((etaI - etaT) / (etaI + etaT), 2);
+    const double thetaT = std::asin(s);
+    const double rs = std::sin(thetaI - thetaT) / std::sin(thetaI + thetaT);
+    const double rp = std::tan(thetaI - thetaT) / std::tan(thetaI + thetaT);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
 double mean(const std::vector<double>& x) { return std::accumulate(x.begin(), x.end(), 0.0) / x.size(); }
 // Standard error of the sum Σ x_p over N photons: √(N var(x)).
 double sumStandardError(const std::vector<double>& x) {
@@ -762,6 +775,30 @@ TEST(PhotonTwinBounce, MirrorReflectsExactly) {
     EXPECT_EQ(scatterPhotonReference(m, d, n, Vec3(1.0f), u).kind, ReferenceScatter::Absorbed);
 }
 
+// The twin's and the shared (kernel) Fresnel reflectance against the angle form in double, every
+// degree entering and leaving glass and water, total internal reflection included: within float
+// rounding (2e-6), so a swapped η, a sign in r_p or a wrong critical angle fails.
+TEST(PhotonTwinBounce, FresnelMatchesTheAngleFormInDouble) {
+    int total = 0;
+    for (const double ior : {1.5, 1.333}) {
+        for (int deg = 0; deg < 90; ++deg) {
+            const double th = deg * kPiD / 180.0;
+            const float cosI = float(std::cos(th));
+            for (const bool entering : {true, false}) {
+                const double etaI = entering ? 1.0 : ior, etaT = entering ? ior : 1.0;
+                const double expected = fresnelFromAngles(th, etaI, etaT);
+                total += expected >= 1.0;
+                EXPECT_NEAR(fresnelDielectric(cosI, float(etaI), float(etaT)), expected, 2e-6)
+                    << "twin, " << deg << " deg, eta " << etaI << " -> " << etaT;
+                EXPECT_NEAR(sampling_fresnel_dielectric(cosI, float(etaI / etaT)), expected, 2e-6)
+                    << "shared, " << deg << " deg, eta " << etaI << " -> " << etaT;
+            }
+        }
+    }
+    // Beyond the critical angle leaving glass (41.8 deg) and water (48.6 deg): 48 + 41 degrees.
+    EXPECT_EQ(total, 48 + 41);
+}
+
 // Reflection frequency against exact Fresnel, entering and leaving glass, and under total
 // internal reflection (every photon reflects); refracted directions obey Snell's law.
 TEST(PhotonTwinBounce, DielectricSplitsByFresnel) {
@@ -776,7 +813,7 @@ TEST(PhotonTwinBounce, DielectricSplitsByFresnel) {
     for (Case c : {Case{10, true}, Case{60, true}, Case{85, true}, Case{30, false}, Case{50, false}}) {
         const float th = c.thetaDeg * kPi / 180.0f;
         const Vec3 d = c.entering ? Vec3(std::sin(th), 0.0f, -std::cos(th)) : Vec3(std::sin(th), 0.0f, std::cos(th));
-        double F = c.entering ? fresnelDielectric(std::cos(th), 1.0f, ior) : fresnelDielectric(std::cos(th), ior, 1.0f);
+        const double F = c.entering ? fresnelFromAngles(th, 1.0, ior) : fresnelFromAngles(th, ior, 1.0);
         const uint32_t N = 100000;
         double reflected = 0;
         for (uint32_t i = 0; i < N; ++i) {
