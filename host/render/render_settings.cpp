@@ -19,6 +19,14 @@ std::string exact(double v) {
     return buf;
 }
 
+}  // namespace
+
+bool fgEyeSamplesAreCheap(const PhotonRenderSettings& s, const RenderPlan& plan) {
+    return !plan.causticMap && s.histogramCells == 0;
+}
+
+namespace {
+
 // The method's defaults (what `render` uses with no options), without the user's values.
 void applyMethodDefaults(PhotonRenderSettings& s, const RenderPlan& plan) {
     s.globalPhotons = plan.globalPhotons ? plan.globalPhotons : 200000;
@@ -29,11 +37,25 @@ void applyMethodDefaults(PhotonRenderSettings& s, const RenderPlan& plan) {
     const bool distributed = plan.lensSampling || plan.timeSampling || plan.glossySampling;
     switch (s.method) {
         case RenderMethod::FinalGather:
-            // Gather rays carry the noise of the indirect part; strata × passes antialias and
-            // add fresh photons. Lens, shutter and glossy lobes are sampled by the eye samples:
-            // scenes that need them get 2×2 per pass and a quarter of the gather rays.
-            s.strata = distributed ? 2 : 1;
-            s.gatherRays = distributed ? 16 : 64;
+            if (fgEyeSamplesAreCheap(s, plan)) {
+                // Many eye samples, few gather rays and shadow rays each: at equal time the error
+                // sat in the pixels eye samples decide (lamp edges, corners, shadows: one sample
+                // per pass left them aliased), while 2 gather rays per sample, 72 per pixel and
+                // pass, keep the indirect noise of 64. Measured at 256² against path tracing
+                // (README, "Equal time at 256²"; scripts/equal_time.py): cornell-box at 10, 30 and
+                // 60 s, RMSE 1.5-1.6x and relMSE 2.5-4x below the path tracer's, where 1 x 64
+                // gather rays lost by RMSE 3.5-4.4x.
+                s.strata = 6;
+                s.gatherRays = 2;
+                s.lightSamples = 2;
+            } else {
+                // A k-nearest search per eye sample (the caustic map's estimate, the gather
+                // importance histograms) makes eye samples dear: few of them, many gather rays.
+                // Lens, shutter and glossy lobes are sampled by the eye samples: scenes that need
+                // them get 2×2 per pass and a quarter of the gather rays.
+                s.strata = distributed ? 2 : 1;
+                s.gatherRays = distributed ? 16 : 64;
+            }
             break;
         case RenderMethod::DirectVisualisation:
             s.gatherRays = 1;
@@ -172,15 +194,22 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
              ? "10 passes of a 256x256 image (about 40 s on 2 CPU cores), scaled by pixel count, 1 to 64"
          : s.method == RenderMethod::Progressive ? "the radius shrinks by (i+α)/(i+1) per pass; 32 passes ≈ r0 × 0.56"
                                                  : "a quick preview");
+    const bool fg = s.method == RenderMethod::FinalGather, cheapEye = fg && fgEyeSamplesAreCheap(s, plan);
     note("eye samples per pixel per pass " + std::to_string(s.strata * s.strata), q.strata,
-         distributed ? "2x2: the plan samples a lens, a shutter or glossy lobes, which need eye samples"
-                     : "one stratified sample; passes add more");
-    if (s.method == RenderMethod::FinalGather)
+         cheapEye      ? "6x6: an eye sample costs only its rays here (no caustic map, no gather importance), and at "
+                         "equal time the error sits where eye samples decide (edges, shadows, the lamp)"
+         : distributed ? "2x2: the plan samples a lens, a shutter or glossy lobes, which need eye samples"
+         : fg          ? "one: a k-nearest search per eye sample (caustic map or gather importance) makes them dear"
+         : s.method == RenderMethod::DirectVisualisation ? "2x2: antialiasing for the preview"
+                                                         : "one stratified sample; passes add more");
+    if (fg)
         note("gather rays " + std::to_string(s.gatherRays), q.gatherRays,
-             distributed ? "16 per eye sample, 4 eye samples per pass: the 64 per pixel and pass of a "
-                           "scene without them; the indirect noise falls as "
-                           "1/sqrt(passes × samples × gather rays)"
-                         : "64: the indirect part's noise falls as 1/sqrt(passes × gather rays)");
+             cheapEye      ? "2 per eye sample, 72 per pixel and pass: the indirect noise falls as "
+                             "1/sqrt(passes × samples × gather rays)"
+             : distributed ? "16 per eye sample, 4 eye samples per pass: the 64 per pixel and pass of a "
+                             "scene without them; the indirect noise falls as "
+                             "1/sqrt(passes × samples × gather rays)"
+                           : "64: the indirect part's noise falls as 1/sqrt(passes × gather rays)");
     // A map the method does not build (mapsFor) emits nothing.
     const RenderMaps built = mapsFor(s.method, plan);
     note("global photons per pass " + std::to_string(built.global ? s.globalPhotons : 0u), q.globalPhotons,
@@ -192,8 +221,10 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
              ? "the plan's: the scene has caustics"
              : (plan.causticMap ? "the preview reads caustics from the global map" : "no caustic map needed"));
     note("light samples " + std::to_string(s.lightSamples), q.lightSamples,
-         "16 shadow rays per diffuse hit: with N gather rays and M light samples the power heuristic gives the gather "
-         "rays a share growing with N/M, and gather rays find a small lamp rarely");
+         cheapEye ? "2 shadow rays per eye sample, 72 per pixel and pass, as many as gather rays (MIS between them by "
+                    "the power heuristic)"
+                  : "16 shadow rays per diffuse hit: with N gather rays and M light samples the power heuristic gives "
+                    "the gather rays a share growing with N/M, and gather rays find a small lamp rarely");
     note("k " + std::to_string(s.globalK) + " (caustic " + std::to_string(s.causticK) + ")", q.k || q.causticK,
          "Jensen's 50 photons per estimate");
     return r;

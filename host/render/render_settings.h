@@ -135,6 +135,11 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& request, const Rende
 // direct 4, progressive 32.
 uint32_t defaultPasses(RenderMethod method, int width, int height);
 
+// fg: whether an eye sample costs only its rays (camera, shadow and gather rays, lookups), so
+// the defaults take many eye samples of few gather rays each: no caustic map (a k-nearest
+// estimate per diffuse eye hit) and no gather importance histograms (one per eye hit).
+bool fgEyeSamplesAreCheap(const PhotonRenderSettings& s, const RenderPlan& plan);
+
 // Eye samples per chunk of the photon renderer's eye pass (the batch plan predicts the same):
 // the per-sample gather buffers (32 bytes per gather ray) within a quarter of the max
 // allocation, 256 .. 2^18 samples, at most a pass. (Chunks of 2^21 samples for 2 gather rays,

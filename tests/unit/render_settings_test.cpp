@@ -41,34 +41,49 @@ const SettingChoice* choice(const ResolvedSettings& r, const std::string& prefix
 }  // namespace
 
 TEST(RenderSettings, DefaultsPerMethodFollowThePlan) {
-    const RenderPlan box = planOf("cornell-box.json"), dof = planOf("motion-dof.json");
-    ASSERT_FALSE(box.lensSampling || box.timeSampling || box.glossySampling);
+    const RenderPlan box = planOf("cornell-box.json"), dof = planOf("motion-dof.json"),
+                     spheres = planOf("cornell-spheres.json");
+    ASSERT_FALSE(box.lensSampling || box.timeSampling || box.glossySampling || box.causticMap);
     ASSERT_TRUE(dof.lensSampling || dof.timeSampling);
+    ASSERT_TRUE(spheres.causticMap);
+    // No k-nearest search per eye sample: 6x6 eye samples of 2 gather rays and 2 shadow rays.
     const PhotonRenderSettings fg = resolve("fg", box).settings;
     EXPECT_EQ(fg.method, RenderMethod::FinalGather);
-    EXPECT_EQ(fg.strata, 1u);
-    EXPECT_EQ(fg.gatherRays, 64u);
-    EXPECT_EQ(fg.lightSamples, 16u);
+    EXPECT_EQ(fg.strata, 6u);
+    EXPECT_EQ(fg.gatherRays, 2u);
+    EXPECT_EQ(fg.lightSamples, 2u);
+    EXPECT_TRUE(fgEyeSamplesAreCheap(fg, box));
+    // A caustic map (a k-nearest estimate per eye hit) or gather importance: few eye samples.
+    const PhotonRenderSettings fgCaustic = resolve("fg", spheres).settings;
+    EXPECT_EQ(fgCaustic.strata, 1u);
+    EXPECT_EQ(fgCaustic.gatherRays, 64u);
+    EXPECT_EQ(fgCaustic.lightSamples, 16u);
+    const PhotonRenderSettings fgImportance =
+        resolve("fg", box, [](RenderRequest& q) { q.gatherImportance = 4; }).settings;
+    EXPECT_EQ(fgImportance.strata, 1u);
+    EXPECT_EQ(fgImportance.gatherRays, 64u);
     EXPECT_EQ(fg.globalK, 50u);
     EXPECT_EQ(fg.causticK, 50u);
     EXPECT_EQ(fg.globalPhotons, box.globalPhotons);
     EXPECT_EQ(fg.passes, defaultPasses(RenderMethod::FinalGather, 256, 256));
     EXPECT_EQ(fg.passes, 10u);
-    // A lens or a shutter: 2x2 eye samples and a quarter of the gather rays.
+    // A lens or a shutter without caustics: the same many eye samples.
     const PhotonRenderSettings fgDof = resolve("fg", dof).settings;
-    EXPECT_EQ(fgDof.strata, 2u);
-    EXPECT_EQ(fgDof.gatherRays, 16u);
+    EXPECT_EQ(fgDof.strata, dof.causticMap ? 2u : 6u);
+    EXPECT_EQ(fgDof.gatherRays, dof.causticMap ? 16u : 2u);
     const PhotonRenderSettings direct = resolve("direct", box).settings;
     EXPECT_EQ(direct.strata, 2u);
     EXPECT_EQ(direct.passes, 4u);
     const PhotonRenderSettings progressive = resolve("progressive", box).settings;
     EXPECT_EQ(progressive.strata, 1u);
     EXPECT_EQ(progressive.passes, 32u);
-    // The struct's own defaults are the render's (one value of each, not two).
+    // The struct's own defaults are the render's where the render does not choose per scene (k),
+    // and the few-eye-samples choice otherwise (what the engine's callers and tests build on).
     const PhotonRenderSettings plain;
-    EXPECT_EQ(plain.lightSamples, fg.lightSamples);
+    EXPECT_EQ(plain.lightSamples, fgCaustic.lightSamples);
     EXPECT_EQ(plain.globalK, fg.globalK);
-    EXPECT_EQ(plain.gatherRays, fg.gatherRays);
+    EXPECT_EQ(plain.gatherRays, fgCaustic.gatherRays);
+    EXPECT_EQ(plain.strata, fgCaustic.strata);
 }
 
 TEST(RenderSettings, EveryDefaultSaysWhyAndEveryGivenValueSaysGiven) {
@@ -92,7 +107,7 @@ TEST(RenderSettings, EveryDefaultSaysWhyAndEveryGivenValueSaysGiven) {
     EXPECT_TRUE(choice(g, "passes")->given);
     EXPECT_FALSE(choice(g, "light samples")->given);
     EXPECT_NE(g.log().find("gather rays 8  (given)"), std::string::npos) << g.log();
-    EXPECT_NE(g.log().find("light samples 16  (default: "), std::string::npos) << g.log();
+    EXPECT_NE(g.log().find("light samples 2  (default: "), std::string::npos) << g.log();
     // A time budget leaves the pass count open.
     const PhotonRenderSettings timed = resolve("fg", box, [](RenderRequest& q) { q.seconds = 5; }).settings;
     EXPECT_EQ(timed.passes, 0u);
