@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""Equal-time comparison: `photoncl render --time T` with several contenders (methods or
+settings) against one converged reference, interleaved, at the size users render.
+
+Every (budget, contender) pair is one render of T seconds of wall time; the contenders of a
+budget run one after the other in an order that rotates with the repeat, so a change in the
+machine's load falls on all of them alike. Each image is compared with the reference by
+`photoncl compare` (RMSE, relMSE with eps = 0.01, mean ratio). With --reference-halves A B the
+reference's own MSE (MSE(A, B) / 4 for the average of two independent halves) is measured and
+written beside the rows: errors near it are the reference's noise, not the contender's.
+
+Usage:
+  scripts/equal_time.py SCENE --reference REF.exr [--width 256] [--budgets 10 30]
+      [--contender NAME='--method path' ...] [--repeats 1] [--seed 1] [-o equal-time.csv]
+Without --contender: path, fg (defaults) and fg with 4x4 eye samples of 4 gather rays.
+"""
+import argparse
+import csv
+import os
+import re
+import shlex
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+DEFAULT_CONTENDERS = [
+    ("path", "--method path"),
+    ("fg", "--method fg"),
+    ("fg-4x4x4", "--method fg --strata 4 --gather-rays 4"),
+]
+
+
+def compare(photoncl, image, reference):
+    out = subprocess.run([photoncl, "compare", image, reference], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                         text=True)
+    m = re.search(r"RMSE (\S+)\s+relMSE (\S+)\s+mean ratio (\S+)\s+max diff (\S+)", out.stdout)
+    if out.returncode not in (0, 1) or not m:
+        sys.exit("compare failed (%d): %s" % (out.returncode, out.stdout))
+    return [float(x) for x in m.groups()]
+
+
+def samples_of(log):
+    m = re.search(r"(\d+) passes × (\d+) samples/pixel", log)
+    if m:
+        return int(m.group(1)), int(m.group(1)) * int(m.group(2))
+    m = re.search(r"(\d+) samples/pixel", log)
+    return (int(m.group(1)), int(m.group(1))) if m else (0, 0)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("scene")
+    ap.add_argument("--reference", required=True)
+    ap.add_argument("--reference-halves", nargs=2, metavar=("A", "B"))
+    ap.add_argument("--photoncl", default=os.path.join(ROOT, "build", "photoncl"))
+    ap.add_argument("--width", type=int, default=256)
+    ap.add_argument("--budgets", type=float, nargs="+", default=[10.0, 30.0])
+    ap.add_argument("--contender", action="append", default=[], help="NAME='render options'")
+    ap.add_argument("--repeats", type=int, default=1)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("-o", "--output", default="equal-time.csv")
+    args = ap.parse_args()
+
+    contenders = DEFAULT_CONTENDERS
+    if args.contender:
+        contenders = []
+        for c in args.contender:
+            name, sep, opts = c.partition("=")
+            if not sep or not name:
+                sys.exit("--contender %r: expected NAME='render options'" % c)
+            contenders.append((name, opts))
+    refMse = ""
+    if args.reference_halves:
+        rmse = compare(args.photoncl, args.reference_halves[0], args.reference_halves[1])[0]
+        refMse = "%.6g" % (rmse * rmse / 4.0)
+        print("reference's own MSE (halves): %s" % refMse, file=sys.stderr)
+
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for rep in range(args.repeats):
+            for budget in args.budgets:
+                k = int(rep + budget) % len(contenders)
+                for name, opts in contenders[k:] + contenders[:k]:
+                    image = os.path.join(tmp, "%s.exr" % name)
+                    cmd = [args.photoncl, "render", args.scene, "--width", str(args.width), "--time", str(budget),
+                           "--seed", str(args.seed + rep), "--no-png", "-o", image] + shlex.split(opts)
+                    t0 = time.monotonic()
+                    run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                    wall = time.monotonic() - t0
+                    if run.returncode != 0:
+                        sys.exit("render failed (%d): %s\n%s" % (run.returncode, " ".join(cmd), run.stdout[-2000:]))
+                    passes, spp = samples_of(run.stdout)
+                    rmse, relmse, ratio, maxdiff = compare(args.photoncl, image, args.reference)
+                    row = {"scene": os.path.basename(args.scene), "contender": name, "options": opts,
+                           "budget_s": budget, "wall_s": round(wall, 2), "passes": passes, "samples_per_pixel": spp,
+                           "rmse": rmse, "relmse": relmse, "mean_ratio": ratio, "max_diff": maxdiff,
+                           "reference_mse": refMse, "repeat": rep}
+                    rows.append(row)
+                    print("%-14s %5.0f s  wall %6.1f s  spp %5d  RMSE %.5f  relMSE %.6f  mean %.4f" %
+                          (name, budget, wall, spp, rmse, relmse, ratio), file=sys.stderr)
+    tmpOut = args.output + ".tmp"
+    with open(tmpOut, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    os.replace(tmpOut, args.output)
+
+
+if __name__ == "__main__":
+    main()
