@@ -139,6 +139,9 @@ uint32_t defaultPasses(RenderMethod method, int width, int height);
 // the defaults take many eye samples of few gather rays each: no caustic map (a k-nearest
 // estimate per diffuse eye hit) and no gather importance histograms (one per eye hit).
 bool fgEyeSamplesAreCheap(const PhotonRenderSettings& s, const RenderPlan& plan);
+// fg: whether every eye sample pays a k-nearest caustic estimate (a caustic map, no gather
+// importance): the defaults then take fewer eye samples and fewer photons per caustic estimate.
+bool fgEyeSamplesReadCaustics(const PhotonRenderSettings& s, const RenderPlan& plan);
 
 // Eye samples per chunk of the photon renderer's eye pass (the batch plan predicts the same):
 // the per-sample gather buffers (32 bytes per gather ray) within a quarter of the max
