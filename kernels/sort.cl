@@ -98,12 +98,28 @@ void sort_scan(__global uint* values, uint m) {
 __kernel __attribute__((reqd_work_group_size(PCL_SORT_GROUP, 1, 1)))
 void sort_scatter(__global const sort_key* keysIn, __global const uint* valuesIn, uint n, uint shift, uint mask,
                   __global const uint* offsets, __global sort_key* keysOut, __global uint* valuesOut) {
+    const uint t = (uint)get_group_id(0);
+    const uint tiles = (uint)get_num_groups(0);
+#if PCL_SORT_GROUP == 1
+    /* One work-item per tile: its keys of digit d go to offsets[d * tiles + t] onwards, in order;
+     * no recount. */
+    __local uint base[PCL_SORT_RADIX];
+    for (uint d = 0u; d < PCL_SORT_RADIX; ++d) base[d] = offsets[d * tiles + t];
+    const uint begin = t * (uint)PCL_SORT_TILE;
+    const uint end = min(begin + (uint)PCL_SORT_TILE, n);
+    for (uint i = begin; i < end; ++i) {
+        const sort_key k = keysIn[i];
+        const uint d = (uint)((k >> shift) & mask);
+        const uint dst = base[d];
+        base[d] = dst + 1u;
+        keysOut[dst] = k;
+        valuesOut[dst] = valuesIn[i];
+    }
+#else
     __local uint counts[PCL_SORT_RADIX * PCL_SORT_GROUP];
     __local uint buf[2][PCL_SORT_GROUP];
     __local uint base[PCL_SORT_RADIX];
     const uint l = (uint)get_local_id(0);
-    const uint t = (uint)get_group_id(0);
-    const uint tiles = (uint)get_num_groups(0);
     sort_count_items(keysIn, n, shift, mask, counts, l, t);
     barrier(CLK_LOCAL_MEM_FENCE);
 
@@ -133,6 +149,7 @@ void sort_scatter(__global const sort_key* keysIn, __global const uint* valuesIn
         keysOut[dst] = k;
         valuesOut[dst] = valuesIn[i];
     }
+#endif
 }
 
 /* Order-preserving float → uint key (kernels/README.md, sort): sign clear → b ^ 0x80000000,

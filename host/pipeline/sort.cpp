@@ -12,14 +12,15 @@ namespace pcl {
 namespace {
 
 // The pass shape (kernels/sort.cl): radix bits per pass, work-items per tile, keys per work-item.
-// CPUs (PoCL: one work-item is one scalar lane, a work-group one core's loop): 8-bit digits, few
-// work-items with long runs, so the per-tile work (zeroing and scanning 256 x group counters)
-// is small beside the 8192 keys of a tile — measured with sort_bench on PoCL, 1M-10M keys:
-// (8, 16, 512) ~1.5-2x (8, 32, 128) and ~3x (4, 256, 16). GPUs: 4-bit digits over 256
+// CPUs (PoCL: one work-item is one scalar lane, a work-group one core's loop): 8-bit digits and
+// one work-item per tile of 16384 keys, so the scatter needs no recount and no scan of
+// per-work-item counters (kernels/sort.cl, sort_scatter) — measured with sort_bench on PoCL,
+// 1M-10M keys: ~2-3x the earlier (8, 16, 512); 9-11-bit digits (fewer passes) scatter to too
+// many places at once and lose more than the passes they save. GPUs: 4-bit digits over 256
 // work-items (16 KiB of counters, fits any GPU's local memory).
 struct SortShape {
     int radixBits = 8;
-    size_t group = 16, items = 512;
+    size_t group = 1, items = 16384;
 };
 
 SortShape sortShape(cl_device_type type) {
@@ -28,7 +29,7 @@ SortShape sortShape(cl_device_type type) {
     if (const char* e = std::getenv("PHOTONCL_SORT_SHAPE")) {  // tests and tuning: "bits,group,items"
         int b = 0;
         unsigned long g = 0, i = 0;
-        if (std::sscanf(e, "%d,%lu,%lu", &b, &g, &i) == 3 && b >= 1 && b <= 8 && g >= 1 && i >= 1) {
+        if (std::sscanf(e, "%d,%lu,%lu", &b, &g, &i) == 3 && b >= 1 && b <= 12 && g >= 1 && i >= 1) {
             s.radixBits = b;
             s.group = g;
             s.items = i;
@@ -94,10 +95,15 @@ void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, siz
     cl::Buffer* kout = &ws.keys;
     cl::Buffer* vout = &ws.values;
     std::vector<cl::Event> events;
+    // The fewest passes of at most kRadixBits bits, the bits spread evenly over them (64 bits in
+    // 6 passes of 11 bits: 11, 11, 11, 11, 10, 10).
     const int passes = (sortBits + kRadixBits - 1) / kRadixBits;
+    int shiftBits = 0;
     for (int p = 0; p < passes; ++p) {
-        const cl_uint shift = cl_uint(p * kRadixBits);
-        const cl_uint mask = (1u << std::min(kRadixBits, sortBits - p * kRadixBits)) - 1u;
+        const int digitBits = sortBits / passes + (p < sortBits % passes ? 1 : 0);
+        const cl_uint shift = cl_uint(shiftBits);
+        const cl_uint mask = (1u << digitBits) - 1u;
+        shiftBits += digitBits;
         events.push_back(device.launchLocal("sort", histogram, global, group, *kin, cl_uint(n), shift, mask, ws.hist));
         events.push_back(device.launchLocal("sort", scan, cl::NDRange(kSortGroup), group, ws.hist, cl_uint(histSize)));
         events.push_back(device.launchLocal("sort", scatter, global, group, *kin, *vin, cl_uint(n), shift, mask,

@@ -1,7 +1,7 @@
 // sort_histogram / sort_scan / sort_scatter (kernels/sort.cl): the device radix sort equals
 // std::stable_sort (host/reference/sort) bit for bit — keys and the values that travel with
 // them, so stability is checked too — on random, sorted, reversed, all-equal and few-distinct
-// keys of 32 and 64 bits, at sizes around the tile (4096) and work-group (256) edges up to 1M,
+// keys of 32 and 64 bits, at sizes around the tile edges (CPU 16384, GPU 4096) and 256 up to 1M,
 // and once at 10M; sortBits ignores the bits above it; the float → key flip orders floats.
 #include <gtest/gtest.h>
 
@@ -84,7 +84,7 @@ void expectSortMatches(size_t n, Pattern p, uint32_t seed, int sortBits = 8 * si
 
 const Pattern kPatterns[] = {Pattern::Random, Pattern::Sorted, Pattern::Reversed, Pattern::AllEqual,
                              Pattern::FewDistinct};
-const size_t kSizes[] = {1, 2, 3, 255, 256, 257, 1000, 4095, 4096, 4097, 65537, 1000000};
+const size_t kSizes[] = {1, 2, 3, 255, 256, 257, 1000, 4095, 4096, 4097, 16383, 16384, 16385, 65537, 1000000};
 
 TEST(Sort, Keys32MatchStdStableSort) {
     uint32_t seed = 1;
@@ -107,10 +107,11 @@ TEST(Sort, SortBitsIgnoresHigherBits) {
 }
 
 // The pass shape (digit bits, work-items and keys per work-item; pipeline/sort.cpp picks one per
-// device type) changes nothing in the result: the GPU's shape and an odd one, run here on the
-// CPU device through PHOTONCL_SORT_SHAPE.
+// device type) changes nothing in the result: the GPU's shape, the earlier CPU one, an odd one and
+// wide digits over many one-work-item tiles, run here on the CPU device through
+// PHOTONCL_SORT_SHAPE.
 TEST(Sort, OtherPassShapesGiveTheSameOrder) {
-    for (const char* shape : {"4,256,16", "3,5,7"}) {
+    for (const char* shape : {"4,256,16", "3,5,7", "8,16,512", "11,1,100"}) {
         SCOPED_TRACE(shape);
         ::setenv("PHOTONCL_SORT_SHAPE", shape, 1);
         uint32_t seed = 500;
