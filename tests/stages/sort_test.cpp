@@ -111,7 +111,7 @@ TEST(Sort, SortBitsIgnoresHigherBits) {
 // wide digits over many one-work-item tiles, run here on the CPU device through
 // PHOTONCL_SORT_SHAPE.
 TEST(Sort, OtherPassShapesGiveTheSameOrder) {
-    for (const char* shape : {"4,256,16", "3,5,7", "8,16,512", "11,1,100"}) {
+    for (const char* shape : {"4,256,16", "3,5,7", "8,16,512", "11,1,100", "8,1,16384", "3,5,7,2", "12,1,64,1000"}) {
         SCOPED_TRACE(shape);
         ::setenv("PHOTONCL_SORT_SHAPE", shape, 1);
         uint32_t seed = 500;
