@@ -159,18 +159,15 @@ void sort_scatter(__global const sort_key* keysIn, __global const uint* valuesIn
  * pairs of top digit b, offsets[b * tiles] .. offsets[(b + 1) * tiles] (or n) — by the low
  * lowBits bits, alone, in lowPasses stable LSD passes (digits split evenly over the passes, the
  * first ones one bit wider), ping-ponging within the bucket's range between the B and A buffers;
- * a bucket is small enough to stay in cache. One read of the bucket counts the digits of every
- * pass; a pass whose digit is the same for the whole bucket is skipped; the bucket ends in A
- * (copied there if the passes left it in B). Positions are integer counts of the input alone:
- * stable and deterministic. */
-#ifndef PCL_SORT_MAX_PASSES
-#define PCL_SORT_MAX_PASSES 8
-#endif
+ * a bucket is small enough to stay in cache. One work-item sees the whole bucket, so a digit's
+ * counts do not depend on the order: one read counts pass 0's digits, and each pass counts the
+ * next pass's digits while it moves the pairs. A pass whose digit is the same for the whole
+ * bucket is skipped (only counted); the bucket ends in A (copied there if the passes left it in
+ * B). Positions are integer counts of the input alone: stable and deterministic. */
 __kernel __attribute__((reqd_work_group_size(1, 1, 1)))
 void sort_buckets(__global sort_key* keysA, __global uint* valuesA, __global sort_key* keysB, __global uint* valuesB,
                   __global const uint* offsets, uint tiles, uint n, uint lowBits, uint lowPasses) {
-    __local uint counts[PCL_SORT_MAX_PASSES * PCL_SORT_RADIX];
-    uint shifts[PCL_SORT_MAX_PASSES], masks[PCL_SORT_MAX_PASSES];
+    __local uint counts[2 * PCL_SORT_RADIX];
     const uint b = (uint)get_group_id(0);
     const uint begin = offsets[b * tiles];
     const uint end = b + 1u < (uint)get_num_groups(0) ? offsets[(b + 1u) * tiles] : n;
@@ -181,47 +178,51 @@ void sort_buckets(__global sort_key* keysA, __global uint* valuesA, __global sor
         }
         return;
     }
-    uint shift = 0u;
-    for (uint p = 0u; p < lowPasses; ++p) {
-        const uint bits = lowBits / lowPasses + (p < lowBits % lowPasses ? 1u : 0u);
-        shifts[p] = shift;
-        masks[p] = (1u << bits) - 1u;
-        shift += bits;
-    }
-    for (uint i = 0u; i < lowPasses * PCL_SORT_RADIX; ++i) counts[i] = 0u;
-    for (uint i = begin; i < end; ++i) {
-        const sort_key k = keysB[i];
-        for (uint p = 0u; p < PCL_SORT_MAX_PASSES; ++p) /* a constant bound: unrolled */
-            if (p < lowPasses) counts[p * PCL_SORT_RADIX + (uint)((k >> shifts[p]) & masks[p])] += 1u;
-    }
-    ulong skip = 0ul; /* bit p: pass p's digit is the same for every pair of the bucket */
-    for (uint p = 0u; p < lowPasses; ++p) {
-        uint run = begin;
-        for (uint d = 0u; d < PCL_SORT_RADIX; ++d) {
-            const uint c = counts[p * PCL_SORT_RADIX + d];
-            if (c == end - begin) skip |= 1ul << p;
-            counts[p * PCL_SORT_RADIX + d] = run;
-            run += c;
-        }
-    }
+    __local uint* cur = counts;
+    __local uint* next = counts + PCL_SORT_RADIX;
+    uint shift = 0u, bits = lowBits / lowPasses + (lowBits % lowPasses != 0u ? 1u : 0u);
+    for (uint d = 0u; d < PCL_SORT_RADIX; ++d) cur[d] = 0u;
+    for (uint i = begin; i < end; ++i) cur[(uint)(keysB[i] & ((1u << bits) - 1u))] += 1u;
     bool inB = true;
     for (uint p = 0u; p < lowPasses; ++p) {
-        if (skip & (1ul << p)) continue;
+        /* cur: the counts of pass p's digit; next gets pass p + 1's while pass p moves the pairs */
+        const uint mask = (1u << bits) - 1u;
+        const uint nextShift = shift + bits;
+        const uint nextBits = p + 1u < lowPasses ? lowBits / lowPasses + (p + 1u < lowBits % lowPasses ? 1u : 0u) : 0u;
+        const uint nextMask = (1u << nextBits) - 1u;
+        bool same = false;
+        uint run = begin;
+        for (uint d = 0u; d < PCL_SORT_RADIX; ++d) {
+            const uint c = cur[d];
+            same = same || c == end - begin;
+            cur[d] = run;
+            run += c;
+            next[d] = 0u;
+        }
         __global const sort_key* ks = inB ? keysB : keysA;
         __global const uint* vs = inB ? valuesB : valuesA;
         __global sort_key* kd = inB ? keysA : keysB;
         __global uint* vd = inB ? valuesA : valuesB;
-        __local uint* base = counts + p * PCL_SORT_RADIX;
-        const uint sh = shifts[p], mk = masks[p];
-        for (uint i = begin; i < end; ++i) {
-            const sort_key k = ks[i];
-            const uint d = (uint)((k >> sh) & mk);
-            const uint dst = base[d];
-            base[d] = dst + 1u;
-            kd[dst] = k;
-            vd[dst] = vs[i];
+        if (same) { /* the pass would move nothing */
+            if (nextBits)
+                for (uint i = begin; i < end; ++i) next[(uint)((ks[i] >> nextShift) & nextMask)] += 1u;
+        } else {
+            for (uint i = begin; i < end; ++i) {
+                const sort_key k = ks[i];
+                const uint d = (uint)((k >> shift) & mask);
+                const uint dst = cur[d];
+                cur[d] = dst + 1u;
+                kd[dst] = k;
+                vd[dst] = vs[i];
+                next[(uint)((k >> nextShift) & nextMask)] += 1u;
+            }
+            inB = !inB;
         }
-        inB = !inB;
+        __local uint* t = cur;
+        cur = next;
+        next = t;
+        shift = nextShift;
+        bits = nextBits;
     }
     if (inB)
         for (uint i = begin; i < end; ++i) {
