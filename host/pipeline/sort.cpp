@@ -44,8 +44,7 @@ SortShape sortShape(cl_device_type type) {
 std::string options(int keyBits, const SortShape& s) {
     return std::string(keyBits == 64 ? "-DPCL_SORT_KEY64=1 " : "") +
            "-DPCL_SORT_RADIX_BITS=" + std::to_string(s.radixBits) + " -DPCL_SORT_GROUP=" + std::to_string(s.group) +
-           " -DPCL_SORT_ITEMS=" + std::to_string(s.items) +
-           (s.bucketedFrom ? " -DPCL_SORT_BUCKETED=1" : "");
+           " -DPCL_SORT_ITEMS=" + std::to_string(s.items) + (s.bucketedFrom ? " -DPCL_SORT_BUCKETED=1" : "");
 }
 
 }  // namespace
