@@ -1,8 +1,9 @@
-/* sort.cl: stable LSD radix sort of (key, value) pairs, 4 bits per pass (kernels/README.md,
- * "Photon maps", sort). Keys are uint, or ulong with -DPCL_SORT_KEY64=1; values are uint.
+/* sort.cl: stable LSD radix sort of (key, value) pairs, PCL_SORT_RADIX_BITS bits per pass at
+ * most (kernels/README.md, "Photon maps", sort). Keys are uint, or ulong with -DPCL_SORT_KEY64=1;
+ * values are uint.
  *
- * One pass over digit d = (key >> shift) & mask (mask = 15, or fewer bits in a last pass that
- * reaches the caller's sortBits) is three launches:
+ * One pass over digit d = (key >> shift) & mask (the host spreads the caller's sortBits evenly
+ * over the fewest passes) is three launches:
  *   sort_histogram  per tile of PCL_SORT_TILE keys: hist[d * tiles + t] = keys of digit d in tile t
  *   sort_scan       one work-group: offsets = exclusive prefix sum of hist (digit-major, so
  *                   offsets[d * tiles + t] is where tile t's first key of digit d goes)
@@ -10,9 +11,13 @@
  *                   it in the tile)
  * Work-item l of a tile owns the PCL_SORT_ITEMS consecutive keys l*ITEMS .. l*ITEMS+ITEMS-1, so
  * "keys of digit d before it in the tile" = Σ counts[d][l' < l] + the keys of digit d this
- * work-item has already placed: a scan of the per-work-item digit counts. Every position is a
- * function of the input alone (integer counts, no atomics), so the sort is stable and
- * deterministic by construction, on any device and with any scheduling. */
+ * work-item has already placed: a scan of the per-work-item digit counts — none when a tile is
+ * one work-item (PCL_SORT_GROUP == 1, the CPU shape). Every position is a function of the input
+ * alone (integer counts, no atomics), so the sort is stable and deterministic by construction,
+ * on any device and with any scheduling.
+ *
+ * Bucketed (-DPCL_SORT_BUCKETED=1, the CPU shape from 65536 pairs): one such pass on the top
+ * digit, then sort_buckets sorts each top-digit bucket alone by the low bits (below). */
 #include "shared/types.h"
 
 #ifndef PCL_SORT_KEY64

@@ -11,13 +11,16 @@
 namespace pcl {
 namespace {
 
-// The pass shape (kernels/sort.cl): radix bits per pass, work-items per tile, keys per work-item.
+// The pass shape (kernels/sort.cl): radix bits per pass, work-items per tile, keys per work-item,
+// and from how many pairs the sort is bucketed (top digit first, then each bucket in cache).
 // CPUs (PoCL: one work-item is one scalar lane, a work-group one core's loop): 8-bit digits and
 // one work-item per tile of 16384 keys, so the scatter needs no recount and no scan of
-// per-work-item counters (kernels/sort.cl, sort_scatter) — measured with sort_bench on PoCL,
-// 1M-10M keys: ~2-3x the earlier (8, 16, 512); 9-11-bit digits (fewer passes) scatter to too
-// many places at once and lose more than the passes they save. GPUs: 4-bit digits over 256
-// work-items (16 KiB of counters, fits any GPU's local memory).
+// per-work-item counters (kernels/sort.cl, sort_scatter), bucketed from 65536 pairs. Measured
+// with sort_bench on PoCL (2 cores), 1M-10M keys: one work-item per tile ~2x the earlier
+// (8, 16, 512) shape; bucketing another ~1.3-2x on 64-bit keys (the low passes stay in cache),
+// about even to ~1.4x on 32-bit; 9-11-bit digits, in the plain passes or within buckets, and
+// write-combining buffers in the scatter were slower. GPUs: 4-bit digits over 256 work-items
+// (16 KiB of counters, fits any GPU's local memory), never bucketed (one work-item per bucket).
 struct SortShape {
     int radixBits = 8;
     size_t group = 1, items = 16384;
