@@ -1,8 +1,10 @@
-// sort_histogram / sort_scan / sort_scatter (kernels/sort.cl): the device radix sort equals
-// std::stable_sort (host/reference/sort) bit for bit — keys and the values that travel with
-// them, so stability is checked too — on random, sorted, reversed, all-equal and few-distinct
-// keys of 32 and 64 bits, at sizes around the tile edges (CPU 16384, GPU 4096) and 256 up to 1M,
-// and once at 10M; sortBits ignores the bits above it; the float → key flip orders floats.
+// sort_histogram / sort_scan / sort_scatter / sort_buckets (kernels/sort.cl): the device radix
+// sort equals std::stable_sort (host/reference/sort) bit for bit — keys and the values that
+// travel with them, so stability is checked too — on random, sorted, reversed, all-equal,
+// few-distinct and alternate-byte keys (digits constant in some passes) of 32 and 64 bits, at
+// sizes around the tile edges (CPU 16384, GPU 4096) and 256 up to 1M (bucketed on the CPU from
+// 65536, all-equal keys taking the plain passes), and once at 10M; sortBits ignores the bits
+// above it; the float → key flip orders floats.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,13 +23,14 @@
 namespace pcl {
 namespace {
 
-enum class Pattern { Random, Sorted, Reversed, AllEqual, FewDistinct };
+enum class Pattern { Random, Sorted, Reversed, AllEqual, FewDistinct, AlternateBytes };
 const char* name(Pattern p) {
     switch (p) {
         case Pattern::Random: return "random";
         case Pattern::Sorted: return "sorted";
         case Pattern::Reversed: return "reversed";
         case Pattern::AllEqual: return "all-equal";
+        case Pattern::AlternateBytes: return "alternate-bytes";
         default: return "few-distinct";
     }
 }
@@ -47,6 +50,9 @@ std::vector<K> makeKeys(size_t n, Pattern p, uint32_t seed) {
             if (p == Pattern::Reversed) std::reverse(k.begin(), k.end());
             break;
         case Pattern::AllEqual: std::fill(k.begin(), k.end(), K(rng())); break;
+        case Pattern::AlternateBytes:  // every other byte zero: passes whose digit is constant
+            for (K& x : k) x = K(rng() & 0xFF00FF00FF00FF00ull);
+            break;
         case Pattern::FewDistinct: {
             K pool[5];
             for (K& x : pool) x = K(rng());
@@ -82,8 +88,8 @@ void expectSortMatches(size_t n, Pattern p, uint32_t seed, int sortBits = 8 * si
     EXPECT_EQ(firstValue, n) << 8 * sizeof(K) << "-bit " << name(p) << " n = " << n << ": first value mismatch";
 }
 
-const Pattern kPatterns[] = {Pattern::Random, Pattern::Sorted, Pattern::Reversed, Pattern::AllEqual,
-                             Pattern::FewDistinct};
+const Pattern kPatterns[] = {Pattern::Random,   Pattern::Sorted,      Pattern::Reversed,
+                             Pattern::AllEqual, Pattern::FewDistinct, Pattern::AlternateBytes};
 const size_t kSizes[] = {1, 2, 3, 255, 256, 257, 1000, 4095, 4096, 4097, 16383, 16384, 16385, 65537, 1000000};
 
 TEST(Sort, Keys32MatchStdStableSort) {
