@@ -16,7 +16,7 @@
  * alone (integer counts, no atomics), so the sort is stable and deterministic by construction,
  * on any device and with any scheduling.
  *
- * Bucketed (-DPCL_SORT_BUCKETED=1, the CPU shape from 65536 pairs): one such pass on the top
+ * Bucketed (-DPCL_SORT_BUCKETED=1, the CPU shape from 2^18 pairs): one such pass on the top
  * digit, then sort_buckets sorts each top-digit bucket alone by the low bits (below). */
 #include "shared/types.h"
 

@@ -15,7 +15,7 @@ namespace {
 // and from how many pairs the sort is bucketed (top digit first, then each bucket in cache).
 // CPUs (PoCL: one work-item is one scalar lane, a work-group one core's loop): 8-bit digits and
 // one work-item per tile of 16384 keys, so the scatter needs no recount and no scan of
-// per-work-item counters (kernels/sort.cl, sort_scatter), bucketed from 65536 pairs. Measured
+// per-work-item counters (kernels/sort.cl, sort_scatter), bucketed from 2^18 pairs. Measured
 // with sort_bench on PoCL (2 cores), 1M-10M keys: one work-item per tile ~2x the earlier
 // (8, 16, 512) shape; bucketing another ~1.3-2x on 64-bit keys (the low passes stay in cache),
 // about even to ~1.4x on 32-bit; 9-11-bit digits, in the plain passes or within buckets, and
@@ -24,7 +24,7 @@ namespace {
 struct SortShape {
     int radixBits = 8;
     size_t group = 1, items = 16384;
-    size_t bucketedFrom = size_t(1) << 16;  // n from which the top digit goes first (0: never)
+    size_t bucketedFrom = size_t(1) << 18;  // n from which the top digit goes first (0: never)
 };
 
 SortShape sortShape(cl_device_type type) {

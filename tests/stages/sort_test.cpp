@@ -3,8 +3,8 @@
 // travel with them, so stability is checked too — on random, sorted, reversed, all-equal,
 // few-distinct and alternate-byte keys (digits constant in some passes) of 32 and 64 bits, at
 // sizes around the tile edges (CPU 16384, GPU 4096) and 256 up to 1M (bucketed on the CPU from
-// 65536, all-equal keys taking the plain passes), and once at 10M; sortBits ignores the bits
-// above it; the float → key flip orders floats.
+// 2^18 pairs, all-equal keys taking the plain passes), and once at 10M; sortBits ignores the
+// bits above it; the float → key flip orders floats.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -110,6 +110,9 @@ TEST(Sort, SortBitsIgnoresHigherBits) {
     for (int bits : {1, 5, 36, 47})
         for (Pattern p : {Pattern::Random, Pattern::FewDistinct}) expectSortMatches<uint64_t>(70001, p, 7 + bits, bits);
     for (int bits : {3, 20}) expectSortMatches<uint32_t>(70001, Pattern::Random, 11 + bits, bits);
+    // large enough for the CPU's bucketed sort (top digit = the highest sorted bits)
+    expectSortMatches<uint64_t>(300000, Pattern::Random, 99, 36);
+    expectSortMatches<uint32_t>(300000, Pattern::Random, 98, 20);
 }
 
 // The pass shape (digit bits, work-items and keys per work-item; pipeline/sort.cpp picks one per
