@@ -101,8 +101,8 @@ void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, siz
     cl::Buffer* kout = &ws.keys;
     cl::Buffer* vout = &ws.values;
     std::vector<cl::Event> events;
-    // The fewest passes of at most kRadixBits bits, the bits spread evenly over them (64 bits in
-    // 6 passes of 11 bits: 11, 11, 11, 11, 10, 10).
+    // The fewest passes of at most kRadixBits bits, the bits spread evenly over them, the first
+    // passes one bit wider (30 bits in 8-bit digits: 8, 8, 7, 7).
     const int passes = (sortBits + kRadixBits - 1) / kRadixBits;
     auto digitBits = [&](int p) { return sortBits / passes + (p < sortBits % passes ? 1 : 0); };
     auto countAndScan = [&](cl_uint shift, cl_uint mask) {
@@ -142,7 +142,7 @@ void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, siz
             events.push_back(device.launchLocal("sort", buckets, cl::NDRange(starts.size()), cl::NDRange(1), keys,
                                                 values, ws.keys, ws.values, ws.hist, cl_uint(tiles), cl_uint(n),
                                                 cl_uint(lowBits), cl_uint(passes - 1)));
-            std::swap(kin, kout);
+            std::swap(kin, kout);  // sort_buckets leaves every bucket in keys/values
             std::swap(vin, vout);
             lsdFrom = passes;
         }
