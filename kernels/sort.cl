@@ -1,8 +1,9 @@
-/* sort.cl: stable LSD radix sort of (key, value) pairs, 4 bits per pass (kernels/README.md,
- * "Photon maps", sort). Keys are uint, or ulong with -DPCL_SORT_KEY64=1; values are uint.
+/* sort.cl: stable LSD radix sort of (key, value) pairs, PCL_SORT_RADIX_BITS bits per pass at
+ * most (kernels/README.md, "Photon maps", sort). Keys are uint, or ulong with -DPCL_SORT_KEY64=1;
+ * values are uint.
  *
- * One pass over digit d = (key >> shift) & mask (mask = 15, or fewer bits in a last pass that
- * reaches the caller's sortBits) is three launches:
+ * One pass over digit d = (key >> shift) & mask (the host spreads the caller's sortBits evenly
+ * over the fewest passes) is three launches:
  *   sort_histogram  per tile of PCL_SORT_TILE keys: hist[d * tiles + t] = keys of digit d in tile t
  *   sort_scan       one work-group: offsets = exclusive prefix sum of hist (digit-major, so
  *                   offsets[d * tiles + t] is where tile t's first key of digit d goes)
@@ -10,9 +11,13 @@
  *                   it in the tile)
  * Work-item l of a tile owns the PCL_SORT_ITEMS consecutive keys l*ITEMS .. l*ITEMS+ITEMS-1, so
  * "keys of digit d before it in the tile" = Σ counts[d][l' < l] + the keys of digit d this
- * work-item has already placed: a scan of the per-work-item digit counts. Every position is a
- * function of the input alone (integer counts, no atomics), so the sort is stable and
- * deterministic by construction, on any device and with any scheduling. */
+ * work-item has already placed: a scan of the per-work-item digit counts — none when a tile is
+ * one work-item (PCL_SORT_GROUP == 1, the CPU shape). Every position is a function of the input
+ * alone (integer counts, no atomics), so the sort is stable and deterministic by construction,
+ * on any device and with any scheduling.
+ *
+ * Bucketed (-DPCL_SORT_BUCKETED=1, the CPU shape from 2^18 pairs): one such pass on the top
+ * digit, then sort_buckets sorts each top-digit bucket alone by the low bits (below). */
 #include "shared/types.h"
 
 #ifndef PCL_SORT_KEY64
@@ -98,12 +103,28 @@ void sort_scan(__global uint* values, uint m) {
 __kernel __attribute__((reqd_work_group_size(PCL_SORT_GROUP, 1, 1)))
 void sort_scatter(__global const sort_key* keysIn, __global const uint* valuesIn, uint n, uint shift, uint mask,
                   __global const uint* offsets, __global sort_key* keysOut, __global uint* valuesOut) {
+    const uint t = (uint)get_group_id(0);
+    const uint tiles = (uint)get_num_groups(0);
+#if PCL_SORT_GROUP == 1
+    /* One work-item per tile: its keys of digit d go to offsets[d * tiles + t] onwards, in order;
+     * no recount. */
+    __local uint base[PCL_SORT_RADIX];
+    for (uint d = 0u; d < PCL_SORT_RADIX; ++d) base[d] = offsets[d * tiles + t];
+    const uint begin = t * (uint)PCL_SORT_TILE;
+    const uint end = min(begin + (uint)PCL_SORT_TILE, n);
+    for (uint i = begin; i < end; ++i) {
+        const sort_key k = keysIn[i];
+        const uint d = (uint)((k >> shift) & mask);
+        const uint dst = base[d];
+        base[d] = dst + 1u;
+        keysOut[dst] = k;
+        valuesOut[dst] = valuesIn[i];
+    }
+#else
     __local uint counts[PCL_SORT_RADIX * PCL_SORT_GROUP];
     __local uint buf[2][PCL_SORT_GROUP];
     __local uint base[PCL_SORT_RADIX];
     const uint l = (uint)get_local_id(0);
-    const uint t = (uint)get_group_id(0);
-    const uint tiles = (uint)get_num_groups(0);
     sort_count_items(keysIn, n, shift, mask, counts, l, t);
     barrier(CLK_LOCAL_MEM_FENCE);
 
@@ -133,7 +154,88 @@ void sort_scatter(__global const sort_key* keysIn, __global const uint* valuesIn
         keysOut[dst] = k;
         valuesOut[dst] = valuesIn[i];
     }
+#endif
 }
+
+#if PCL_SORT_BUCKETED
+
+/* The rest of a bucketed sort (pipeline/sort.cpp): after one pass on the top digit (keys and
+ * values in keysB/valuesB, grouped by that digit, stable), work-item b sorts bucket b — the
+ * pairs of top digit b, offsets[b * tiles] .. offsets[(b + 1) * tiles] (or n) — by the low
+ * lowBits bits, alone, in lowPasses stable LSD passes (digits split evenly over the passes, the
+ * first ones one bit wider), ping-ponging within the bucket's range between the B and A buffers;
+ * a bucket is small enough to stay in cache. One work-item sees the whole bucket, so a digit's
+ * counts do not depend on the order: one read counts pass 0's digits, and each pass counts the
+ * next pass's digits while it moves the pairs. A pass whose digit is the same for the whole
+ * bucket is skipped (only counted); the bucket ends in A (copied there if the passes left it in
+ * B). Positions are integer counts of the input alone: stable and deterministic. */
+__kernel __attribute__((reqd_work_group_size(1, 1, 1)))
+void sort_buckets(__global sort_key* keysA, __global uint* valuesA, __global sort_key* keysB, __global uint* valuesB,
+                  __global const uint* offsets, uint tiles, uint n, uint lowBits, uint lowPasses) {
+    __local uint counts[2 * PCL_SORT_RADIX];
+    const uint b = (uint)get_group_id(0);
+    const uint begin = offsets[b * tiles];
+    const uint end = b + 1u < (uint)get_num_groups(0) ? offsets[(b + 1u) * tiles] : n;
+    if (end - begin < 2u) {
+        if (end > begin) {
+            keysA[begin] = keysB[begin];
+            valuesA[begin] = valuesB[begin];
+        }
+        return;
+    }
+    __local uint* cur = counts;
+    __local uint* next = counts + PCL_SORT_RADIX;
+    uint shift = 0u, bits = lowBits / lowPasses + (lowBits % lowPasses != 0u ? 1u : 0u);
+    for (uint d = 0u; d < PCL_SORT_RADIX; ++d) cur[d] = 0u;
+    for (uint i = begin; i < end; ++i) cur[(uint)(keysB[i] & ((1u << bits) - 1u))] += 1u;
+    bool inB = true;
+    for (uint p = 0u; p < lowPasses; ++p) {
+        /* cur: the counts of pass p's digit; next gets pass p + 1's while pass p moves the pairs */
+        const uint mask = (1u << bits) - 1u;
+        const uint nextShift = shift + bits;
+        const uint nextBits = p + 1u < lowPasses ? lowBits / lowPasses + (p + 1u < lowBits % lowPasses ? 1u : 0u) : 0u;
+        const uint nextMask = (1u << nextBits) - 1u;
+        bool same = false;
+        uint run = begin;
+        for (uint d = 0u; d < PCL_SORT_RADIX; ++d) {
+            const uint c = cur[d];
+            same = same || c == end - begin;
+            cur[d] = run;
+            run += c;
+            next[d] = 0u;
+        }
+        __global const sort_key* ks = inB ? keysB : keysA;
+        __global const uint* vs = inB ? valuesB : valuesA;
+        __global sort_key* kd = inB ? keysA : keysB;
+        __global uint* vd = inB ? valuesA : valuesB;
+        if (same) { /* the pass would move nothing */
+            if (nextBits)
+                for (uint i = begin; i < end; ++i) next[(uint)((ks[i] >> nextShift) & nextMask)] += 1u;
+        } else {
+            for (uint i = begin; i < end; ++i) {
+                const sort_key k = ks[i];
+                const uint d = (uint)((k >> shift) & mask);
+                const uint dst = cur[d];
+                cur[d] = dst + 1u;
+                kd[dst] = k;
+                vd[dst] = vs[i];
+                next[(uint)((k >> nextShift) & nextMask)] += 1u;
+            }
+            inB = !inB;
+        }
+        __local uint* t = cur;
+        cur = next;
+        next = t;
+        shift = nextShift;
+        bits = nextBits;
+    }
+    if (inB)
+        for (uint i = begin; i < end; ++i) {
+            keysA[i] = keysB[i];
+            valuesA[i] = valuesB[i];
+        }
+}
+#endif
 
 /* Order-preserving float → uint key (kernels/README.md, sort): sign clear → b ^ 0x80000000,
  * sign set → ~b. values[i] = i, ready for an index-stable sort. */

@@ -11,27 +11,34 @@
 namespace pcl {
 namespace {
 
-// The pass shape (kernels/sort.cl): radix bits per pass, work-items per tile, keys per work-item.
-// CPUs (PoCL: one work-item is one scalar lane, a work-group one core's loop): 8-bit digits, few
-// work-items with long runs, so the per-tile work (zeroing and scanning 256 x group counters)
-// is small beside the 8192 keys of a tile — measured with sort_bench on PoCL, 1M-10M keys:
-// (8, 16, 512) ~1.5-2x (8, 32, 128) and ~3x (4, 256, 16). GPUs: 4-bit digits over 256
-// work-items (16 KiB of counters, fits any GPU's local memory).
+// The pass shape (kernels/sort.cl): radix bits per pass, work-items per tile, keys per work-item,
+// and from how many pairs the sort is bucketed (top digit first, then each bucket in cache).
+// CPUs (PoCL: one work-item is one scalar lane, a work-group one core's loop): 8-bit digits and
+// one work-item per tile of 16384 keys, so the scatter needs no recount and no scan of
+// per-work-item counters (kernels/sort.cl, sort_scatter), bucketed from 2^18 pairs. Measured
+// with sort_bench on PoCL (2 cores), 1M-10M keys: one work-item per tile ~2x the earlier
+// (8, 16, 512) shape; bucketing another ~1.3-2x on 64-bit keys (the low passes stay in cache),
+// about even to ~1.4x on 32-bit; 9-11-bit digits, in the plain passes or within buckets, and
+// write-combining buffers in the scatter were slower. GPUs: 4-bit digits over 256 work-items
+// (16 KiB of counters, fits any GPU's local memory), never bucketed (one work-item per bucket).
 struct SortShape {
     int radixBits = 8;
-    size_t group = 16, items = 512;
+    size_t group = 1, items = 16384;
+    size_t bucketedFrom = size_t(1) << 18;  // n from which the top digit goes first (0: never)
 };
 
 SortShape sortShape(cl_device_type type) {
     SortShape s;
-    if (type & CL_DEVICE_TYPE_GPU) s = SortShape{4, 256, 16};
-    if (const char* e = std::getenv("PHOTONCL_SORT_SHAPE")) {  // tests and tuning: "bits,group,items"
+    if (type & CL_DEVICE_TYPE_GPU) s = SortShape{4, 256, 16, 0};
+    if (const char* e = std::getenv("PHOTONCL_SORT_SHAPE")) {  // tests and tuning: "bits,group,items[,bucketedFrom]"
         int b = 0;
-        unsigned long g = 0, i = 0;
-        if (std::sscanf(e, "%d,%lu,%lu", &b, &g, &i) == 3 && b >= 1 && b <= 8 && g >= 1 && i >= 1) {
+        unsigned long g = 0, i = 0, f = 0;
+        const int got = std::sscanf(e, "%d,%lu,%lu,%lu", &b, &g, &i, &f);
+        if (got >= 3 && b >= 1 && b <= 12 && g >= 1 && i >= 1) {
             s.radixBits = b;
             s.group = g;
             s.items = i;
+            s.bucketedFrom = got == 4 ? f : 0;
         }
     }
     return s;
@@ -40,7 +47,7 @@ SortShape sortShape(cl_device_type type) {
 std::string options(int keyBits, const SortShape& s) {
     return std::string(keyBits == 64 ? "-DPCL_SORT_KEY64=1 " : "") +
            "-DPCL_SORT_RADIX_BITS=" + std::to_string(s.radixBits) + " -DPCL_SORT_GROUP=" + std::to_string(s.group) +
-           " -DPCL_SORT_ITEMS=" + std::to_string(s.items);
+           " -DPCL_SORT_ITEMS=" + std::to_string(s.items) + (s.bucketedFrom ? " -DPCL_SORT_BUCKETED=1" : "");
 }
 
 }  // namespace
@@ -94,16 +101,56 @@ void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, siz
     cl::Buffer* kout = &ws.keys;
     cl::Buffer* vout = &ws.values;
     std::vector<cl::Event> events;
+    // The fewest passes of at most kRadixBits bits, the bits spread evenly over them, the first
+    // passes one bit wider (30 bits in 8-bit digits: 8, 8, 7, 7).
     const int passes = (sortBits + kRadixBits - 1) / kRadixBits;
-    for (int p = 0; p < passes; ++p) {
-        const cl_uint shift = cl_uint(p * kRadixBits);
-        const cl_uint mask = (1u << std::min(kRadixBits, sortBits - p * kRadixBits)) - 1u;
+    auto digitBits = [&](int p) { return sortBits / passes + (p < sortBits % passes ? 1 : 0); };
+    auto countAndScan = [&](cl_uint shift, cl_uint mask) {
         events.push_back(device.launchLocal("sort", histogram, global, group, *kin, cl_uint(n), shift, mask, ws.hist));
         events.push_back(device.launchLocal("sort", scan, cl::NDRange(kSortGroup), group, ws.hist, cl_uint(histSize)));
+    };
+    auto scatterPass = [&](cl_uint shift, cl_uint mask) {
         events.push_back(device.launchLocal("sort", scatter, global, group, *kin, *vin, cl_uint(n), shift, mask,
                                             ws.hist, *kout, *vout));
         std::swap(kin, kout);
         std::swap(vin, vout);
+    };
+    int lsdFrom = 0;  // the first LSD pass to run (passes when the bucketed sort did it all)
+    if (shape.bucketedFrom && n >= shape.bucketedFrom && passes >= 2) {
+        // Top digit first, then each bucket sorted alone by the low bits (kernels/sort.cl,
+        // sort_buckets): the first pass spreads the pairs over the whole array, the rest stay
+        // within a bucket small enough for a core's cache. Only when no bucket holds more than
+        // a core's fair share (n / (2 x compute units)) — else (keys whose top digit is nearly
+        // constant) one core would sort most of it alone, and the plain LSD passes run instead.
+        // Both give the same order. Ends in keys/values.
+        const int topBits = digitBits(passes - 1), lowBits = sortBits - topBits;
+        const cl_uint topMask = (1u << topBits) - 1u;
+        countAndScan(cl_uint(lowBits), topMask);
+        std::vector<cl_uint> starts(size_t(topMask) + 1);
+        Device::guard("sort", [&] {
+            device.queue().enqueueReadBufferRect(ws.hist, CL_TRUE, {0, 0, 0}, {0, 0, 0},
+                                                 {sizeof(cl_uint), starts.size(), 1}, tiles * sizeof(cl_uint), 0,
+                                                 sizeof(cl_uint), 0, starts.data());
+        });
+        size_t largest = 0;
+        for (size_t d = 0; d < starts.size(); ++d)
+            largest = std::max(largest, (d + 1 < starts.size() ? size_t(starts[d + 1]) : n) - starts[d]);
+        if (largest * 2 * std::max<size_t>(device.info().computeUnits, 1) <= n) {
+            scatterPass(cl_uint(lowBits), topMask);
+            auto buckets = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint,
+                                         cl_uint, cl_uint>("sort", "sort_buckets", opts);
+            events.push_back(device.launchLocal("sort", buckets, cl::NDRange(starts.size()), cl::NDRange(1), keys,
+                                                values, ws.keys, ws.values, ws.hist, cl_uint(tiles), cl_uint(n),
+                                                cl_uint(lowBits), cl_uint(passes - 1)));
+            std::swap(kin, kout);  // sort_buckets leaves every bucket in keys/values
+            std::swap(vin, vout);
+            lsdFrom = passes;
+        }
+    }
+    for (int p = lsdFrom, shiftBits = 0; p < passes; shiftBits += digitBits(p), ++p) {
+        const cl_uint mask = (1u << digitBits(p)) - 1u;
+        countAndScan(cl_uint(shiftBits), mask);
+        scatterPass(cl_uint(shiftBits), mask);
     }
     if (kin != &keys) {  // an odd number of passes: the result is in the scratch buffers
         cl::Event ek, ev;

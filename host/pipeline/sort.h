@@ -1,6 +1,6 @@
 // Device radix sort (kernels/sort.cl; kernels/README.md, "Photon maps"): a stable LSD radix sort
-// of (key, value) pairs, 4 bits per pass, keys of 32 or 64 bits, values 32-bit (the photon
-// index). Stable and deterministic by construction: equal keys keep their input order, the
+// of (key, value) pairs, 8 (CPU) or 4 (GPU) bits per pass, keys of 32 or 64 bits, values 32-bit
+// (the photon index). Stable and deterministic by construction: equal keys keep their input order, the
 // result depends on the input alone. The twin is host/reference/sort.h (std::stable_sort).
 //
 //   cl::Buffer keys = dev.upload(k), values = dev.upload(v);   // CL_MEM_READ_WRITE buffers
@@ -27,7 +27,9 @@ struct SortWorkspace {
 // Sorts the first n (key, value) pairs of `keys` (uint32 elements when keyBits == 32, uint64
 // when keyBits == 64) and `values` (uint32) in place by key, stably. sortBits (1..keyBits, or 0
 // for keyBits) limits the sort to the low sortBits bits: pairs are ordered by key & (2^sortBits
-// − 1), higher key bits are ignored (they still move with their key); ⌈sortBits/4⌉ passes. n < 2^31. Adds the device time to *seconds when given. Throws
+// − 1), higher key bits are ignored (they still move with their key); ⌈sortBits/8⌉ passes on a
+// CPU (the top digit, then each bucket in cache, from 2^18 pairs), ⌈sortBits/4⌉ on a GPU.
+// n < 2^31. Adds the device time to *seconds when given. Throws
 // InputError on a bad width, DeviceError on a device failure.
 void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, size_t n, int keyBits, int sortBits = 0,
                        double* seconds = nullptr, SortWorkspace* workspace = nullptr);

@@ -1,8 +1,10 @@
-// sort_histogram / sort_scan / sort_scatter (kernels/sort.cl): the device radix sort equals
-// std::stable_sort (host/reference/sort) bit for bit — keys and the values that travel with
-// them, so stability is checked too — on random, sorted, reversed, all-equal and few-distinct
-// keys of 32 and 64 bits, at sizes around the tile (4096) and work-group (256) edges up to 1M,
-// and once at 10M; sortBits ignores the bits above it; the float → key flip orders floats.
+// sort_histogram / sort_scan / sort_scatter / sort_buckets (kernels/sort.cl): the device radix
+// sort equals std::stable_sort (host/reference/sort) bit for bit — keys and the values that
+// travel with them, so stability is checked too — on random, sorted, reversed, all-equal,
+// few-distinct and alternate-byte keys (digits constant in some passes) of 32 and 64 bits, at
+// sizes around the tile edges (CPU 16384, GPU 4096) and 256 up to 1M (bucketed on the CPU from
+// 2^18 pairs, all-equal keys taking the plain passes), and once at 10M; sortBits ignores the
+// bits above it; the float → key flip orders floats.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,13 +23,14 @@
 namespace pcl {
 namespace {
 
-enum class Pattern { Random, Sorted, Reversed, AllEqual, FewDistinct };
+enum class Pattern { Random, Sorted, Reversed, AllEqual, FewDistinct, AlternateBytes };
 const char* name(Pattern p) {
     switch (p) {
         case Pattern::Random: return "random";
         case Pattern::Sorted: return "sorted";
         case Pattern::Reversed: return "reversed";
         case Pattern::AllEqual: return "all-equal";
+        case Pattern::AlternateBytes: return "alternate-bytes";
         default: return "few-distinct";
     }
 }
@@ -47,6 +50,9 @@ std::vector<K> makeKeys(size_t n, Pattern p, uint32_t seed) {
             if (p == Pattern::Reversed) std::reverse(k.begin(), k.end());
             break;
         case Pattern::AllEqual: std::fill(k.begin(), k.end(), K(rng())); break;
+        case Pattern::AlternateBytes:  // every other byte zero: passes whose digit is constant
+            for (K& x : k) x = K(rng() & 0xFF00FF00FF00FF00ull);
+            break;
         case Pattern::FewDistinct: {
             K pool[5];
             for (K& x : pool) x = K(rng());
@@ -82,9 +88,9 @@ void expectSortMatches(size_t n, Pattern p, uint32_t seed, int sortBits = 8 * si
     EXPECT_EQ(firstValue, n) << 8 * sizeof(K) << "-bit " << name(p) << " n = " << n << ": first value mismatch";
 }
 
-const Pattern kPatterns[] = {Pattern::Random, Pattern::Sorted, Pattern::Reversed, Pattern::AllEqual,
-                             Pattern::FewDistinct};
-const size_t kSizes[] = {1, 2, 3, 255, 256, 257, 1000, 4095, 4096, 4097, 65537, 1000000};
+const Pattern kPatterns[] = {Pattern::Random,   Pattern::Sorted,      Pattern::Reversed,
+                             Pattern::AllEqual, Pattern::FewDistinct, Pattern::AlternateBytes};
+const size_t kSizes[] = {1, 2, 3, 255, 256, 257, 1000, 4095, 4096, 4097, 16383, 16384, 16385, 65537, 1000000};
 
 TEST(Sort, Keys32MatchStdStableSort) {
     uint32_t seed = 1;
@@ -104,13 +110,17 @@ TEST(Sort, SortBitsIgnoresHigherBits) {
     for (int bits : {1, 5, 36, 47})
         for (Pattern p : {Pattern::Random, Pattern::FewDistinct}) expectSortMatches<uint64_t>(70001, p, 7 + bits, bits);
     for (int bits : {3, 20}) expectSortMatches<uint32_t>(70001, Pattern::Random, 11 + bits, bits);
+    // large enough for the CPU's bucketed sort (top digit = the highest sorted bits)
+    expectSortMatches<uint64_t>(300000, Pattern::Random, 99, 36);
+    expectSortMatches<uint32_t>(300000, Pattern::Random, 98, 20);
 }
 
 // The pass shape (digit bits, work-items and keys per work-item; pipeline/sort.cpp picks one per
-// device type) changes nothing in the result: the GPU's shape and an odd one, run here on the
-// CPU device through PHOTONCL_SORT_SHAPE.
+// device type) changes nothing in the result: the GPU's shape, the earlier CPU one, an odd one and
+// wide digits over many one-work-item tiles, run here on the CPU device through
+// PHOTONCL_SORT_SHAPE.
 TEST(Sort, OtherPassShapesGiveTheSameOrder) {
-    for (const char* shape : {"4,256,16", "3,5,7"}) {
+    for (const char* shape : {"4,256,16", "3,5,7", "8,16,512", "11,1,100", "8,1,16384", "3,5,7,2", "12,1,64,1000"}) {
         SCOPED_TRACE(shape);
         ::setenv("PHOTONCL_SORT_SHAPE", shape, 1);
         uint32_t seed = 500;
