@@ -5,7 +5,8 @@
                                                 [--methods fg,direct,progressive] [--out table.md]
 
 Every scene and method is rendered with `render`'s defaults (the shipped camera size, 256x256
-for the Cornell boxes) and the same seed by both binaries, old then new, `--runs` times, so load
+for the Cornell boxes; --fg-options adds options to fg, so two versions whose fg defaults differ
+can be timed on the same work) and the same seed by both binaries, old then new, `--runs` times, so load
 on the machine falls on both alike. Per run it reads the render's "time by stage" table and
 divides by the passes. Prints (and with --out writes) a Markdown table: the median seconds per
 pass of each binary, their ratio, and the median seconds per pass of each stage.
@@ -14,6 +15,7 @@ Exit status 0, or 2 on bad arguments or a render that fails (its log is printed)
 import argparse
 import os
 import re
+import shlex
 import statistics
 import subprocess
 import sys
@@ -25,8 +27,9 @@ ROW = re.compile(r"^\s+(photon pass|maps|camera|eye paths|direct light|caustics|
                  r"([0-9.]+) s")
 
 
-def render(binary, scene, method, passes, out):
+def render(binary, scene, method, passes, out, extra=()):
     cmd = [binary, "render", scene, "--method", method, "--passes", str(passes), "--seed", "1", "--no-png", "-o", out]
+    cmd += list(extra)
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
         sys.stderr.write(f"pass_speed: {' '.join(cmd)} failed ({p.returncode}):\n{p.stderr}\n")
@@ -54,6 +57,9 @@ def main():
     a.add_argument("--scenes", default="cornell-box.json,cornell-spheres.json,gltf-room.gltf")
     a.add_argument("--methods", default="fg,direct,progressive")
     a.add_argument("--out")
+    a.add_argument("--fg-options", default="",
+                   help="extra render options for fg (e.g. the same eye samples and gather rays for both binaries "
+                        "when their defaults differ)")
     o = a.parse_args()
     for b in (o.old, o.new):
         if not os.access(b, os.X_OK):
@@ -73,7 +79,8 @@ def main():
                 runs = {"old": [], "new": []}
                 for r in range(o.runs):
                     for which, binary in (("old", o.old), ("new", o.new)):
-                        runs[which].append(render(binary, scene, method, o.passes, out))
+                        runs[which].append(render(binary, scene, method, o.passes, out,
+                                                  shlex.split(o.fg_options) if method == "fg" else ()))
                         sys.stderr.write(f"pass_speed: {os.path.basename(scene)} {method} run {r + 1} {which}: "
                                          f"{runs[which][-1]['total']:.3f} s/pass\n")
                 med = {w: {s: statistics.median(t[s] for t in runs[w]) for s in STAGES} for w in runs}
