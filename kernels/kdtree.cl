@@ -4,8 +4,8 @@
  * `packed`.
  *
  * Lists: for each axis a, the map's photons as uint4 (key x, key y, key z, photon index) ordered
- * by (key on a, photon index) — one stable radix sort per axis, once (kdtree_points,
- * kdtree_rank_keys, the sort, kdtree_lists). Two buffers of three lists each (list a of buffer b at lists_b + a·n).
+ * by (key on a, photon index) — one stable radix sort per axis, once (kdtree_points, then
+ * per axis the sort and kdtree_lists). Two buffers of three lists each (list a of buffer b at lists_b + a·n).
  * The photons of the subtree of node h occupy the same range [start, end) of all three lists,
  * each list ordered by its axis; nodes[h] = (start, end, mask): list a of the subtree lies in
  * buffer (mask >> a) & 1.
@@ -33,10 +33,6 @@ static inline uint kd_float_key(float x) {
     return (b & 0x80000000u) ? ~b : (b ^ 0x80000000u);
 }
 static inline float kd_key_float(uint k) { return as_float((k & 0x80000000u) ? (k ^ 0x80000000u) : ~k); }
-
-static inline float kd_coord(__global const PclPhoton* p, uint axis) {
-    return axis == 0u ? p->x : (axis == 1u ? p->y : p->z);
-}
 
 static inline uint kd_axis_of(uint lx, uint ly, uint lz, uint hx, uint hy, uint hz) {
     const float ex = kd_key_float(hx) - kd_key_float(lx);
@@ -92,30 +88,31 @@ static inline void kd_emit(uint h, uint i, uint axis, __global uint* index, __gl
 /* The children's mask: the two lists other than the axis' move to the other buffer. */
 static inline uint kd_child_mask(uint mask, uint axis) { return mask ^ (7u & ~(1u << axis)); }
 
-/* Rank sort input: key = the coordinate's flipped key on the axis, value = photon index. */
-__kernel void kdtree_rank_keys(__global const PclPhoton* photons, uint n, uint axis, __global uint* keys,
-                               __global uint* values) {
-    const uint i = (uint)get_global_id(0);
-    if (i >= n) return;
-    keys[i] = kd_float_key(kd_coord(photons + i, axis));
-    values[i] = i;
-}
-
 /* The list element of each photon, in map order (points: list 0 of buffer 1, free until the
- * first split). */
-__kernel void kdtree_points(__global const PclPhoton* photons, uint n, __global uint4* points) {
+ * first split), and the first rank sort's input (key on x, photon index). */
+__kernel void kdtree_points(__global const PclPhoton* photons, uint n, __global uint4* points, __global uint* keys,
+                            __global uint* values) {
     const uint i = (uint)get_global_id(0);
     if (i >= n) return;
     __global const PclPhoton* p = photons + i;
-    points[i] = (uint4)(kd_float_key(p->x), kd_float_key(p->y), kd_float_key(p->z), i);
+    const uint4 v = (uint4)(kd_float_key(p->x), kd_float_key(p->y), kd_float_key(p->z), i);
+    points[i] = v;
+    keys[i] = v.x;
+    values[i] = i;
 }
 
-/* After the stable sort of axis a: list a of buffer 0 in (key, index) order; the root's node. */
-__kernel void kdtree_lists(__global const uint4* points, __global const uint* values, uint n, uint axis,
+/* After the stable sort on the axis: list `axis` of buffer 0 in (key, index) order, and the
+ * next sort's input (key on axis + 1, photon index; each work-item reads its pair before
+ * writing it); the root's range. */
+__kernel void kdtree_lists(__global const uint4* points, __global uint* keys, __global uint* values, uint n, uint axis,
                            __global uint4* lists0, __global uint4* nodes) {
     const uint k = (uint)get_global_id(0);
     if (k >= n) return;
     lists0[(size_t)axis * n + k] = points[values[k]];
+    if (axis < 2u) {
+        keys[k] = kd_component(points[k], axis + 1u);
+        values[k] = k;
+    }
     if (k == 0u && axis == 0u) nodes[0] = (uint4)(0u, n, 0u, 0u);
 }
 

@@ -76,13 +76,14 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     const std::string stage = "kdtree";
     const cl_device_type type = device.info().type;
     if (finishSize < 0) finishSize = kdTreeFinishSize(type);
-    auto rankKeys = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_rank_keys");
-    auto points = device.kernel<cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_points");
-    auto lists = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_lists");
+    auto points = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_points");
+    auto lists = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(
+        stage, "kdtree_lists");
     auto countK = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint,
                                 cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_count");
-    auto scatter = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint,
-                                 cl::Buffer>(stage, "kdtree_scatter");
+    auto scatter =
+        device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint, cl::Buffer>(
+            stage, "kdtree_scatter");
     auto finish = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(
         stage, "kdtree_finish");
     auto nodesK = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_nodes");
@@ -104,13 +105,12 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
         cl::Buffer keys = device.allocate<uint32_t>(n, rw, "kd-tree: keys");
         cl::Buffer values = device.allocate<uint32_t>(n, rw, "kd-tree: values");
         SortWorkspace workspace;
-        events.push_back(device.launchLocal(stage, points, wholeWorkGroups(n), group, photons, N, lists1));
+        events.push_back(
+            device.launchLocal(stage, points, wholeWorkGroups(n), group, photons, N, lists1, keys, values));
         for (cl_uint axis = 0; axis < 3; ++axis) {
-            events.push_back(
-                device.launchLocal(stage, rankKeys, wholeWorkGroups(n), group, photons, N, axis, keys, values));
             sortPairsOnDevice(device, keys, values, n, 32, 0, &sortSeconds, &workspace);
-            events.push_back(
-                device.launchLocal(stage, lists, wholeWorkGroups(n), group, lists1, values, N, axis, lists0, nodes));
+            events.push_back(device.launchLocal(stage, lists, wholeWorkGroups(n), group, lists1, keys, values, N, axis,
+                                                lists0, nodes));
         }
     }
     for (uint64_t first = 0; first < n; first = 2 * first + 1) {
