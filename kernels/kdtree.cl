@@ -5,7 +5,7 @@
  *
  * Lists: for each axis a, the map's photons as uint4 (key x, key y, key z, photon index) ordered
  * by (key on a, photon index) — one stable radix sort per axis, once (kdtree_points, then
- * per axis the sort and kdtree_lists). Two buffers of three lists each (list a of buffer b at lists_b + a·n).
+ * per axis the sort and kdtree_lists). Two sets of three lists each (x0, y0, z0 and x1, y1, z1).
  * The photons of the subtree of node h occupy the same range [start, end) of all three lists,
  * each list ordered by its axis; nodes[h] = (start, end, mask): list a of the subtree lies in
  * buffer (mask >> a) & 1.
@@ -59,22 +59,26 @@ static inline uint kd_component(uint4 v, uint axis) { return axis == 0u ? v.x : 
  * when its number is smaller, and is the node when equal (comparisons without branches). */
 static inline ulong kd_order(uint4 v, uint axis) { return (ulong)kd_component(v, axis) << 32 | (ulong)v.w; }
 
-static inline __global uint4* kd_list(__global uint4* lists0, __global uint4* lists1, uint n, uint mask,
-                                      uint axis, uint flip) {
+/* The six lists as kernel arguments (one buffer each: none larger than the photon map). */
+#define KD_LISTS                                                                                     \
+    __global uint4 *x0, __global uint4 *y0, __global uint4 *z0, __global uint4 *x1, __global uint4 *y1, \
+        __global uint4 *z1
+#define KD_LISTS_ARGS x0, y0, z0, x1, y1, z1
+
+static inline __global uint4* kd_list(KD_LISTS, uint mask, uint axis, uint flip) {
     const uint b = ((mask >> axis) & 1u) ^ flip;
-    return (b ? lists1 : lists0) + (size_t)axis * n;
+    return axis == 0u ? (b ? x1 : x0) : (axis == 1u ? (b ? y1 : y0) : (b ? z1 : z0));
 }
 
 /* The split of the subtree in [s, e): returns the axis; *left = left(e − s), *node = the node's
  * list element. */
-static inline uint kd_split(__global uint4* lists0, __global uint4* lists1, uint n, uint s, uint e, uint mask,
-                            uint* left, uint4* node) {
-    const uint4 x0 = kd_list(lists0, lists1, n, mask, 0u, 0u)[s], x1 = kd_list(lists0, lists1, n, mask, 0u, 0u)[e - 1u];
-    const uint4 y0 = kd_list(lists0, lists1, n, mask, 1u, 0u)[s], y1 = kd_list(lists0, lists1, n, mask, 1u, 0u)[e - 1u];
-    const uint4 z0 = kd_list(lists0, lists1, n, mask, 2u, 0u)[s], z1 = kd_list(lists0, lists1, n, mask, 2u, 0u)[e - 1u];
-    const uint axis = kd_axis_of(x0.x, y0.y, z0.z, x1.x, y1.y, z1.z);
+static inline uint kd_split(KD_LISTS, uint s, uint e, uint mask, uint* left, uint4* node) {
+    __global const uint4* lx = kd_list(KD_LISTS_ARGS, mask, 0u, 0u);
+    __global const uint4* ly = kd_list(KD_LISTS_ARGS, mask, 1u, 0u);
+    __global const uint4* lz = kd_list(KD_LISTS_ARGS, mask, 2u, 0u);
+    const uint axis = kd_axis_of(lx[s].x, ly[s].y, lz[s].z, lx[e - 1u].x, ly[e - 1u].y, lz[e - 1u].z);
     *left = kd_left_size(e - s);
-    *node = kd_list(lists0, lists1, n, mask, axis, 0u)[s + *left];
+    *node = kd_list(KD_LISTS_ARGS, mask, axis, 0u)[s + *left];
     return axis;
 }
 
@@ -88,7 +92,7 @@ static inline void kd_emit(uint h, uint i, uint axis, __global uint* index, __gl
 /* The children's mask: the two lists other than the axis' move to the other buffer. */
 static inline uint kd_child_mask(uint mask, uint axis) { return mask ^ (7u & ~(1u << axis)); }
 
-/* The list element of each photon, in map order (points: list 0 of buffer 1, free until the
+/* The list element of each photon, in map order (points: list x1, free until the
  * first split), and the first rank sort's input (key on x, photon index). */
 __kernel void kdtree_points(__global const PclPhoton* photons, uint n, __global uint4* points, __global uint* keys,
                             __global uint* values) {
@@ -105,10 +109,10 @@ __kernel void kdtree_points(__global const PclPhoton* photons, uint n, __global 
  * next sort's input (key on axis + 1, photon index; each work-item reads its pair before
  * writing it); the root's range. */
 __kernel void kdtree_lists(__global const uint4* points, __global uint* keys, __global uint* values, uint n, uint axis,
-                           __global uint4* lists0, __global uint4* nodes) {
+                           __global uint4* x0, __global uint4* y0, __global uint4* z0, __global uint4* nodes) {
     const uint k = (uint)get_global_id(0);
     if (k >= n) return;
-    lists0[(size_t)axis * n + k] = points[values[k]];
+    (axis == 0u ? x0 : (axis == 1u ? y0 : z0))[k] = points[values[k]];
     if (axis < 2u) {
         keys[k] = kd_component(points[k], axis + 1u);
         values[k] = k;
@@ -119,9 +123,8 @@ __kernel void kdtree_lists(__global const uint4* points, __global uint* keys, __
 /* Work-item j of a level: chunk j % chunks of the level's subtree j / chunks, the range
  * [s + c·chunk, min(s + (c + 1)·chunk, e)). counts[2j + o] (o = 0, 1: the lists axis + 1,
  * axis + 2 mod 3) = 2 × (photons before the node) + (1 if the node is in the chunk). */
-__kernel void kdtree_count(__global uint4* lists0, __global uint4* lists1, uint n, __global uint4* nodes, uint first,
-                           uint count, uint chunks, uint chunk, __global uint* counts, __global uint* index,
-                           __global uchar* axes) {
+__kernel void kdtree_count(KD_LISTS, __global uint4* nodes, uint first, uint count, uint chunks, uint chunk,
+                           __global uint* counts, __global uint* index, __global uchar* axes) {
     const uint j = (uint)get_global_id(0);
     if (j >= count * chunks) return;
     const uint rel = j / chunks, c = j - rel * chunks, h = first + rel;
@@ -129,7 +132,7 @@ __kernel void kdtree_count(__global uint4* lists0, __global uint4* lists1, uint 
     const uint s = nd.x, e = nd.y, mask = nd.z;
     uint left;
     uint4 node;
-    const uint axis = kd_split(lists0, lists1, n, s, e, mask, &left, &node);
+    const uint axis = kd_split(KD_LISTS_ARGS, s, e, mask, &left, &node);
     if (c == 0u) {
         kd_emit(h, node.w, axis, index, axes);
         const uint cm = kd_child_mask(mask, axis);
@@ -139,7 +142,7 @@ __kernel void kdtree_count(__global uint4* lists0, __global uint4* lists1, uint 
     const uint lo = min(s + c * chunk, e), hi = min(lo + chunk, e);
     for (uint o = 0u; o < 2u; ++o) {
         const uint a = (axis + 1u + o) % 3u;
-        __global const uint4* src = kd_list(lists0, lists1, n, mask, a, 0u);
+        __global const uint4* src = kd_list(KD_LISTS_ARGS, mask, a, 0u);
         const ulong nodeOrder = kd_order(node, axis);
         uint sum = 0u;
         for (uint k = lo; k < hi; ++k) {
@@ -150,8 +153,8 @@ __kernel void kdtree_count(__global uint4* lists0, __global uint4* lists1, uint 
     }
 }
 
-__kernel void kdtree_scatter(__global uint4* lists0, __global uint4* lists1, uint n, __global const uint4* nodes,
-                             uint first, uint count, uint chunks, uint chunk, __global const uint* counts) {
+__kernel void kdtree_scatter(KD_LISTS, __global const uint4* nodes, uint first, uint count, uint chunks, uint chunk,
+                             __global const uint* counts) {
     const uint j = (uint)get_global_id(0);
     if (j >= count * chunks) return;
     const uint rel = j / chunks, c = j - rel * chunks, h = first + rel;
@@ -159,13 +162,13 @@ __kernel void kdtree_scatter(__global uint4* lists0, __global uint4* lists1, uin
     const uint s = nd.x, e = nd.y, mask = nd.z;
     uint left;
     uint4 node;
-    const uint axis = kd_split(lists0, lists1, n, s, e, mask, &left, &node);
+    const uint axis = kd_split(KD_LISTS_ARGS, s, e, mask, &left, &node);
     const uint lo = min(s + c * chunk, e), hi = min(lo + chunk, e);
     if (lo >= hi) return;
     for (uint o = 0u; o < 2u; ++o) {
         const uint a = (axis + 1u + o) % 3u;
-        __global const uint4* src = kd_list(lists0, lists1, n, mask, a, 0u);
-        __global uint4* dst = kd_list(lists0, lists1, n, mask, a, 1u);
+        __global const uint4* src = kd_list(KD_LISTS_ARGS, mask, a, 0u);
+        __global uint4* dst = kd_list(KD_LISTS_ARGS, mask, a, 1u);
         uint before = 0u;
         for (uint t = j - c; t < j; ++t) before += counts[2u * t + o];
         const ulong nodeOrder = kd_order(node, axis);
@@ -186,8 +189,8 @@ __kernel void kdtree_scatter(__global uint4* lists0, __global uint4* lists1, uin
 /* The last levels in one launch: once every subtree of a level holds at most finishSize photons
  * (the host checks the largest, the level's leftmost), work-item rel builds the whole subtree of
  * node first + rel, depth first, by the same rule, partitioning its lists sequentially. */
-__kernel void kdtree_finish(__global uint4* lists0, __global uint4* lists1, uint n, __global const uint4* nodes,
-                            uint first, uint count, __global uint* index, __global uchar* axes) {
+__kernel void kdtree_finish(KD_LISTS, __global const uint4* nodes, uint first, uint count, __global uint* index,
+                            __global uchar* axes) {
     const uint rel = (uint)get_global_id(0);
     if (rel >= count) return;
     uint4 stack[32];  /* (node, start, end, mask); depth ≤ 31 */
@@ -198,23 +201,23 @@ __kernel void kdtree_finish(__global uint4* lists0, __global uint4* lists1, uint
         const uint4 t = stack[--top];
         const uint h = t.x, s = t.y, e = t.z, mask = t.w;
         if (e - s == 1u) {  /* a leaf: its box is a point, axis x */
-            kd_emit(h, kd_list(lists0, lists1, n, mask, 0u, 0u)[s].w, 0u, index, axes);
+            kd_emit(h, kd_list(KD_LISTS_ARGS, mask, 0u, 0u)[s].w, 0u, index, axes);
             continue;
         }
         uint left;
         uint4 node;
-        const uint axis = kd_split(lists0, lists1, n, s, e, mask, &left, &node);
+        const uint axis = kd_split(KD_LISTS_ARGS, s, e, mask, &left, &node);
         kd_emit(h, node.w, axis, index, axes);
         if (e - s <= 3u) {  /* one or two leaves, read off the axis' list */
-            __global const uint4* l = kd_list(lists0, lists1, n, mask, axis, 0u);
+            __global const uint4* l = kd_list(KD_LISTS_ARGS, mask, axis, 0u);
             kd_emit(2u * h + 1u, l[s].w, 0u, index, axes);
             if (e - s == 3u) kd_emit(2u * h + 2u, l[s + 2u].w, 0u, index, axes);
             continue;
         }
         for (uint o = 0u; o < 2u; ++o) {
             const uint a = (axis + 1u + o) % 3u;
-            __global const uint4* src = kd_list(lists0, lists1, n, mask, a, 0u);
-            __global uint4* dst = kd_list(lists0, lists1, n, mask, a, 1u);
+            __global const uint4* src = kd_list(KD_LISTS_ARGS, mask, a, 0u);
+            __global uint4* dst = kd_list(KD_LISTS_ARGS, mask, a, 1u);
             const ulong nodeOrder = kd_order(node, axis);
             uint lp = s, rp = s + left + 1u;
             for (uint k = s; k < e; ++k) {

@@ -77,20 +77,26 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     const cl_device_type type = device.info().type;
     if (finishSize < 0) finishSize = kdTreeFinishSize(type);
     auto points = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_points");
-    auto lists = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(
-        stage, "kdtree_lists");
-    auto countK = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint,
-                                cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_count");
-    auto scatter =
-        device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint, cl::Buffer>(
-            stage, "kdtree_scatter");
-    auto finish = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(
-        stage, "kdtree_finish");
+    auto lists = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer,
+                               cl::Buffer>(stage, "kdtree_lists");
+    // The six lists come first in kdtree_count, kdtree_scatter and kdtree_finish.
+    using L = cl::Buffer;
+    auto countK = device.kernel<L, L, L, L, L, L, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint, cl::Buffer,
+                                cl::Buffer, cl::Buffer>(stage, "kdtree_count");
+    auto scatter = device.kernel<L, L, L, L, L, L, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint, cl::Buffer>(
+        stage, "kdtree_scatter");
+    auto finish =
+        device.kernel<L, L, L, L, L, L, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_finish");
     auto nodesK = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_nodes");
 
     const cl_mem_flags rw = CL_MEM_READ_WRITE;
-    cl::Buffer lists0 = device.allocate<cl_uint4>(3 * n, rw, "kd-tree: lists");
-    cl::Buffer lists1 = device.allocate<cl_uint4>(3 * n, rw, "kd-tree: lists (other buffer)");
+    // One buffer per list (16 bytes a photon: none larger than the map's own 24).
+    cl::Buffer x0 = device.allocate<cl_uint4>(n, rw, "kd-tree: list x");
+    cl::Buffer y0 = device.allocate<cl_uint4>(n, rw, "kd-tree: list y");
+    cl::Buffer z0 = device.allocate<cl_uint4>(n, rw, "kd-tree: list z");
+    cl::Buffer x1 = device.allocate<cl_uint4>(n, rw, "kd-tree: list x (second)");
+    cl::Buffer y1 = device.allocate<cl_uint4>(n, rw, "kd-tree: list y (second)");
+    cl::Buffer z1 = device.allocate<cl_uint4>(n, rw, "kd-tree: list z (second)");
     cl::Buffer nodes = device.allocate<cl_uint4>(n, rw, "kd-tree: subtree ranges");
     cl::Buffer axes = device.allocate<uint8_t>(n, rw, "kd-tree: node axes");
     const size_t countEntries = kdTreeCountEntries(n, finishSize, type);
@@ -105,29 +111,32 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
         cl::Buffer keys = device.allocate<uint32_t>(n, rw, "kd-tree: keys");
         cl::Buffer values = device.allocate<uint32_t>(n, rw, "kd-tree: values");
         SortWorkspace workspace;
-        events.push_back(
-            device.launchLocal(stage, points, wholeWorkGroups(n), group, photons, N, lists1, keys, values));
+        events.push_back(device.launchLocal(stage, points, wholeWorkGroups(n), group, photons, N, x1, keys, values));
         for (cl_uint axis = 0; axis < 3; ++axis) {
             sortPairsOnDevice(device, keys, values, n, 32, 0, &sortSeconds, &workspace);
-            events.push_back(device.launchLocal(stage, lists, wholeWorkGroups(n), group, lists1, keys, values, N, axis,
-                                                lists0, nodes));
+            events.push_back(device.launchLocal(stage, lists, wholeWorkGroups(n), group, x1, keys, values, N, axis, x0,
+                                                y0, z0, nodes));
         }
     }
     for (uint64_t first = 0; first < n; first = 2 * first + 1) {
         const cl_uint count = cl_uint(std::min<uint64_t>(first + 1, n - first));  // nodes on this level
         const uint64_t maxSize = subtreeSize(first, n);  // the leftmost subtree is the level's largest
         if (maxSize <= uint64_t(finishSize)) {
-            events.push_back(device.launchLocal(stage, finish, wholeWorkGroups(count), group, lists0, lists1, N, nodes,
-                                                cl_uint(first), count, tree.index, axes));
+            // CPUs run a work-group on one core, its work-items one after another: one subtree per
+            // work-group spreads the subtrees over the cores (and evens out their sizes).
+            const size_t local = (type & CL_DEVICE_TYPE_GPU) ? kWorkGroupSize : 1;
+            events.push_back(device.launchLocal(stage, finish, cl::NDRange(count + (local - count % local) % local),
+                                                cl::NDRange(local), x0, y0, z0, x1, y1, z1, nodes, cl_uint(first),
+                                                count, tree.index, axes));
             break;
         }
         const LevelShape l = levelShape(maxSize, type);
         const size_t items = size_t(count) * l.chunks;
-        events.push_back(device.launchLocal(stage, countK, wholeWorkGroups(items), group, lists0, lists1, N, nodes,
+        events.push_back(device.launchLocal(stage, countK, wholeWorkGroups(items), group, x0, y0, z0, x1, y1, z1, nodes,
                                             cl_uint(first), count, cl_uint(l.chunks), cl_uint(l.chunk), counts,
                                             tree.index, axes));
-        events.push_back(device.launchLocal(stage, scatter, wholeWorkGroups(items), group, lists0, lists1, N, nodes,
-                                            cl_uint(first), count, cl_uint(l.chunks), cl_uint(l.chunk), counts));
+        events.push_back(device.launchLocal(stage, scatter, wholeWorkGroups(items), group, x0, y0, z0, x1, y1, z1,
+                                            nodes, cl_uint(first), count, cl_uint(l.chunks), cl_uint(l.chunk), counts));
         ++tree.sortedLevels;
     }
     events.push_back(

@@ -155,8 +155,8 @@ private:
         add(phase, "kd-tree: photons", n, sizeof(PclPhoton), 0, 0, n);
         add(phase, "kd-tree: nodes", n, sizeof(PclPhoton), 0, 0, n);
         add(phase, "kd-tree: node index", n, sizeof(uint32_t), 0, 0, n);
-        add(phase, "kd-tree: lists", 3 * n, 4 * sizeof(uint32_t), 0, 0, n);
-        add(phase, "kd-tree: lists (other buffer)", 3 * n, 4 * sizeof(uint32_t), 0, 0, n);
+        for (const char* list : {"x", "y", "z", "x (second)", "y (second)", "z (second)"})
+            add(phase, std::string("kd-tree: list ") + list, n, 4 * sizeof(uint32_t), 0, 0, n);
         add(phase, "kd-tree: subtree ranges", n, 4 * sizeof(uint32_t), 0, 0, n);
         add(phase, "kd-tree: node axes", n, sizeof(uint8_t), 0, 0, n);
         const size_t counts = kdTreeCountEntries(n, kdTreeFinishSize(lim.type), lim.type);
