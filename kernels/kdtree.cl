@@ -23,8 +23,8 @@
  *                   photon its place in the other buffer
  *   kdtree_finish   once a level's subtrees are small, one work-item per subtree builds the
  *                   rest of it depth first by sequential partitions
- *   kdtree_nodes    the splits record each node's photon index and axis; one last pass copies
- *                   the photons into heap order. */
+ *   kdtree_places,  the splits record each node's photon index and axis; two last passes copy
+ *   kdtree_nodes    the photons into heap order. */
 #include "shared/types.h"
 
 /* The order-preserving float → uint flip of the sort (README, "sort"). */
@@ -83,7 +83,7 @@ static inline uint kd_split(KD_LISTS, uint s, uint e, uint mask, uint* left, uin
 }
 
 /* Node h is photon i, split on the axis: recorded here, the photon copied by kdtree_nodes (one
- * pass of independent reads, instead of a cache miss in the middle of every split). */
+ * pass of independent accesses, instead of a cache miss in the middle of every split). */
 static inline void kd_emit(uint h, uint i, uint axis, __global uint* index, __global uchar* axes) {
     index[h] = i;
     axes[h] = (uchar)axis;
@@ -235,12 +235,21 @@ __kernel void kdtree_finish(KD_LISTS, __global const uint4* nodes, uint first, u
     }
 }
 
-/* The tree: node h = photon index[h] with its split axis. */
-__kernel void kdtree_nodes(__global const PclPhoton* photons, __global const uint* index,
-                           __global const uchar* axes, uint n, __global PclPhoton* tree) {
+/* The tree: node h = photon index[h] with its split axis, written photon by photon (reads in
+ * order, stores scattered: they do not hold the core up the way scattered reads do).
+ * kdtree_places: place[index[h]] = h. */
+__kernel void kdtree_places(__global const uint* index, uint n, __global uint* place) {
     const uint h = (uint)get_global_id(0);
     if (h >= n) return;
-    PclPhoton p = photons[index[h]];
+    place[index[h]] = h;
+}
+
+__kernel void kdtree_nodes(__global const PclPhoton* photons, __global const uint* place,
+                           __global const uchar* axes, uint n, __global PclPhoton* tree) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= n) return;
+    const uint h = place[i];
+    PclPhoton p = photons[i];
     p.packed = (p.packed & ~PCL_PHOTON_AXIS_MASK) | ((uint)axes[h] << PCL_PHOTON_AXIS_SHIFT);
     tree[h] = p;
 }

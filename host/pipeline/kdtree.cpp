@@ -87,6 +87,7 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
         stage, "kdtree_scatter");
     auto finish =
         device.kernel<L, L, L, L, L, L, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_finish");
+    auto places = device.kernel<cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_places");
     auto nodesK = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_nodes");
 
     const cl_mem_flags rw = CL_MEM_READ_WRITE;
@@ -107,8 +108,8 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     const cl::NDRange group = workGroup();
     const cl_uint N = cl_uint(n);
     double sortSeconds = 0.0;
+    cl::Buffer keys = device.allocate<uint32_t>(n, rw, "kd-tree: keys");  // the sorts', then each photon's place
     {
-        cl::Buffer keys = device.allocate<uint32_t>(n, rw, "kd-tree: keys");
         cl::Buffer values = device.allocate<uint32_t>(n, rw, "kd-tree: values");
         SortWorkspace workspace;
         events.push_back(device.launchLocal(stage, points, wholeWorkGroups(n), group, photons, N, x1, keys, values));
@@ -139,8 +140,9 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
                                             nodes, cl_uint(first), count, cl_uint(l.chunks), cl_uint(l.chunk), counts));
         ++tree.sortedLevels;
     }
+    events.push_back(device.launchLocal(stage, places, wholeWorkGroups(n), group, tree.index, N, keys));
     events.push_back(
-        device.launchLocal(stage, nodesK, wholeWorkGroups(n), group, photons, tree.index, axes, N, tree.photons));
+        device.launchLocal(stage, nodesK, wholeWorkGroups(n), group, photons, keys, axes, N, tree.photons));
     device.finish();
     tree.levels = uint32_t(bitLength(n));  // ⌊log2 n⌋ + 1
     if (timing) {
