@@ -172,7 +172,7 @@ __kernel void kdtree_scatter(KD_LISTS, __global const uint4* nodes, uint first, 
         uint before = 0u;
         for (uint t = j - c; t < j; ++t) before += counts[2u * t + o];
         const ulong nodeOrder = kd_order(node, axis);
-        /* lp: the next left place; rp − k: the right places ahead of the photons seen so far */
+        /* the next places left and right of the node: past those of the subtree's earlier chunks */
         uint lp = s + (before >> 1);
         uint rp = s + left + 1u + (lo - s - (before >> 1) - (before & 1u));
         for (uint k = lo; k < hi; ++k) {
