@@ -1,29 +1,31 @@
-/* kdtree.cl: Jensen's left-balanced kd-tree built on the device level by level by sorting
- * (kernels/README.md, "Photon maps", kd-tree; Jensen 2001 §6.3). The tree is a heap over the
- * photon array: node h has children 2h+1 and 2h+2, split axis in bits 27..28 of `packed`.
+/* kdtree.cl: Jensen's left-balanced kd-tree built on the device by stable partitions of three
+ * sorted lists (kernels/README.md, "Photon maps", kd-tree; Jensen 2001 §6.3). The tree is a
+ * heap over the photon array: node h has children 2h+1 and 2h+2, split axis in bits 27..28 of
+ * `packed`.
  *
- * State between levels: sub[i] = the heap node whose subtree photon i is in (PCL_KD_DONE once
- * the photon is a node). One level L (nodes levelFirst = 2^L − 1 .. levelFirst + 2^L − 1):
- *   kdtree_keys     photon order i: key = (sub[i] − levelFirst) << rankBits | rank of photon i
- *                   on the subtree's split axis (kdtree_rank_*: its place in the map ordered by
- *                   (flipped coordinate key, photon index)), or levelCount << rankBits for
- *                   placed photons; value = i. (The README's subtree << 32 | coordinate key,
- *                   stable, orders the same way; the ranks need fewer bits and passes.)
- *   (radix sort)    each subtree's photons end up contiguous, ordered by (coordinate key,
- *                   photon index)
- *   kdtree_segments first and one-past-last sorted position of each subtree
- *   kdtree_assign   position r in its subtree of n photons: r = left(n) → the photon is node h;
- *                   r < left → sub = 2h+1, r > left → sub = 2h+2
- *   kdtree_bounds   photon order: the children's bounding boxes (atomic min/max on flipped
- *                   keys: min and max do not depend on the order they are applied in)
- *   kdtree_finish   once a level's subtrees are small, each is finished by one work-item.
- * The split axis of a subtree is the axis of largest float extent max − min, ties x, y, z. */
+ * Lists: for each axis a, the map's photons as uint4 (key x, key y, key z, photon index) ordered
+ * by (key on a, photon index) — one stable radix sort per axis, once (kdtree_points, then
+ * per axis the sort and kdtree_lists). Two sets of three lists each (x0, y0, z0 and x1, y1, z1).
+ * The photons of the subtree of node h occupy the same range [start, end) of all three lists,
+ * each list ordered by its axis; nodes[h] = (start, end, mask): list a of the subtree lies in
+ * buffer (mask >> a) & 1.
+ *
+ * Splitting a subtree: its box is read off the ends of its lists (first and last key of list a
+ * on axis a), the axis is the largest float extent max − min (ties x, y, z), the node the photon
+ * at start + left(n) of the axis' list, and every list is split stably into [left | node | right]
+ * by comparing (key on the axis, index) with the node's: list `axis` already is, the other two
+ * are written into the other buffer (so the children's mask flips their two bits). The order of
+ * each list is kept, so the children's lists are ordered again and no level sorts.
+ *   kdtree_count    large subtrees (a level at a time): each subtree's range cut into chunks, one
+ *                   work-item per chunk counts the photons going left (and the node) in each
+ *                   of the two lists; work-item 0 of a subtree records the node and its children's ranges
+ *   kdtree_scatter  the same chunks: the counts of the subtree's earlier chunks give each
+ *                   photon its place in the other buffer
+ *   kdtree_finish   once a level's subtrees are small, one work-item per subtree builds the
+ *                   rest of it depth first by sequential partitions
+ *   kdtree_places,  the splits record each node's photon index and axis; two last passes copy
+ *   kdtree_nodes    the photons into heap order. */
 #include "shared/types.h"
-
-#define PCL_KD_DONE 0xFFFFFFFFu
-#ifndef PCL_KD_FINISH
-#define PCL_KD_FINISH 128u  /* subtrees of at most this many photons finish in one work-item */
-#endif
 
 /* The order-preserving float → uint flip of the sort (README, "sort"). */
 static inline uint kd_float_key(float x) {
@@ -31,10 +33,6 @@ static inline uint kd_float_key(float x) {
     return (b & 0x80000000u) ? ~b : (b ^ 0x80000000u);
 }
 static inline float kd_key_float(uint k) { return as_float((k & 0x80000000u) ? (k ^ 0x80000000u) : ~k); }
-
-static inline float kd_coord(__global const PclPhoton* p, uint axis) {
-    return axis == 0u ? p->x : (axis == 1u ? p->y : p->z);
-}
 
 static inline uint kd_axis_of(uint lx, uint ly, uint lz, uint hx, uint hy, uint hz) {
     const float ex = kd_key_float(hx) - kd_key_float(lx);
@@ -47,12 +45,6 @@ static inline uint kd_axis_of(uint lx, uint ly, uint lz, uint hx, uint hy, uint 
     return axis;
 }
 
-/* bounds[h*6 + a] = min key on axis a, bounds[h*6 + 3 + a] = max key. */
-static inline uint kd_axis(__global const uint* bounds, uint h) {
-    __global const uint* b = bounds + (size_t)h * 6u;
-    return kd_axis_of(b[0], b[1], b[2], b[3], b[4], b[5]);
-}
-
 /* Left-balanced median: the size of the left subtree of a complete binary tree of n nodes. */
 static inline uint kd_left_size(uint n) {
     if (n <= 1u) return 0u;
@@ -61,183 +53,203 @@ static inline uint kd_left_size(uint n) {
     return halfLevel - 1u + min(halfLevel, n - ((1u << h) - 1u));
 }
 
-__kernel void kdtree_init(uint n, __global uint* sub) {
+static inline uint kd_component(uint4 v, uint axis) { return axis == 0u ? v.x : (axis == 1u ? v.y : v.z); }
+
+/* The (key on the axis, photon index) order as one 64-bit number: a photon goes left of the node
+ * when its number is smaller, and is the node when equal (comparisons without branches). */
+static inline ulong kd_order(uint4 v, uint axis) { return (ulong)kd_component(v, axis) << 32 | (ulong)v.w; }
+
+/* The six lists as kernel arguments (one buffer each: none larger than the photon map). */
+#define KD_LISTS                                                                                     \
+    __global uint4 *x0, __global uint4 *y0, __global uint4 *z0, __global uint4 *x1, __global uint4 *y1, \
+        __global uint4 *z1
+#define KD_LISTS_ARGS x0, y0, z0, x1, y1, z1
+
+static inline __global uint4* kd_list(KD_LISTS, uint mask, uint axis, uint flip) {
+    const uint b = ((mask >> axis) & 1u) ^ flip;
+    return axis == 0u ? (b ? x1 : x0) : (axis == 1u ? (b ? y1 : y0) : (b ? z1 : z0));
+}
+
+/* The split of the subtree in [s, e): returns the axis; *left = left(e − s), *node = the node's
+ * list element. */
+static inline uint kd_split(KD_LISTS, uint s, uint e, uint mask, uint* left, uint4* node) {
+    __global const uint4* lx = kd_list(KD_LISTS_ARGS, mask, 0u, 0u);
+    __global const uint4* ly = kd_list(KD_LISTS_ARGS, mask, 1u, 0u);
+    __global const uint4* lz = kd_list(KD_LISTS_ARGS, mask, 2u, 0u);
+    const uint axis = kd_axis_of(lx[s].x, ly[s].y, lz[s].z, lx[e - 1u].x, ly[e - 1u].y, lz[e - 1u].z);
+    *left = kd_left_size(e - s);
+    *node = kd_list(KD_LISTS_ARGS, mask, axis, 0u)[s + *left];
+    return axis;
+}
+
+/* Node h is photon i, split on the axis: recorded here, the photon copied by kdtree_nodes (one
+ * pass of independent accesses, instead of a cache miss in the middle of every split). */
+static inline void kd_emit(uint h, uint i, uint axis, __global uint* index, __global uchar* axes) {
+    index[h] = i;
+    axes[h] = (uchar)axis;
+}
+
+/* The children's mask: the two lists other than the axis' move to the other buffer. */
+static inline uint kd_child_mask(uint mask, uint axis) { return mask ^ (7u & ~(1u << axis)); }
+
+/* The list element of each photon, in map order (points: list x1, free until the
+ * first split), and the first rank sort's input (key on x, photon index). */
+__kernel void kdtree_points(__global const PclPhoton* photons, uint n, __global uint4* points, __global uint* keys,
+                            __global uint* values) {
     const uint i = (uint)get_global_id(0);
     if (i >= n) return;
-    sub[i] = 0u;
-}
-
-__kernel void kdtree_bounds_init(__global uint* bounds, uint first, uint count) {
-    const uint j = (uint)get_global_id(0);
-    if (j >= count) return;
-    __global uint* b = bounds + (size_t)(first + j) * 6u;
-    b[0] = b[1] = b[2] = 0xFFFFFFFFu;
-    b[3] = b[4] = b[5] = 0u;
-}
-
-/* Photon order: each photon's coordinates into its subtree's box. Read first, atomic only when
- * the photon extends the box: after the first few photons of a subtree almost none does, so the
- * pass is sequential reads, a cached read of the box and rare atomics. min and max do not
- * depend on the order they are applied in, so the box is exact and deterministic. */
-static inline void kd_extend(volatile __global uint* b, uint a, uint k) {
-    if (k < b[a]) atomic_min(b + a, k);
-    if (k > b[3u + a]) atomic_max(b + 3u + a, k);
-}
-
-__kernel void kdtree_bounds(__global const PclPhoton* photons, __global const uint* sub, uint n,
-                            __global uint* bounds) {
-    const uint i = (uint)get_global_id(0);
-    if (i >= n) return;
-    const uint h = sub[i];
-    if (h == PCL_KD_DONE) return;
     __global const PclPhoton* p = photons + i;
-    volatile __global uint* b = (volatile __global uint*)(bounds + (size_t)h * 6u);
-    kd_extend(b, 0u, kd_float_key(p->x));
-    kd_extend(b, 1u, kd_float_key(p->y));
-    kd_extend(b, 2u, kd_float_key(p->z));
-}
-
-/* Ranks: rank_a[i] = position of photon i when the map is ordered by (coordinate key on axis
- * a, photon index) — one stable radix sort per axis, once. Ordering a subtree by rank is
- * ordering it by (key, index), in rankBits = ⌈log2 n⌉ bits instead of 32 + a tie rule. */
-__kernel void kdtree_rank_keys(__global const PclPhoton* photons, uint n, uint axis, __global uint* keys,
-                               __global uint* values) {
-    const uint i = (uint)get_global_id(0);
-    if (i >= n) return;
-    keys[i] = kd_float_key(kd_coord(photons + i, axis));
+    const uint4 v = (uint4)(kd_float_key(p->x), kd_float_key(p->y), kd_float_key(p->z), i);
+    points[i] = v;
+    keys[i] = v.x;
     values[i] = i;
 }
 
-__kernel void kdtree_rank_scatter(__global const uint* values, uint n, uint axis, __global uint* ranks) {
+/* After the stable sort on the axis: list `axis` of buffer 0 in (key, index) order, and the
+ * next sort's input (key on axis + 1, photon index; each work-item reads its pair before
+ * writing it); the root's range. */
+__kernel void kdtree_lists(__global const uint4* points, __global uint* keys, __global uint* values, uint n, uint axis,
+                           __global uint4* x0, __global uint4* y0, __global uint4* z0, __global uint4* nodes) {
     const uint k = (uint)get_global_id(0);
     if (k >= n) return;
-    ranks[(size_t)axis * n + values[k]] = k;
-}
-
-/* Keys of 32 bits while rankBits + level bits fit, else 64 (-DPCL_KD_KEY64=1). */
-#ifndef PCL_KD_KEY64
-#define PCL_KD_KEY64 0
-#endif
-#if PCL_KD_KEY64
-typedef ulong kd_key;
-#else
-typedef uint kd_key;
-#endif
-
-/* ranks: axis-major, ranks[a*n + i]. */
-__kernel void kdtree_keys(__global const uint* ranks, __global const uint* sub, uint n,
-                          __global const uint* bounds, uint levelFirst, uint levelCount, uint rankBits,
-                          __global kd_key* keys, __global uint* values) {
-    const uint i = (uint)get_global_id(0);
-    if (i >= n) return;
-    const uint h = sub[i];
-    kd_key key;
-    if (h == PCL_KD_DONE) {
-        key = (kd_key)levelCount << rankBits;
-    } else {
-        const uint axis = kd_axis(bounds, h);
-        key = (kd_key)(h - levelFirst) << rankBits | (kd_key)ranks[(size_t)axis * n + i];
+    (axis == 0u ? x0 : (axis == 1u ? y0 : z0))[k] = points[values[k]];
+    if (axis < 2u) {
+        keys[k] = kd_component(points[k], axis + 1u);
+        values[k] = k;
     }
-    keys[i] = key;
-    values[i] = i;
+    if (k == 0u && axis == 0u) nodes[0] = (uint4)(0u, n, 0u, 0u);
 }
 
-__kernel void kdtree_segments(__global const kd_key* keys, uint n, uint levelCount, uint rankBits,
-                              __global uint* segStart, __global uint* segEnd) {
-    const uint k = (uint)get_global_id(0);
-    if (k >= n) return;
-    const uint rel = (uint)(keys[k] >> rankBits);
-    if (rel >= levelCount) return;
-    if (k == 0u || (uint)(keys[k - 1u] >> rankBits) != rel) segStart[rel] = k;
-    if (k == n - 1u || (uint)(keys[k + 1u] >> rankBits) != rel) segEnd[rel] = k + 1u;
-}
-
-__kernel void kdtree_assign(__global const PclPhoton* photons, __global const kd_key* keys,
-                            __global const uint* values, uint n, uint levelFirst, uint levelCount, uint rankBits,
-                            __global const uint* segStart, __global const uint* segEnd,
-                            __global const uint* bounds, __global uint* sub, __global PclPhoton* tree,
-                            __global uint* index) {
-    const uint k = (uint)get_global_id(0);
-    if (k >= n) return;
-    const uint rel = (uint)(keys[k] >> rankBits);
-    if (rel >= levelCount) return;
-    const uint h = levelFirst + rel;
-    const uint start = segStart[rel];
-    const uint left = kd_left_size(segEnd[rel] - start);
-    const uint r = k - start;
-    const uint i = values[k];
-    if (r == left) {
-        PclPhoton p = photons[i];
-        p.packed = (p.packed & ~PCL_PHOTON_AXIS_MASK) | (kd_axis(bounds, h) << PCL_PHOTON_AXIS_SHIFT);
-        tree[h] = p;
-        index[h] = i;
-        sub[i] = PCL_KD_DONE;
-    } else {
-        sub[i] = r < left ? 2u * h + 1u : 2u * h + 2u;
+/* Work-item j of a level: chunk j % chunks of the level's subtree j / chunks, the range
+ * [s + c·chunk, min(s + (c + 1)·chunk, e)). counts[2j + o] (o = 0, 1: the lists axis + 1,
+ * axis + 2 mod 3) = 2 × (photons before the node) + (1 if the node is in the chunk). */
+__kernel void kdtree_count(KD_LISTS, __global uint4* nodes, uint first, uint count, uint chunks, uint chunk,
+                           __global uint* counts, __global uint* index, __global uchar* axes) {
+    const uint j = (uint)get_global_id(0);
+    if (j >= count * chunks) return;
+    const uint rel = j / chunks, c = j - rel * chunks, h = first + rel;
+    const uint4 nd = nodes[h];
+    const uint s = nd.x, e = nd.y, mask = nd.z;
+    uint left;
+    uint4 node;
+    const uint axis = kd_split(KD_LISTS_ARGS, s, e, mask, &left, &node);
+    if (c == 0u) {
+        kd_emit(h, node.w, axis, index, axes);
+        const uint cm = kd_child_mask(mask, axis);
+        if (left > 0u) nodes[2u * h + 1u] = (uint4)(s, s + left, cm, 0u);
+        if (s + left + 1u < e) nodes[2u * h + 2u] = (uint4)(s + left + 1u, e, cm, 0u);
+    }
+    const uint lo = min(s + c * chunk, e), hi = min(lo + chunk, e);
+    for (uint o = 0u; o < 2u; ++o) {
+        const uint a = (axis + 1u + o) % 3u;
+        __global const uint4* src = kd_list(KD_LISTS_ARGS, mask, a, 0u);
+        const ulong nodeOrder = kd_order(node, axis);
+        uint sum = 0u;
+        for (uint k = lo; k < hi; ++k) {
+            const ulong order = kd_order(src[k], axis);
+            sum += ((uint)(order < nodeOrder) << 1) + (uint)(order == nodeOrder);
+        }
+        counts[2u * j + o] = sum;
     }
 }
 
-/* The last levels in one launch: once every subtree of a level holds at most PCL_KD_FINISH
- * photons (the host checks the largest, the level's leftmost), work-item rel builds the whole
- * subtree of node levelFirst + rel from its sorted segment by the same rule, depth first:
- * box, axis, photons ordered by (coordinate key, photon index) by insertion sort, the
- * left-balanced median the node. */
-__kernel void kdtree_finish(__global const PclPhoton* photons, __global const uint* values,
-                            __global const uint* segStart, __global const uint* segEnd, uint levelFirst,
-                            uint levelCount, __global PclPhoton* tree, __global uint* index) {
+__kernel void kdtree_scatter(KD_LISTS, __global const uint4* nodes, uint first, uint count, uint chunks, uint chunk,
+                             __global const uint* counts) {
+    const uint j = (uint)get_global_id(0);
+    if (j >= count * chunks) return;
+    const uint rel = j / chunks, c = j - rel * chunks, h = first + rel;
+    const uint4 nd = nodes[h];
+    const uint s = nd.x, e = nd.y, mask = nd.z;
+    uint left;
+    uint4 node;
+    const uint axis = kd_split(KD_LISTS_ARGS, s, e, mask, &left, &node);
+    const uint lo = min(s + c * chunk, e), hi = min(lo + chunk, e);
+    if (lo >= hi) return;
+    for (uint o = 0u; o < 2u; ++o) {
+        const uint a = (axis + 1u + o) % 3u;
+        __global const uint4* src = kd_list(KD_LISTS_ARGS, mask, a, 0u);
+        __global uint4* dst = kd_list(KD_LISTS_ARGS, mask, a, 1u);
+        uint before = 0u;
+        for (uint t = j - c; t < j; ++t) before += counts[2u * t + o];
+        const ulong nodeOrder = kd_order(node, axis);
+        /* the next places left and right of the node: past those of the subtree's earlier chunks */
+        uint lp = s + (before >> 1);
+        uint rp = s + left + 1u + (lo - s - (before >> 1) - (before & 1u));
+        for (uint k = lo; k < hi; ++k) {
+            const uint4 v = src[k];
+            const ulong order = kd_order(v, axis);
+            const uint isLeft = (uint)(order < nodeOrder), isRight = (uint)(order > nodeOrder);
+            dst[select(select(s + left, rp, isRight), lp, isLeft)] = v;
+            lp += isLeft;
+            rp += isRight;
+        }
+    }
+}
+
+/* The last levels in one launch: once every subtree of a level holds at most finishSize photons
+ * (the host checks the largest, the level's leftmost), work-item rel builds the whole subtree of
+ * node first + rel, depth first, by the same rule, partitioning its lists sequentially. */
+__kernel void kdtree_finish(KD_LISTS, __global const uint4* nodes, uint first, uint count, __global uint* index,
+                            __global uchar* axes) {
     const uint rel = (uint)get_global_id(0);
-    if (rel >= levelCount) return;
-    const uint start = segStart[rel];
-    const uint m = segEnd[rel] - start;
-    uint idx[PCL_KD_FINISH], key[PCL_KD_FINISH];
-    for (uint j = 0u; j < m; ++j) idx[j] = values[start + j];
-    uint stackNode[32], stackBegin[32], stackEnd[32];
-    uint top = 0u;
-    stackNode[0] = levelFirst + rel;
-    stackBegin[0] = 0u;
-    stackEnd[0] = m;
-    top = 1u;
+    if (rel >= count) return;
+    uint4 stack[32];  /* (node, start, end, mask); depth ≤ 31 */
+    const uint4 root = nodes[first + rel];
+    stack[0] = (uint4)(first + rel, root.x, root.y, root.z);
+    uint top = 1u;
     while (top > 0u) {
-        --top;
-        const uint h = stackNode[top], b = stackBegin[top], e = stackEnd[top];
-        uint lo[3] = {0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu}, hi[3] = {0u, 0u, 0u};
-        for (uint j = b; j < e; ++j) {
-            __global const PclPhoton* p = photons + idx[j];
-            const uint kx = kd_float_key(p->x), ky = kd_float_key(p->y), kz = kd_float_key(p->z);
-            lo[0] = min(lo[0], kx); hi[0] = max(hi[0], kx);
-            lo[1] = min(lo[1], ky); hi[1] = max(hi[1], ky);
-            lo[2] = min(lo[2], kz); hi[2] = max(hi[2], kz);
+        const uint4 t = stack[--top];
+        const uint h = t.x, s = t.y, e = t.z, mask = t.w;
+        if (e - s == 1u) {  /* a leaf: its box is a point, axis x */
+            kd_emit(h, kd_list(KD_LISTS_ARGS, mask, 0u, 0u)[s].w, 0u, index, axes);
+            continue;
         }
-        const uint axis = kd_axis_of(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
-        for (uint j = b; j < e; ++j) {
-            const uint i = idx[j];
-            const uint k = kd_float_key(kd_coord(photons + i, axis));
-            uint t = j;
-            while (t > b && (key[t - 1u] > k || (key[t - 1u] == k && idx[t - 1u] > i))) {
-                key[t] = key[t - 1u];
-                idx[t] = idx[t - 1u];
-                --t;
+        uint left;
+        uint4 node;
+        const uint axis = kd_split(KD_LISTS_ARGS, s, e, mask, &left, &node);
+        kd_emit(h, node.w, axis, index, axes);
+        if (e - s <= 3u) {  /* one or two leaves, read off the axis' list */
+            __global const uint4* l = kd_list(KD_LISTS_ARGS, mask, axis, 0u);
+            kd_emit(2u * h + 1u, l[s].w, 0u, index, axes);
+            if (e - s == 3u) kd_emit(2u * h + 2u, l[s + 2u].w, 0u, index, axes);
+            continue;
+        }
+        for (uint o = 0u; o < 2u; ++o) {
+            const uint a = (axis + 1u + o) % 3u;
+            __global const uint4* src = kd_list(KD_LISTS_ARGS, mask, a, 0u);
+            __global uint4* dst = kd_list(KD_LISTS_ARGS, mask, a, 1u);
+            const ulong nodeOrder = kd_order(node, axis);
+            uint lp = s, rp = s + left + 1u;
+            for (uint k = s; k < e; ++k) {
+                const uint4 v = src[k];
+                const ulong order = kd_order(v, axis);
+                const uint isLeft = (uint)(order < nodeOrder), isRight = (uint)(order > nodeOrder);
+                dst[select(select(s + left, rp, isRight), lp, isLeft)] = v;
+                lp += isLeft;
+                rp += isRight;
             }
-            key[t] = k;
-            idx[t] = i;
         }
-        const uint left = kd_left_size(e - b);
-        const uint i = idx[b + left];
-        PclPhoton p = photons[i];
-        p.packed = (p.packed & ~PCL_PHOTON_AXIS_MASK) | (axis << PCL_PHOTON_AXIS_SHIFT);
-        tree[h] = p;
-        index[h] = i;
-        if (b + left + 1u < e) {
-            stackNode[top] = 2u * h + 2u;
-            stackBegin[top] = b + left + 1u;
-            stackEnd[top] = e;
-            ++top;
-        }
-        if (left > 0u) {
-            stackNode[top] = 2u * h + 1u;
-            stackBegin[top] = b;
-            stackEnd[top] = b + left;
-            ++top;
-        }
+        const uint cm = kd_child_mask(mask, axis);
+        if (s + left + 1u < e) stack[top++] = (uint4)(2u * h + 2u, s + left + 1u, e, cm);
+        stack[top++] = (uint4)(2u * h + 1u, s, s + left, cm);  /* left ≥ 1 for e − s ≥ 2 */
     }
+}
+
+/* The tree: node h = photon index[h] with its split axis, written photon by photon (reads in
+ * order, stores scattered: they do not hold the core up the way scattered reads do).
+ * kdtree_places: place[index[h]] = h. */
+__kernel void kdtree_places(__global const uint* index, uint n, __global uint* place) {
+    const uint h = (uint)get_global_id(0);
+    if (h >= n) return;
+    place[index[h]] = h;
+}
+
+__kernel void kdtree_nodes(__global const PclPhoton* photons, __global const uint* place,
+                           __global const uchar* axes, uint n, __global PclPhoton* tree) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= n) return;
+    const uint h = place[i];
+    PclPhoton p = photons[i];
+    p.packed = (p.packed & ~PCL_PHOTON_AXIS_MASK) | ((uint)axes[h] << PCL_PHOTON_AXIS_SHIFT);
+    tree[h] = p;
 }

@@ -30,18 +30,39 @@ int bitLength(uint64_t v) {
 }  // namespace
 
 int kdTreeFinishSize(cl_device_type type) {
-    // GPUs: small private arrays (they spill to memory); CPUs: longer finished subtrees.
-    return (type & CL_DEVICE_TYPE_GPU) ? 32 : 128;
+    // GPUs: many small subtrees, one work-item each; CPUs: one subtree per work-item once there are
+    // enough of them to keep the cores busy (the sequential partition runs in cache).
+    return (type & CL_DEVICE_TYPE_GPU) ? 32 : 8192;
 }
 
-bool kdTreeUses64BitKeys(size_t n, int finishSize) {
-    const int rankBits = bitLength(n ? n - 1 : 0);
+namespace {
+
+// The chunk of a level's subtrees one kdtree_count / kdtree_scatter work-item takes: at least
+// minChunk photons, at most 1024 chunks per subtree (each scatter work-item sums the counts of
+// its subtree's earlier chunks).
+struct LevelShape {
+    uint64_t chunk = 0, chunks = 0;
+};
+
+LevelShape levelShape(uint64_t maxSize, cl_device_type type) {
+    const uint64_t minChunk = (type & CL_DEVICE_TYPE_GPU) ? 256 : 2048;
+    LevelShape l;
+    l.chunk = std::max<uint64_t>(minChunk, (maxSize + 1023) / 1024);
+    l.chunks = (maxSize + l.chunk - 1) / l.chunk;
+    return l;
+}
+
+}  // namespace
+
+size_t kdTreeCountEntries(size_t n, int finishSize, cl_device_type type) {
+    size_t entries = 0;
     for (uint64_t first = 0; first < n; first = 2 * first + 1) {
         const uint64_t count = std::min<uint64_t>(first + 1, n - first);
-        if (rankBits + bitLength(count) > 32) return true;
-        if (subtreeSize(first, n) <= uint64_t(finishSize)) break;
+        const uint64_t maxSize = subtreeSize(first, n);
+        if (maxSize <= uint64_t(std::max(finishSize, 0))) break;
+        entries = std::max<size_t>(entries, size_t(2 * count * levelShape(maxSize, type).chunks));
     }
-    return false;
+    return entries;
 }
 
 DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, KdTreeTiming* timing, int finishSize) {
@@ -53,87 +74,75 @@ DeviceKdTree buildKdTree(Device& device, const cl::Buffer& photons, size_t n, Kd
     if (n == 0) return tree;
 
     const std::string stage = "kdtree";
-    if (finishSize < 0) finishSize = kdTreeFinishSize(device.info().type);
-    const std::string opts = "-DPCL_KD_FINISH=" + std::to_string(std::max(finishSize, 1)) + "u";
-    auto init = device.kernel<cl_uint, cl::Buffer>(stage, "kdtree_init", opts);
-    auto boundsInit = device.kernel<cl::Buffer, cl_uint, cl_uint>(stage, "kdtree_bounds_init", opts);
-    auto bounds = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_bounds", opts);
-    auto rankKeys =
-        device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_rank_keys", opts);
-    auto rankScatter = device.kernel<cl::Buffer, cl_uint, cl_uint, cl::Buffer>(stage, "kdtree_rank_scatter", opts);
-    // Per key width (0: 32-bit keys, 1: 64-bit): keys, segments, assign.
-    using KeysKernel = cl::KernelFunctor<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl_uint,
-                                         cl::Buffer, cl::Buffer>;
-    using SegmentsKernel = cl::KernelFunctor<cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer>;
-    using AssignKernel = cl::KernelFunctor<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint,
-                                           cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>;
-    std::vector<KeysKernel> keysK;
-    std::vector<SegmentsKernel> segments;
-    std::vector<AssignKernel> assign;
-    for (const char* width : {" -DPCL_KD_KEY64=0", " -DPCL_KD_KEY64=1"}) {
-        const std::string o = opts + width;
-        keysK.push_back(device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint, cl_uint, cl_uint,
-                                      cl::Buffer, cl::Buffer>(stage, "kdtree_keys", o));
-        segments.push_back(
-            device.kernel<cl::Buffer, cl_uint, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_segments", o));
-        assign.push_back(
-            device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint, cl::Buffer,
-                          cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_assign", o));
-    }
+    const cl_device_type type = device.info().type;
+    if (finishSize < 0) finishSize = kdTreeFinishSize(type);
+    auto points = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer>(stage, "kdtree_points");
+    auto lists = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer,
+                               cl::Buffer>(stage, "kdtree_lists");
+    // The six lists come first in kdtree_count, kdtree_scatter and kdtree_finish.
+    using L = cl::Buffer;
+    auto countK = device.kernel<L, L, L, L, L, L, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint, cl::Buffer,
+                                cl::Buffer, cl::Buffer>(stage, "kdtree_count");
+    auto scatter = device.kernel<L, L, L, L, L, L, cl::Buffer, cl_uint, cl_uint, cl_uint, cl_uint, cl::Buffer>(
+        stage, "kdtree_scatter");
     auto finish =
-        device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(
-            stage, "kdtree_finish", opts);
+        device.kernel<L, L, L, L, L, L, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer>(stage, "kdtree_finish");
+    auto places = device.kernel<cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_places");
+    auto nodesK = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer>(stage, "kdtree_nodes");
 
     const cl_mem_flags rw = CL_MEM_READ_WRITE;
-    cl::Buffer sub = device.allocate<uint32_t>(n, rw, "kd-tree: subtrees");
-    cl::Buffer keys = device.allocate<uint64_t>(n, rw, "kd-tree: keys");  // 32- or 64-bit keys, per level
-    cl::Buffer values = device.allocate<uint32_t>(n, rw, "kd-tree: values");
-    cl::Buffer ranks = device.allocate<uint32_t>(3 * n, rw, "kd-tree: ranks");
-    cl::Buffer boxes = device.allocate<uint32_t>(6 * n, rw, "kd-tree: boxes");
-    cl::Buffer segStart = device.allocate<uint32_t>(n, rw, "kd-tree: segment starts");
-    cl::Buffer segEnd = device.allocate<uint32_t>(n, rw, "kd-tree: segment ends");
-    SortWorkspace workspace[2];
+    // One buffer per list (16 bytes a photon: none larger than the map's own 24).
+    cl::Buffer x0 = device.allocate<cl_uint4>(n, rw, "kd-tree: list x");
+    cl::Buffer y0 = device.allocate<cl_uint4>(n, rw, "kd-tree: list y");
+    cl::Buffer z0 = device.allocate<cl_uint4>(n, rw, "kd-tree: list z");
+    cl::Buffer x1 = device.allocate<cl_uint4>(n, rw, "kd-tree: list x (second)");
+    cl::Buffer y1 = device.allocate<cl_uint4>(n, rw, "kd-tree: list y (second)");
+    cl::Buffer z1 = device.allocate<cl_uint4>(n, rw, "kd-tree: list z (second)");
+    cl::Buffer nodes = device.allocate<cl_uint4>(n, rw, "kd-tree: subtree ranges");
+    cl::Buffer axes = device.allocate<uint8_t>(n, rw, "kd-tree: node axes");
+    const size_t countEntries = kdTreeCountEntries(n, finishSize, type);
+    cl::Buffer counts;
+    if (countEntries) counts = device.allocate<uint32_t>(countEntries, rw, "kd-tree: chunk counts");
 
     std::vector<cl::Event> events;
     const cl::NDRange group = workGroup();
     const cl_uint N = cl_uint(n);
-    events.push_back(device.launchLocal(stage, init, wholeWorkGroups(n), group, N, sub));
-    events.push_back(device.launchLocal(stage, boundsInit, wholeWorkGroups(1), group, boxes, cl_uint(0), cl_uint(1)));
-    events.push_back(device.launchLocal(stage, bounds, wholeWorkGroups(n), group, photons, sub, N, boxes));
-
     double sortSeconds = 0.0;
-    const int rankBits = bitLength(n - 1);
-    for (cl_uint axis = 0; axis < 3; ++axis) {  // (n = 1 too: its one rank, 0, must be written)
-        events.push_back(
-            device.launchLocal(stage, rankKeys, wholeWorkGroups(n), group, photons, N, axis, keys, values));
-        sortPairsOnDevice(device, keys, values, n, 32, 0, &sortSeconds, &workspace[0]);
-        events.push_back(device.launchLocal(stage, rankScatter, wholeWorkGroups(n), group, values, N, axis, ranks));
+    cl::Buffer keys = device.allocate<uint32_t>(n, rw, "kd-tree: keys");  // the sorts', then each photon's place
+    {
+        cl::Buffer values = device.allocate<uint32_t>(n, rw, "kd-tree: values");
+        SortWorkspace workspace;
+        events.push_back(device.launchLocal(stage, points, wholeWorkGroups(n), group, photons, N, x1, keys, values));
+        for (cl_uint axis = 0; axis < 3; ++axis) {
+            sortPairsOnDevice(device, keys, values, n, 32, 0, &sortSeconds, &workspace);
+            events.push_back(device.launchLocal(stage, lists, wholeWorkGroups(n), group, x1, keys, values, N, axis, x0,
+                                                y0, z0, nodes));
+        }
     }
     for (uint64_t first = 0; first < n; first = 2 * first + 1) {
-        const uint64_t count = std::min<uint64_t>(first + 1, n - first);  // nodes on this level
-        const int keyBits = rankBits + bitLength(count);
-        const int w = keyBits > 32 ? 1 : 0;
-        events.push_back(device.launchLocal(stage, keysK[w], wholeWorkGroups(n), group, ranks, sub, N, boxes,
-                                            cl_uint(first), cl_uint(count), cl_uint(rankBits), keys, values));
-        sortPairsOnDevice(device, keys, values, n, w ? 64 : 32, keyBits, &sortSeconds, &workspace[w]);
-        events.push_back(device.launchLocal(stage, segments[w], wholeWorkGroups(n), group, keys, N, cl_uint(count),
-                                            cl_uint(rankBits), segStart, segEnd));
-        ++tree.sortedLevels;
-        if (subtreeSize(first, n) <= uint64_t(finishSize)) {  // the leftmost subtree is the level's largest
-            events.push_back(device.launchLocal(stage, finish, wholeWorkGroups(count), group, photons, values, segStart,
-                                                segEnd, cl_uint(first), cl_uint(count), tree.photons, tree.index));
+        const cl_uint count = cl_uint(std::min<uint64_t>(first + 1, n - first));  // nodes on this level
+        const uint64_t maxSize = subtreeSize(first, n);  // the leftmost subtree is the level's largest
+        if (maxSize <= uint64_t(finishSize)) {
+            // CPUs run a work-group on one core, its work-items one after another: one subtree per
+            // work-group spreads the subtrees over the cores (and evens out their sizes).
+            const size_t local = (type & CL_DEVICE_TYPE_GPU) ? kWorkGroupSize : 1;
+            events.push_back(device.launchLocal(stage, finish, cl::NDRange(count + (local - count % local) % local),
+                                                cl::NDRange(local), x0, y0, z0, x1, y1, z1, nodes, cl_uint(first),
+                                                count, tree.index, axes));
             break;
         }
-        events.push_back(device.launchLocal(stage, assign[w], wholeWorkGroups(n), group, photons, keys, values, N,
-                                            cl_uint(first), cl_uint(count), cl_uint(rankBits), segStart, segEnd, boxes,
-                                            sub, tree.photons, tree.index));
-        const uint64_t childFirst = 2 * first + 1;
-        if (childFirst >= n) continue;
-        const uint64_t childCount = std::min<uint64_t>(2 * count, n - childFirst);
-        events.push_back(device.launchLocal(stage, boundsInit, wholeWorkGroups(childCount), group, boxes,
-                                            cl_uint(childFirst), cl_uint(childCount)));
-        events.push_back(device.launchLocal(stage, bounds, wholeWorkGroups(n), group, photons, sub, N, boxes));
+        const LevelShape l = levelShape(maxSize, type);
+        const size_t items = size_t(count) * l.chunks;
+        events.push_back(device.launchLocal(stage, countK, wholeWorkGroups(items), group, x0, y0, z0, x1, y1, z1, nodes,
+                                            cl_uint(first), count, cl_uint(l.chunks), cl_uint(l.chunk), counts,
+                                            tree.index, axes));
+        events.push_back(device.launchLocal(stage, scatter, wholeWorkGroups(items), group, x0, y0, z0, x1, y1, z1,
+                                            nodes, cl_uint(first), count, cl_uint(l.chunks), cl_uint(l.chunk), counts));
+        ++tree.sortedLevels;
     }
+    events.push_back(device.launchLocal(stage, places, wholeWorkGroups(n), group, tree.index, N, keys));
+    events.push_back(
+        device.launchLocal(stage, nodesK, wholeWorkGroups(n), group, photons, keys, axes, N, tree.photons));
     device.finish();
     tree.levels = uint32_t(bitLength(n));  // ⌊log2 n⌋ + 1
     if (timing) {

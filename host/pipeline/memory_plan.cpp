@@ -155,15 +155,15 @@ private:
         add(phase, "kd-tree: photons", n, sizeof(PclPhoton), 0, 0, n);
         add(phase, "kd-tree: nodes", n, sizeof(PclPhoton), 0, 0, n);
         add(phase, "kd-tree: node index", n, sizeof(uint32_t), 0, 0, n);
-        add(phase, "kd-tree: subtrees", n, sizeof(uint32_t), 0, 0, n);
-        add(phase, "kd-tree: keys", n, sizeof(uint64_t), 0, 0, n);
+        for (const char* list : {"x", "y", "z", "x (second)", "y (second)", "z (second)"})
+            add(phase, std::string("kd-tree: list ") + list, n, 4 * sizeof(uint32_t), 0, 0, n);
+        add(phase, "kd-tree: subtree ranges", n, 4 * sizeof(uint32_t), 0, 0, n);
+        add(phase, "kd-tree: node axes", n, sizeof(uint8_t), 0, 0, n);
+        const size_t counts = kdTreeCountEntries(n, kdTreeFinishSize(lim.type), lim.type);
+        if (counts) add(phase, "kd-tree: chunk counts", counts, sizeof(uint32_t), 0, 0, n);
+        add(phase, "kd-tree: keys", n, sizeof(uint32_t), 0, 0, n);
         add(phase, "kd-tree: values", n, sizeof(uint32_t), 0, 0, n);
-        add(phase, "kd-tree: ranks", 3 * n, sizeof(uint32_t), 0, 0, n);
-        add(phase, "kd-tree: boxes", 6 * n, sizeof(uint32_t), 0, 0, n);
-        add(phase, "kd-tree: segment starts", n, sizeof(uint32_t), 0, 0, n);
-        add(phase, "kd-tree: segment ends", n, sizeof(uint32_t), 0, 0, n);
         sortWorkspace(phase, n, 32, n);
-        if (kdTreeUses64BitKeys(n, kdTreeFinishSize(lim.type))) sortWorkspace(phase, n, 64, n);
         add(phase, "knn: packed kd-tree", knnPackedKdTreeElements(n), 4 * sizeof(float), 0, 0, n);
     }
 

@@ -118,8 +118,9 @@ TEST(KdTree, EmptyAndSinglePhoton) {
     EXPECT_EQ(t.index[0], 0u);
 }
 
-// 1M photons at one point (with the default finish: sorted levels, then kdtree_finish): every comparison is a tie broken by index; the build is still
-// ⌊log2 n⌋ + 1 sorted levels (linear work per level), not a quadratic partition.
+// 1M photons at one point (with the default finish: levels split a level at a time, then
+// kdtree_finish): every comparison is a tie broken by index; the build is still ⌊log2 n⌋ + 1
+// levels of linear work each, not a quadratic partition.
 TEST(KdTree, MillionIdenticalPhotons) {
     const size_t n = 1000000;
     std::vector<PclPhoton> in(n);
