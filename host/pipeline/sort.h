@@ -16,7 +16,7 @@
 namespace pcl {
 
 // Scratch buffers (a second key and value array, the tile histogram) kept between sorts so a
-// caller that sorts repeatedly (the kd-tree build, level by level) allocates them once.
+// caller that sorts repeatedly (the kd-tree build: one rank sort per axis) allocates them once.
 struct SortWorkspace {
     cl::Buffer keys, values, hist;
     size_t capacity = 0;  // elements the key/value scratch holds
