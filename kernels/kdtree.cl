@@ -123,23 +123,43 @@ __kernel void kdtree_lists(__global const uint4* points, __global uint* keys, __
 /* Work-item j of a level: chunk j % chunks of the level's subtree j / chunks, the range
  * [s + c·chunk, min(s + (c + 1)·chunk, e)). counts[2j + o] (o = 0, 1: the lists axis + 1,
  * axis + 2 mod 3) = 2 × (photons before the node) + (1 if the node is in the chunk). */
+/* Work-item j of a level's count or scatter pass: chunk c of the subtree of node h = first +
+ * j / chunks, whose photons are [s, e) of its lists (mask: which copy holds each), its split
+ * (axis, left size, node), and the chunk's own range [lo, hi). */
+typedef struct {
+    uint c, h, s, e, mask, axis, left, lo, hi;
+    uint4 node;
+} KdChunk;
+
+static inline KdChunk kd_chunk(KD_LISTS, __global const uint4* nodes, uint first, uint chunks, uint chunk, uint j) {
+    KdChunk k;
+    const uint rel = j / chunks;
+    k.c = j - rel * chunks;
+    k.h = first + rel;
+    const uint4 nd = nodes[k.h];
+    k.s = nd.x;
+    k.e = nd.y;
+    k.mask = nd.z;
+    k.axis = kd_split(KD_LISTS_ARGS, k.s, k.e, k.mask, &k.left, &k.node);
+    k.lo = min(k.s + k.c * chunk, k.e);
+    k.hi = min(k.lo + chunk, k.e);
+    return k;
+}
+
 __kernel void kdtree_count(KD_LISTS, __global uint4* nodes, uint first, uint count, uint chunks, uint chunk,
                            __global uint* counts, __global uint* index, __global uchar* axes) {
     const uint j = (uint)get_global_id(0);
     if (j >= count * chunks) return;
-    const uint rel = j / chunks, c = j - rel * chunks, h = first + rel;
-    const uint4 nd = nodes[h];
-    const uint s = nd.x, e = nd.y, mask = nd.z;
-    uint left;
-    uint4 node;
-    const uint axis = kd_split(KD_LISTS_ARGS, s, e, mask, &left, &node);
+    const KdChunk ck = kd_chunk(KD_LISTS_ARGS, nodes, first, chunks, chunk, j);
+    const uint c = ck.c, h = ck.h, s = ck.s, e = ck.e, mask = ck.mask, axis = ck.axis, left = ck.left;
+    const uint4 node = ck.node;
     if (c == 0u) {
         kd_emit(h, node.w, axis, index, axes);
         const uint cm = kd_child_mask(mask, axis);
         if (left > 0u) nodes[2u * h + 1u] = (uint4)(s, s + left, cm, 0u);
         if (s + left + 1u < e) nodes[2u * h + 2u] = (uint4)(s + left + 1u, e, cm, 0u);
     }
-    const uint lo = min(s + c * chunk, e), hi = min(lo + chunk, e);
+    const uint lo = ck.lo, hi = ck.hi;
     for (uint o = 0u; o < 2u; ++o) {
         const uint a = (axis + 1u + o) % 3u;
         __global const uint4* src = kd_list(KD_LISTS_ARGS, mask, a, 0u);
@@ -157,13 +177,9 @@ __kernel void kdtree_scatter(KD_LISTS, __global const uint4* nodes, uint first, 
                              __global const uint* counts) {
     const uint j = (uint)get_global_id(0);
     if (j >= count * chunks) return;
-    const uint rel = j / chunks, c = j - rel * chunks, h = first + rel;
-    const uint4 nd = nodes[h];
-    const uint s = nd.x, e = nd.y, mask = nd.z;
-    uint left;
-    uint4 node;
-    const uint axis = kd_split(KD_LISTS_ARGS, s, e, mask, &left, &node);
-    const uint lo = min(s + c * chunk, e), hi = min(lo + chunk, e);
+    const KdChunk ck = kd_chunk(KD_LISTS_ARGS, nodes, first, chunks, chunk, j);
+    const uint c = ck.c, s = ck.s, mask = ck.mask, axis = ck.axis, left = ck.left, lo = ck.lo, hi = ck.hi;
+    const uint4 node = ck.node;
     if (lo >= hi) return;
     for (uint o = 0u; o < 2u; ++o) {
         const uint a = (axis + 1u + o) % 3u;
