@@ -48,7 +48,7 @@ void applyMethodDefaults(PhotonRenderSettings& s, const RenderPlan& plan) {
                 // pass, keep the indirect noise of 64. Measured at 256² against path tracing
                 // (README, "Equal time at 256²"; scripts/equal_time.py): cornell-box at 10, 30 and
                 // 60 s, RMSE 1.5-1.6x and relMSE 2.5-4x below the path tracer's, where 1 x 64
-                // gather rays lost by RMSE 3.5-4.4x.
+                // gather rays lost by RMSE 3.4-4.4x.
                 s.strata = 6;
                 s.gatherRays = 2;
                 s.lightSamples = 2;
