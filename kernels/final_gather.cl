@@ -13,7 +13,8 @@
  *      gathered[j]             PclGatherHit: weight (chain throughput × ρd/π / P_d) and emitted
  *                              (chain throughput × Le × MIS weight)
  * Random numbers: stream GATHER, path = pixel, bounce = k·N + g; block 0: (u0, u1) the cosine
- * direction; block b + 1 at gather hit b: u0 lobe, u1 reflect/refract, (u2, u3) glossy direction.
+ * direction; block b + 1 at gather hit b: u0 lobe, u1 reflect/refract, (u2, u3) glossy direction
+ * (drawn only where the hit has a specular lobe).
  *
  * final_gather_resolve — one eye record per work-item:
  * in:  hits, gathered, irradiance (params.irradianceStride floats per query, rgb first)
