@@ -119,6 +119,8 @@ def main():
         f.write("|---|---|---|---|---|---|\n")
         for row in rows:
             f.write(row + "\n")
+        if os.path.exists(os.path.join(args.out, "references-256.md")):  # made apart, kept apart
+            f.write("\n256×256 references for equal-time comparisons: [references-256.md](references-256.md).\n")
     os.replace(table + ".tmp", table)
 
 
