@@ -196,6 +196,43 @@ bool writeSrgbPng(const std::string& path, const Image& image) {
 #endif
 }
 
+Image readImageLayer(const std::string& path, const std::string& layer) {
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".pfm") {
+        const fs::path beside = fs::path(path).replace_extension("." + layer + ".pfm");
+        if (!fs::exists(beside)) throw InputError(path + ": no layer '" + layer + "' (" + beside.string() + ")");
+        return readPfm(beside.string());
+    }
+#ifdef PHOTONCL_HAVE_OIIO
+    if (!fs::exists(path)) throw InputError(path + ": no such file");
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError(path + ": cannot read: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    int first[3] = {-1, -1, -1};
+    std::string found;
+    for (int c = 0; c < spec.nchannels; ++c) {
+        const std::string& name = spec.channelnames[c];
+        found += (found.empty() ? "" : ", ") + name;
+        for (int k = 0; k < 3; ++k)
+            if (name == layer + "." + "RGB"[k]) first[k] = c;
+    }
+    if (first[0] < 0 || first[1] < 0 || first[2] < 0)
+        throw InputError(path + ": no layer '" + layer + "': expected channels " + layer + ".R, .G, .B; found " +
+                         found);
+    std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
+        throw InputError(path + ": cannot read pixels: " + in->geterror());
+    Image image(spec.width, spec.height);
+    for (size_t i = 0; i < image.pixelCount(); ++i)
+        for (int k = 0; k < 3; ++k) image.rgb[3 * i + k] = pixels[i * spec.nchannels + first[k]];
+    in->close();
+    return image;
+#else
+    throw InputError(path + ": this build reads PFM only (built without OpenImageIO)");
+#endif
+}
+
 Image readImage(const std::string& path, ImageMetadata* metadata) {
     std::string ext = fs::path(path).extension().string();
     for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -57,6 +57,10 @@ bool writeSrgbPng(const std::string& path, const Image& image);
 // OpenImageIO reads, or from PFM in any build. Fills metadata when asked and present.
 Image readImage(const std::string& path, ImageMetadata* metadata = nullptr);
 
+// One layer written by writeLinearImage with layers: the channels "<layer>.R/G/B" of an EXR, or
+// the PFM "<stem>.<layer>.pfm" beside a PFM. InputError naming the layer when it is not there.
+Image readImageLayer(const std::string& path, const std::string& layer);
+
 // PFM ("PF", little-endian, bottom row first), always available.
 void writePfm(const std::string& path, const Image& image);
 Image readPfm(const std::string& path);

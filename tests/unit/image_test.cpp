@@ -147,6 +147,30 @@ TEST(ImageIo, LinearRoundTripKeepsValuesAndMetadata) {
     }
 }
 
+// Layers read back by name, bit exact, from the EXR (channels "<layer>.R/G/B") or, in a build
+// without OpenImageIO, from the PFMs beside; a layer that is not there names itself.
+TEST(ImageIo, LayersReadBackByName) {
+    TempDir dir;
+    Image img = gradient(6, 5), a = gradient(6, 5), b = gradient(6, 5);
+    for (float& v : a.rgb) v = 2.0f * v + 1.0f;
+    for (float& v : b.rgb) v = -v;
+    const std::string written = writeLinearImage(dir.file("layers.exr"), img, ImageMetadata{}, {{"a", a}, {"b", b}});
+    EXPECT_EQ(readImage(written).rgb, img.rgb);
+    EXPECT_EQ(readImageLayer(written, "a").rgb, a.rgb);
+    EXPECT_EQ(readImageLayer(written, "b").rgb, b.rgb);
+    try {
+        readImageLayer(written, "c");
+        ADD_FAILURE() << "a missing layer was read";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("no layer 'c'"), std::string::npos) << e.what();
+    }
+    // The PFM form (what a build without OpenImageIO writes): "<stem>.<layer>.pfm" beside.
+    writePfm(dir.file("p.pfm"), img);
+    writePfm(dir.file("p.a.pfm"), a);
+    EXPECT_EQ(readImageLayer(dir.file("p.pfm"), "a").rgb, a.rgb);
+    EXPECT_THROW(readImageLayer(dir.file("p.pfm"), "b"), InputError);
+}
+
 TEST(ImageIo, PngWrittenInSrgb) {
     PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO");
     TempDir dir;

@@ -2,12 +2,16 @@
 // layers, the device rules, and Ctrl-C writing the passes done.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
 #include <unistd.h>
 
+#include "common/optional_feature.h"
+#include "core/error.h"
 #include "image/image_io.h"
 #include "unit/run_photoncl.h"
 
@@ -66,6 +70,42 @@ TEST_F(RenderCliTest, AovLayersAndStageTimes) {
     Result info = run("compare " + out.string() + " " + out.string());  // the EXR reads back
     EXPECT_EQ(info.status, 0) << info.output;
     EXPECT_EQ(run("render " + scene("cornell-box.json") + " --aov sparkle -o " + out.string() + small).status, 2);
+}
+
+// The parts sum to the image: per pixel, beauty = direct + caustic + indirect + emitted (every
+// layer read back from the EXR; cornell-spheres has all four: lamp, caustics, indirect light), so
+// a part left out, counted twice or written to the wrong layer fails. The beauty is summed in
+// fixed point (2^-32 steps), the parts as doubles: they agree to float rounding (6.5e-8 measured;
+// leaving the emitted layer out of the sum fails at the first lamp pixel, 20.2 against 0.2).
+TEST_F(RenderCliTest, AovPartsSumToTheImagePerPixel) {
+    using namespace pcl;
+    PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO");
+    const fs::path out = dir / "parts.exr";
+    Result r = run("render " + scene("cornell-spheres.json") +
+                   " --passes 2 --strata 2 --gather-rays 4 --light-samples 2 --width 24 --height 24"
+                   " --global-photons 20000 --caustic-photons 20000 --aov direct,caustic,indirect,emitted,albedo"
+                   " -q -o " +
+                   out.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const Image beauty = readImage(out.string());
+    const char* parts[] = {"direct", "caustic", "indirect", "emitted"};
+    std::vector<Image> layers;
+    for (const char* p : parts) layers.push_back(readImageLayer(out.string(), p));
+    double partTotal[4] = {0, 0, 0, 0}, worst = 0.0;
+    for (size_t i = 0; i < beauty.rgb.size(); ++i) {
+        double sum = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            sum += layers[k].rgb[i];
+            partTotal[k] += layers[k].rgb[i];
+        }
+        ASSERT_TRUE(std::isfinite(beauty.rgb[i])) << "value " << i;
+        const double err = std::abs(beauty.rgb[i] - sum) / std::max(1.0, std::abs(sum));
+        worst = std::max(worst, err);
+        ASSERT_LE(err, 1e-6) << "value " << i << ": image " << beauty.rgb[i] << ", parts " << sum;
+    }
+    std::printf("[figure] AOV parts vs image: worst relative difference %.3g\n", worst);
+    for (int k = 0; k < 4; ++k) EXPECT_GT(partTotal[k], 0.0) << parts[k] << " is empty";  // each part present
+    EXPECT_THROW(readImageLayer(out.string(), "sparkle"), InputError);
 }
 
 TEST_F(RenderCliTest, DeviceRefRendersOnlyThePathTracer) {
