@@ -10,9 +10,11 @@
 #include <cmath>
 #include <filesystem>
 
+#include "check/on_device.h"
 #include "device_fixture.h"
 #include "photon_test_scenes.h"
 #include "pipeline/photon_pass.h"
+#include "prep/photon_allocation.h"
 #include "prep/projection_map.h"
 
 namespace pcl {
@@ -54,9 +56,23 @@ void checkScene(const std::string& path) {
     }
     const PhotonPassKindStats& g = maps.stats.global;
     const PhotonPassKindStats& c = maps.stats.caustic;
+    // The flux the device's rays carry, summed from the rays emit_photons wrote (the same
+    // photons, seeds and allocation as the pass), against the closed form Σ Φ_l (caustic: Σ Φ_l
+    // f_l) and against the pass's own account (stats.emittedFlux, computed on the host).
+    const uint64_t passSeed = photonPassSeed(o.seed, o.pass);
+    double rayFlux[2][3] = {{0, 0, 0}, {0, 0, 0}};
+    for (const uint32_t kind : {uint32_t(PCL_PASS_GLOBAL), uint32_t(PCL_PASS_CAUSTIC)}) {
+        const std::vector<uint32_t>& f = kind == PCL_PASS_GLOBAL ? first : firstC;
+        if (f.back() == 0) continue;
+        const PclPhotonParams params = makePhotonParams(geometry, buffers, kind, passSeed, o.maxDepth, 0, f.back());
+        for (const PclPhotonRay& r : emitOnDevice(test::testDevice(), geometry, buffers, f, params))
+            for (int k = 0; k < 3; ++k) rayFlux[kind == PCL_PASS_CAUSTIC][k] += r.power[k];
+    }
     for (int k = 0; k < 3; ++k) {
-        EXPECT_NEAR(g.emittedFlux[k], want[k], 1e-4 * want[k]);
-        EXPECT_NEAR(c.emittedFlux[k], wantCaustic[k], 1e-4 * want[k]);
+        EXPECT_NEAR(rayFlux[0][k], want[k], 1e-4 * want[k]) << "global rays, channel " << k;
+        EXPECT_NEAR(rayFlux[1][k], wantCaustic[k], 1e-4 * want[k]) << "caustic rays, channel " << k;
+        EXPECT_NEAR(g.emittedFlux[k], rayFlux[0][k], 1e-4 * want[k]);
+        EXPECT_NEAR(c.emittedFlux[k], rayFlux[1][k], 1e-4 * want[k]);
     }
     EXPECT_EQ(g.emitted, o.globalPhotons);
     EXPECT_EQ(g.escaped + g.absorbed + g.maxDepth + g.stored, g.emitted);
