@@ -123,6 +123,20 @@ __kernel void kdtree_lists(__global const uint4* points, __global uint* keys, __
 /* Work-item j of a level: chunk j % chunks of the level's subtree j / chunks, the range
  * [s + c·chunk, min(s + (c + 1)·chunk, e)). counts[2j + o] (o = 0, 1: the lists axis + 1,
  * axis + 2 mod 3) = 2 × (photons before the node) + (1 if the node is in the chunk). */
+/* src[from, to) copied to dst stably in three parts: photons ordered before the node on `axis`
+ * to lp, lp + 1, ..., those after it to rp, rp + 1, ..., the node itself to nodePos. */
+static inline void kd_partition(__global const uint4* src, __global uint4* dst, uint from, uint to, uint axis,
+                                ulong nodeOrder, uint nodePos, uint lp, uint rp) {
+    for (uint k = from; k < to; ++k) {
+        const uint4 v = src[k];
+        const ulong order = kd_order(v, axis);
+        const uint isLeft = (uint)(order < nodeOrder), isRight = (uint)(order > nodeOrder);
+        dst[select(select(nodePos, rp, isRight), lp, isLeft)] = v;
+        lp += isLeft;
+        rp += isRight;
+    }
+}
+
 /* Work-item j of a level's count or scatter pass: chunk c of the subtree of node h = first +
  * j / chunks, whose photons are [s, e) of its lists (mask: which copy holds each), its split
  * (axis, left size, node), and the chunk's own range [lo, hi). */
@@ -189,16 +203,9 @@ __kernel void kdtree_scatter(KD_LISTS, __global const uint4* nodes, uint first, 
         for (uint t = j - c; t < j; ++t) before += counts[2u * t + o];
         const ulong nodeOrder = kd_order(node, axis);
         /* the next places left and right of the node: past those of the subtree's earlier chunks */
-        uint lp = s + (before >> 1);
-        uint rp = s + left + 1u + (lo - s - (before >> 1) - (before & 1u));
-        for (uint k = lo; k < hi; ++k) {
-            const uint4 v = src[k];
-            const ulong order = kd_order(v, axis);
-            const uint isLeft = (uint)(order < nodeOrder), isRight = (uint)(order > nodeOrder);
-            dst[select(select(s + left, rp, isRight), lp, isLeft)] = v;
-            lp += isLeft;
-            rp += isRight;
-        }
+        const uint lp = s + (before >> 1);
+        const uint rp = s + left + 1u + (lo - s - (before >> 1) - (before & 1u));
+        kd_partition(src, dst, lo, hi, axis, nodeOrder, s + left, lp, rp);
     }
 }
 
@@ -235,15 +242,7 @@ __kernel void kdtree_finish(KD_LISTS, __global const uint4* nodes, uint first, u
             __global const uint4* src = kd_list(KD_LISTS_ARGS, mask, a, 0u);
             __global uint4* dst = kd_list(KD_LISTS_ARGS, mask, a, 1u);
             const ulong nodeOrder = kd_order(node, axis);
-            uint lp = s, rp = s + left + 1u;
-            for (uint k = s; k < e; ++k) {
-                const uint4 v = src[k];
-                const ulong order = kd_order(v, axis);
-                const uint isLeft = (uint)(order < nodeOrder), isRight = (uint)(order > nodeOrder);
-                dst[select(select(s + left, rp, isRight), lp, isLeft)] = v;
-                lp += isLeft;
-                rp += isRight;
-            }
+            kd_partition(src, dst, s, e, axis, nodeOrder, s + left, s, s + left + 1u);
         }
         const uint cm = kd_child_mask(mask, axis);
         if (s + left + 1u < e) stack[top++] = (uint4)(2u * h + 2u, s + left + 1u, e, cm);
