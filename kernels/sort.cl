@@ -169,6 +169,12 @@ void sort_scatter(__global const sort_key* keysIn, __global const uint* valuesIn
  * next pass's digits while it moves the pairs. A pass whose digit is the same for the whole
  * bucket is skipped (only counted); the bucket ends in A (copied there if the passes left it in
  * B). Positions are integer counts of the input alone: stable and deterministic. */
+/* Bits of pass p when `bits` are split over `passes` passes, the first ones one bit wider
+ * (pipeline/sort.cpp splits the whole key the same way). */
+inline uint sort_digit_bits(uint bits, uint passes, uint p) {
+    return bits / passes + (p < bits % passes ? 1u : 0u);
+}
+
 __kernel __attribute__((reqd_work_group_size(1, 1, 1)))
 void sort_buckets(__global sort_key* keysA, __global uint* valuesA, __global sort_key* keysB, __global uint* valuesB,
                   __global const uint* offsets, uint tiles, uint n, uint lowBits, uint lowPasses) {
@@ -185,7 +191,7 @@ void sort_buckets(__global sort_key* keysA, __global uint* valuesA, __global sor
     }
     __local uint* cur = counts;
     __local uint* next = counts + PCL_SORT_RADIX;
-    uint shift = 0u, bits = lowBits / lowPasses + (lowBits % lowPasses != 0u ? 1u : 0u);
+    uint shift = 0u, bits = sort_digit_bits(lowBits, lowPasses, 0u);
     for (uint d = 0u; d < PCL_SORT_RADIX; ++d) cur[d] = 0u;
     for (uint i = begin; i < end; ++i) cur[(uint)(keysB[i] & ((1u << bits) - 1u))] += 1u;
     bool inB = true;
@@ -193,7 +199,7 @@ void sort_buckets(__global sort_key* keysA, __global uint* valuesA, __global sor
         /* cur: the counts of pass p's digit; next gets pass p + 1's while pass p moves the pairs */
         const uint mask = (1u << bits) - 1u;
         const uint nextShift = shift + bits;
-        const uint nextBits = p + 1u < lowPasses ? lowBits / lowPasses + (p + 1u < lowBits % lowPasses ? 1u : 0u) : 0u;
+        const uint nextBits = p + 1u < lowPasses ? sort_digit_bits(lowBits, lowPasses, p + 1u) : 0u;
         const uint nextMask = (1u << nextBits) - 1u;
         bool same = false;
         uint run = begin;

@@ -40,6 +40,34 @@ void checkImage(const std::string& path, const Image& image) {
     return fs::path(path).replace_extension(ext).string();
 }
 
+bool isPfm(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".pfm";
+}
+
+#ifdef PHOTONCL_HAVE_OIIO
+// Every channel of the first subimage as floats, interleaved; the file's spec beside them.
+struct AllChannels {
+    OIIO::ImageSpec spec;
+    std::vector<float> pixels;
+};
+
+AllChannels readAllChannels(const std::string& path) {
+    if (!fs::exists(path)) throw InputError(path + ": no such file");
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw InputError(path + ": cannot read: " + OIIO::geterror());
+    AllChannels a{in->spec(), {}};
+    if (a.spec.width <= 0 || a.spec.height <= 0 || a.spec.nchannels <= 0)
+        throw InputError(path + ": expected a non-empty image");
+    a.pixels.resize(static_cast<size_t>(a.spec.width) * a.spec.height * a.spec.nchannels);
+    if (!in->read_image(0, 0, 0, a.spec.nchannels, OIIO::TypeDesc::FLOAT, a.pixels.data()))
+        throw InputError(path + ": cannot read pixels: " + in->geterror());
+    in->close();
+    return a;
+}
+#endif
+
 }  // namespace
 
 float linearToSrgb(float v) {
@@ -197,22 +225,18 @@ bool writeSrgbPng(const std::string& path, const Image& image) {
 }
 
 Image readImageLayer(const std::string& path, const std::string& layer) {
-    std::string ext = fs::path(path).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".pfm") {
-        const fs::path beside = fs::path(path).replace_extension("." + layer + ".pfm");
-        if (!fs::exists(beside)) throw InputError(path + ": no layer '" + layer + "' (" + beside.string() + ")");
-        return readPfm(beside.string());
+    if (isPfm(path)) {
+        const std::string beside = withExtension(path, ("." + layer + ".pfm").c_str());  // as the writer names it
+        if (!fs::exists(beside)) throw InputError(path + ": no layer '" + layer + "' (" + beside + ")");
+        return readPfm(beside);
     }
 #ifdef PHOTONCL_HAVE_OIIO
-    if (!fs::exists(path)) throw InputError(path + ": no such file");
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw InputError(path + ": cannot read: " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
+    const AllChannels a = readAllChannels(path);
+    const int channels = a.spec.nchannels;
     int first[3] = {-1, -1, -1};
     std::string found;
-    for (int c = 0; c < spec.nchannels; ++c) {
-        const std::string& name = spec.channelnames[c];
+    for (int c = 0; c < channels; ++c) {
+        const std::string& name = a.spec.channelnames[c];
         found += (found.empty() ? "" : ", ") + name;
         for (int k = 0; k < 3; ++k)
             if (name == layer + "." + "RGB"[k]) first[k] = c;
@@ -220,13 +244,9 @@ Image readImageLayer(const std::string& path, const std::string& layer) {
     if (first[0] < 0 || first[1] < 0 || first[2] < 0)
         throw InputError(path + ": no layer '" + layer + "': expected channels " + layer + ".R, .G, .B; found " +
                          found);
-    std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
-        throw InputError(path + ": cannot read pixels: " + in->geterror());
-    Image image(spec.width, spec.height);
+    Image image(a.spec.width, a.spec.height);
     for (size_t i = 0; i < image.pixelCount(); ++i)
-        for (int k = 0; k < 3; ++k) image.rgb[3 * i + k] = pixels[i * spec.nchannels + first[k]];
-    in->close();
+        for (int k = 0; k < 3; ++k) image.rgb[3 * i + k] = a.pixels[i * channels + first[k]];
     return image;
 #else
     throw InputError(path + ": this build reads PFM only (built without OpenImageIO)");
@@ -234,22 +254,15 @@ Image readImageLayer(const std::string& path, const std::string& layer) {
 }
 
 Image readImage(const std::string& path, ImageMetadata* metadata) {
-    std::string ext = fs::path(path).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".pfm") {
+    if (isPfm(path)) {
         if (metadata) *metadata = ImageMetadata{};
         return readPfm(path);
     }
 #ifdef PHOTONCL_HAVE_OIIO
-    if (!fs::exists(path)) throw InputError(path + ": no such file");
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw InputError(path + ": cannot read: " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    int channels = spec.nchannels;
-    if (spec.width <= 0 || spec.height <= 0 || channels <= 0) throw InputError(path + ": expected a non-empty image");
-    std::vector<float> pixels(static_cast<size_t>(spec.width) * spec.height * channels);
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data()))
-        throw InputError(path + ": cannot read pixels: " + in->geterror());
+    const AllChannels a = readAllChannels(path);
+    const OIIO::ImageSpec& spec = a.spec;
+    const std::vector<float>& pixels = a.pixels;
+    const int channels = spec.nchannels;
     Image image(spec.width, spec.height);
     for (size_t i = 0; i < image.pixelCount(); ++i)
         for (int c = 0; c < 3; ++c) image.rgb[3 * i + c] = pixels[i * channels + (channels >= 3 ? c : 0)];
@@ -273,7 +286,6 @@ Image readImage(const std::string& path, ImageMetadata* metadata) {
         }
         *metadata = m;
     }
-    in->close();
     return image;
 #else
     throw InputError(path + ": this build reads PFM only (built without OpenImageIO)");
