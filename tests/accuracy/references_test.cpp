@@ -1,7 +1,8 @@
 // Ground truth itself: every shipped scene has a path-traced reference in
 // tests/data/, finite, at the size the accuracy tests render; the furnace scenes' references
 // and fresh path-traced renders give L = ρ/(1−ρ) within 1 %; a short fresh render agrees with
-// each stored reference (a stale reference after a scene edit fails here, not in a photon test).
+// each stored reference per pixel (a stale reference after a scene edit fails here, not in a
+// photon test).
 #include <gtest/gtest.h>
 #include "common/optional_feature.h"
 
@@ -70,18 +71,43 @@ TEST(References, FurnaceMatchesTheClosedForm) {
     }
 }
 
-// 32 samples per pixel at the reference's size against the stored reference: mean ratio within
-// 3 % (the 32-sample mean over ~4000 pixels has a standard error of 0.3-1 %, the caustic scenes'
-// fireflies the most) and relMSE of the same order as the noise of 32 samples.
+// A fresh path-traced render at the reference's size, per pixel: 16 independent runs of 8
+// samples (seeds 101-116) against the stored reference by a Z-test on 2×2 pixel blocks, |z| < 4
+// (Student's t with 15 degrees of freedom passes 99.88 % of pure noise; the reference's own noise
+// is a thirtieth of the runs' and left out); at least 98.5 % of the blocks must pass (measured
+// 98.8 % on gltf-room to 100 %). cornell-spheres is the exception: its walls are lit through the
+// glass ball by paths that hit the lamp rarely (fireflies), so at 8 samples a run's mean is
+// heavy-tailed, the 16 runs' spread underestimates the noise and most blocks that missed the
+// fireflies read too dark (2×2 blocks: 81 % pass although a 4096-sample render agrees with the
+// reference within 1-3 % in every 8×8 block). Its blocks are 8×8 and the bound 92 % (measured
+// 95.3 %). Also the mean ratio within 2 % (the 128-sample mean over ~4000 pixels has a standard
+// error of 0.2-0.7 %). The glass ball moved by 3 cm (a twentieth of the box) keeps the mean
+// (0.998) and fails: 89.1 % of the 8×8 blocks pass; the mirror ball of cornell-spheres-point moved
+// by 3 cm fails with 94.3 % of the 2×2 blocks.
 TEST(References, FreshPathTracedRenderAgreesWithEachReference) {
     PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (the references are EXR)");
     for (const std::string& name : referencedScenes()) {
         Image ref = readImage(referencePath(name));
         Scene scene = loadSceneAt(name, ref.width, ref.height);
-        Image fresh = pathTraced(scene, 32, 5);
-        ImageErrors e = compare(fresh, ref);
-        std::printf("[figure] %s: path tracer 32 spp vs reference: %s\n", name.c_str(), formatErrors(e).c_str());
-        EXPECT_NEAR(e.meanRatio, 1.0, 0.03) << name;
-        EXPECT_TRUE(allFinite(fresh)) << name;
+        std::vector<Image> runs;
+        Image mean(ref.width, ref.height);
+        for (uint64_t seed = 101; seed <= 116; ++seed) {
+            runs.push_back(pathTraced(scene, 8, seed));
+            EXPECT_TRUE(allFinite(runs.back())) << name << " seed " << seed;
+            for (size_t i = 0; i < mean.rgb.size(); ++i) mean.rgb[i] += runs.back().rgb[i] / 16.0f;
+        }
+        ImageErrors e = compare(mean, ref);
+        // cornell-spheres: heavy-tailed (see above), so its blocks are 8×8 and the bound lower.
+        const bool heavyTailed = name == "cornell-spheres.json";
+        const int block = heavyTailed ? 8 : 2;
+        const double required = heavyTailed ? 0.92 : 0.985;
+        std::vector<Image> blocks;
+        for (const Image& run : runs) blocks.push_back(boxDownsample(run, block));
+        ZTestResult z = perPixelZTest(blocks, boxDownsample(ref, block), 4.0);
+        std::printf("[figure] %s: path tracer 16 x 8 spp vs reference: %s; %dx%d blocks %s (bound %.1f%%)\n",
+                    name.c_str(), formatErrors(e).c_str(), block, block, formatZTest(z).c_str(), 100 * required);
+        EXPECT_NEAR(e.meanRatio, 1.0, 0.02) << name;
+        EXPECT_GE(z.passFraction(), required) << name;
+        EXPECT_EQ(z.nonFinite, 0u) << name;
     }
 }
