@@ -136,9 +136,10 @@ TEST_F(SweepCliTest, QuickSweepWritesEveryMethodsCurveAndCharts) {
                     curve, first["passes"].c_str(), last["passes"].c_str(), first["relmse"].c_str(),
                     last["relmse"].c_str(), last["seconds"].c_str(), last["mean_ratio"].c_str());
         // Energy: the path tracer's last point (over a thousand spp here) within 5 %; the photon
-        // methods at 16x16 after a few passes within 35 % (a few partly covered lamp pixels swing
-        // the mean by ~15 % each at one sample per pixel: this catches black or doubled images).
-        EXPECT_NEAR(mr, 1.0, std::string(curve) == "path" ? 0.05 : 0.35) << curve;
+        // methods' last point (8-32 passes at 16x16) within 10 %: measured within 1.6 %, and
+        // renders of 8 passes over 6 seeds stay within 3.5 % (partly covered lamp pixels and
+        // direct visualisation's ~2 % bias), so a tenth of the energy lost or gained fails.
+        EXPECT_NEAR(mr, 1.0, std::string(curve) == "path" ? 0.05 : 0.10) << curve;
     }
     // The path tracer is unbiased: its MSE falls as 1/spp. Its budgets span at least 2^4 spp here,
     // so the last point's relMSE must be below a quarter of the first's (expected ~1/16 or less).
