@@ -17,23 +17,9 @@
 #include "shared/sampling.h"
 #include "shared/bvh.h"
 #include "shared/eye.h"
+#include "shared/light_sample.h"
 
 #pragma OPENCL FP_CONTRACT OFF
-
-/* Unoccluded segment from o (already lifted) to o + dir·t, t in (0, tmax). */
-inline bool direct_visible(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
-                           __global const PclSphere* spheres, PclV3 o, PclV3 dir, float tmax, float tau) {
-    const PclRay r = bvh_ray(o.x, o.y, o.z, dir.x, dir.y, dir.z, 0.0f, tmax, tau);
-    PclHit hit;
-    return !bvh_trace(nodes, packets, spheres, r, true, &hit);
-}
-
-inline float direct_smoothstep(float e0, float e1, float x) {
-    if (e1 <= e0) return x >= e1 ? 1.0f : 0.0f;
-    float t = (x - e0) / (e1 - e0);
-    t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
-    return t * t * (3.0f - 2.0f * t);
-}
 
 __kernel void direct_light(const PclDirectParams params, __global const PclEyeHit* hits,
                            __global const PclBvhNode* nodes, __global const PclTriPacket* packets,
@@ -62,35 +48,10 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
     for (uint l = 0u; l < params.lightCount; ++l) {
         const PclLight L = lights[l];
         if (L.type == PCL_LIGHT_TRIANGLE) continue;
-        if (L.type == PCL_LIGHT_DIRECTIONAL) {
-            const PclV3 wi = sampling_v3(-L.axis[0], -L.axis[1], -L.axis[2]);
-            const float cosS = sampling_dot(nf, wi);
-            if (!(cosS > 0.0f)) continue;
-            if (!direct_visible(nodes, packets, spheres, o, wi, INFINITY, tau)) continue;
-            const float scale = cosS / (PCL_PI_F * L.radius * L.radius);  /* E = Φ / (π R²) */
-            for (int c = 0; c < 3; ++c) sum[c] = sum[c] + L.power[c] * scale;
-            continue;
-        }
-        const PclV3 toL = sampling_v3(L.p[0] - p.x, L.p[1] - p.y, L.p[2] - p.z);
-        const float d2 = sampling_dot(toL, toL);
-        if (!(d2 > 0.0f)) continue;
-        const float dist = sqrt(d2);
-        const PclV3 wi = sampling_v3(toL.x / dist, toL.y / dist, toL.z / dist);
-        const float cosS = sampling_dot(nf, wi);
-        if (!(cosS > 0.0f)) continue;
-        float scale;  /* I / Φ × falloff */
-        if (L.type == PCL_LIGHT_POINT) {
-            scale = 1.0f / (4.0f * PCL_PI_F);
-        } else {
-            const float cosAxis = -(L.axis[0] * wi.x + L.axis[1] * wi.y + L.axis[2] * wi.z);
-            const float falloff = direct_smoothstep(L.cosOuter, L.cosInner, cosAxis);
-            if (!(falloff > 0.0f)) continue;
-            scale = falloff / (2.0f * PCL_PI_F * ((1.0f - L.cosInner) + 0.5f * (L.cosInner - L.cosOuter)));
-        }
-        const PclV3 seg = sampling_v3(L.p[0] - o.x, L.p[1] - o.y, L.p[2] - o.z);
-        if (!direct_visible(nodes, packets, spheres, o, seg, 1.0f, tau)) continue;
-        const float f = scale * cosS / d2;
-        for (int c = 0; c < 3; ++c) sum[c] = sum[c] + L.power[c] * f;
+        PclV3 wi;
+        const float g = light_delta(nodes, packets, spheres, L, p, nf, o, tau, &wi);
+        if (!(g > 0.0f)) continue;
+        for (int c = 0; c < 3; ++c) sum[c] = sum[c] + L.power[c] * g;
     }
 
     /* Triangle lights: M samples by area, MIS (power heuristic) against N cosine samples. */
@@ -100,29 +61,12 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
         for (uint m = 0u; m < M; ++m) {
             uint w[4];
             rng_block(seed, h.pixel, h.sample * M + m, 0u, PCL_RNG_STREAM_LIGHT, w);
-            const float u0 = rng_u01(w[0]);
-            uint l = 0u;
-            while (l + 1u < params.lightCount && !(u0 < areaCdf[l])) ++l;
-            const PclLight L = lights[l];
-            if (L.type != PCL_LIGHT_TRIANGLE) continue;
-            float b0, b1;
-            sampling_uniform_triangle(rng_u01(w[1]), rng_u01(w[2]), &b0, &b1);
-            const float b2 = 1.0f - b0 - b1;
-            const PclV3 q = sampling_v3(L.p[0] + L.e1[0] * b1 + L.e2[0] * b2 + L.motion[0] * tau,
-                                        L.p[1] + L.e1[1] * b1 + L.e2[1] * b2 + L.motion[1] * tau,
-                                        L.p[2] + L.e1[2] * b1 + L.e2[2] * b2 + L.motion[2] * tau);
-            const PclV3 toL = sampling_v3(q.x - p.x, q.y - p.y, q.z - p.z);
-            const float d2 = sampling_dot(toL, toL);
-            if (!(d2 > 0.0f)) continue;
-            const float dist = sqrt(d2);
-            const PclV3 wi = sampling_v3(toL.x / dist, toL.y / dist, toL.z / dist);
-            const float cosS = sampling_dot(nf, wi);
-            if (!(cosS > 0.0f)) continue;
-            const float pdfL = eye_area_light_pdf(L, params.areaPowerTotal, wi, d2);
-            if (!(pdfL > 0.0f)) continue;
-            const PclV3 end = sampling_v3(q.x + L.axis[0] * eps, q.y + L.axis[1] * eps, q.z + L.axis[2] * eps);
-            const PclV3 seg = sampling_v3(end.x - o.x, end.y - o.y, end.z - o.z);
-            if (!direct_visible(nodes, packets, spheres, o, seg, 1.0f, tau)) continue;
+            PclV3 wi;
+            float pdfL, cosS, le[3];
+            if (!light_area_sample(nodes, packets, spheres, primInfo, materials, lights, areaCdf, params.lightCount,
+                                   params.areaPowerTotal, p, nf, o, eps, tau, rng_u01(w[0]), rng_u01(w[1]),
+                                   rng_u01(w[2]), &wi, &pdfL, &cosS, le))
+                continue;
             float pdfB = cosS / PCL_PI_F;
             if (params.histogramCells > 0u) {  /* the gather rays' importance density */
                 const uint G = params.histogramCells;
@@ -131,8 +75,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
             }
             const float wMis = params.gatherRays == 0u ? 1.0f : eye_mis_weight(M, pdfL, params.gatherRays, pdfB);
             const float f = cosS * wMis / pdfL;
-            const PclMaterial E = materials[primInfo[L.prim].material];
-            for (int c = 0; c < 3; ++c) area[c] = area[c] + E.emission[c] * f;
+            for (int c = 0; c < 3; ++c) area[c] = area[c] + le[c] * f;
         }
         for (int c = 0; c < 3; ++c) sum[c] = sum[c] + area[c] / (float)M;
     }

@@ -357,9 +357,10 @@ std::vector<PclEyeHit> eyePathsOnDevice(Device& device, const SceneGeometry& geo
         throw InputError("eyePathsOnDevice: " + std::to_string(rays.size()) + " rays for " +
                          std::to_string(params.sampleCount) + " samples");
     DeviceScene scene(device, geometry, buffers);
+    const DeviceAreaLights lights(device, buildAreaLightTable(buffers, geometry.primitiveCount()));
     cl::Buffer rayBuf = device.upload(rays, CL_MEM_READ_ONLY, "eye paths: rays");
     cl::Buffer hits = device.allocate<PclEyeHit>(rays.size(), CL_MEM_READ_WRITE, "eye paths: hits");
-    traceEyePaths(device, scene, params, rayBuf, hits);
+    traceEyePaths(device, scene, lights, params, rayBuf, hits);
     return device.download<PclEyeHit>(hits, rays.size());
 }
 

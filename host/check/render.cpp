@@ -221,9 +221,9 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
     timed(compareRays(dRays, tRays, o.tolerance, o.worstShown), dt, since(t0));
 
     // 2. Eye paths from the device rays.
-    const PclEyeParams ep = eyeParams(cp, geometry, buffers, o.maxDepth);
+    const PclEyeParams ep = eyeParams(cp, geometry, buffers, table, o.maxDepth);
     cl::Buffer hits = device.allocate<PclEyeHit>(n, CL_MEM_READ_WRITE, "check render: eye hits");
-    dt = deviceSeconds(traceEyePaths(device, deviceScene, ep, rays, hits));
+    dt = deviceSeconds(traceEyePaths(device, deviceScene, deviceLights, ep, rays, hits));
     const std::vector<PclEyeHit> dHits = device.download<PclEyeHit>(hits, n);
     t0 = Clock::now();
     const std::vector<PclEyeHit> tHits = referenceEyePaths(geometry, buffers, dRays, ep);

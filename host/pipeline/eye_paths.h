@@ -4,17 +4,22 @@
 // first hit whose diffuse part is chosen; on a mixed surface the diffuse part is chosen with
 // probability P_d = lum(ρd)/(lum(ρd) + lum(ρs)), the specular part otherwise, the throughput
 // divided by the choice's probability. Emitted radiance met along the chain (LE, LS+E) is summed
-// with the throughput. One PclEyeHit per sample. The twin is host/reference/eye_paths.h.
+// with the throughput, and so is the direct light at glossy hits (next-event estimation through
+// the Phong lobe, MIS against the lobe's own sampling: without it a small lamp's highlight is
+// found only by chance and a point light's never). One PclEyeHit per sample. The twin is
+// host/reference/eye_paths.h.
 //
-//   PclEyeParams ep = eyeParams(cp, buffers, geometry, 8);
+//   PclEyeParams ep = eyeParams(cp, geometry, buffers, table);
 //   cl::Buffer hits = device.allocate<PclEyeHit>(ep.sampleCount);
-//   traceEyePaths(device, deviceScene, ep, rays, hits);
+//   traceEyePaths(device, deviceScene, deviceLights, ep, rays, hits);
 #pragma once
 #include <cstdint>
 #include <vector>
 
 #include "device/device.h"
 #include "pipeline/device_scene.h"
+#include "pipeline/direct_light.h"
+#include "prep/area_light_table.h"
 #include "shared/types.h"
 
 namespace pcl {
@@ -22,13 +27,14 @@ namespace pcl {
 constexpr uint32_t kDefaultEyeDepth = 8;  // hits examined per eye path (7 specular bounces)
 
 // Seed, sample range and samples per pixel from the camera's parameters; the scene's
-// triangleCount and rayEpsilon. InputError when maxDepth is outside 1..64.
+// triangleCount, rayEpsilon, light count and the area lights' total power. InputError when
+// maxDepth is outside 1..64.
 PclEyeParams eyeParams(const PclCameraParams& camera, const SceneGeometry& geometry, const SceneBuffers& buffers,
-                       uint32_t maxDepth = kDefaultEyeDepth);
+                       const AreaLightTable& table, uint32_t maxDepth = kDefaultEyeDepth);
 
 // Enqueues eye_paths over params.sampleCount rays: rays (PclRay, from generateCameraRays with
 // the same firstSample) in, hits (PclEyeHit[sampleCount], caller-allocated) out.
-cl::Event traceEyePaths(Device& device, const DeviceScene& scene, const PclEyeParams& params, const cl::Buffer& rays,
-                        cl::Buffer& hits);
+cl::Event traceEyePaths(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
+                        const PclEyeParams& params, const cl::Buffer& rays, cl::Buffer& hits);
 
 }  // namespace pcl

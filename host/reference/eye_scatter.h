@@ -65,6 +65,16 @@ inline bool eyeSpecularScatter(const PclMaterial& m, Vec3 d, Vec3 n, float uF, f
     }
 }
 
+// The normalised Phong lobe of exponent e at a hit reached along d (facing normal nf), toward
+// wi: cos^e α about reflect(d, nf); 0 below the surface or outside the lobe. BRDF ρs (e+2)/(2π)
+// times it, the lobe's sampling density (e+1)/(2π) times it.
+inline float eyePhongCosPower(Vec3 d, Vec3 nf, Vec3 wi, float e) {
+    if (!(dot(wi, nf) > 0.0f)) return 0.0f;
+    const float k = 2.0f * dot(d, nf);
+    const float cosA = dot(wi, Vec3(d.x - k * nf.x, d.y - k * nf.y, d.z - k * nf.z));
+    return cosA > 0.0f ? std::pow(cosA, e) : 0.0f;
+}
+
 // Power heuristic with counts: (nA pA)² / ((nA pA)² + (nB pB)²), 0 when both are 0.
 inline float eyeMisWeight(uint32_t nA, float pA, uint32_t nB, float pB) {
     const float a = float(nA) * pA, b = float(nB) * pB;

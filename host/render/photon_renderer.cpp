@@ -371,8 +371,8 @@ void PhotonRenderer::eyePass(uint32_t pass, const PassMaps& maps, Film& passFilm
         cp.firstSample = static_cast<uint32_t>(first);
         cp.sampleCount = count;
         timed(device_, result_.times.camera, [&] { generateCameraRays(device_, cp, rays_); });
-        PclEyeParams ep = eyeParams(cp, geometry_, buffers_, eyeDepth_);
-        timed(device_, result_.times.eyePaths, [&] { traceEyePaths(device_, dscene_, ep, rays_, hits_); });
+        PclEyeParams ep = eyeParams(cp, geometry_, buffers_, table_, eyeDepth_);
+        timed(device_, result_.times.eyePaths, [&] { traceEyePaths(device_, dscene_, lights_, ep, rays_, hits_); });
         ChunkParts parts;
         switch (s_.method) {
             case RenderMethod::FinalGather: parts = shadeFinalGather(maps, ep, count); break;

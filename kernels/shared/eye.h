@@ -71,6 +71,15 @@ inline bool eye_specular_scatter(const PclMaterial M, PclV3 d, PclV3 n, float uF
     return true;
 }
 
+/* The normalised Phong lobe of exponent e at a hit reached along d (facing normal nf), toward
+ * wi: cos^e α, α the angle between wi and reflect(d, nf); 0 below the surface or outside the
+ * lobe. The BRDF is ρs (e+2)/(2π) times this, the lobe's sampling density (e+1)/(2π) times it. */
+inline float eye_phong_cos_power(PclV3 d, PclV3 nf, PclV3 wi, float e) {
+    if (!(sampling_dot(wi, nf) > 0.0f)) return 0.0f;
+    const float cosA = sampling_dot(wi, sampling_reflect(d, nf));
+    return cosA > 0.0f ? pow(cosA, e) : 0.0f;
+}
+
 /* The power heuristic with sample counts: (nA pA)² / ((nA pA)² + (nB pB)²); 0 when both are 0. */
 inline float eye_mis_weight(uint nA, float pA, uint nB, float pB) {
     const float a = (float)nA * pA, b = (float)nB * pB;

@@ -310,8 +310,11 @@ typedef struct PclEyeParams {
     pcl_u32 triangleCount;    /* global ids at or above it are spheres */
     pcl_u32 maxDepth;         /* hits examined along the chain (specular bounces + 1), 1..64 */
     pcl_f32 rayEpsilon;       /* spawn offset along the normal */
+    pcl_u32 lightCount;       /* lights[] entries (next-event estimation at glossy hits) */
+    pcl_f32 areaPowerTotal;   /* Σ scalar power of the triangle lights (their choice density) */
+    pcl_u32 pad0, pad1;
 } PclEyeParams;
-PCL_STATIC_ASSERT(sizeof(PclEyeParams) == 32, PclEyeParams_size);
+PCL_STATIC_ASSERT(sizeof(PclEyeParams) == 48, PclEyeParams_size);
 
 #define PCL_EYE_DIFFUSE 1u   /* the record holds a diffuse hit (prim != PCL_NO_HIT) */
 

@@ -190,8 +190,8 @@ TEST(PhotonRenderAccuracy, ProgressiveZTestOverSixteenSeeds) {
             const double n = kPasses, alpha = s.alpha;  // the last pass is pass n − 1 (passes count from 0)
             const double shrink = std::exp(std::lgamma(n + alpha) - std::lgamma(1 + alpha) - std::lgamma(n + 1));
             std::printf("[figure] progressive radius %.4g -> %.4g over %u passes (r²_n/r²_0 %.6f, closed form %.6f)\n",
-                        r.firstRadius, r.lastRadius, kPasses, double(r.lastRadius) * r.lastRadius /
-                        (double(r.firstRadius) * r.firstRadius), shrink);
+                        r.firstRadius, r.lastRadius, kPasses,
+                        double(r.lastRadius) * r.lastRadius / (double(r.firstRadius) * r.firstRadius), shrink);
             EXPECT_NEAR(double(r.lastRadius) * r.lastRadius / (double(r.firstRadius) * r.firstRadius) / shrink, 1.0,
                         1e-5);
         }

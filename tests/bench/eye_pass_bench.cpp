@@ -101,7 +101,7 @@ void BM_Device(benchmark::State& state, std::string name) {
     cl::Buffer gather = dev.allocate<PclRadiance>(n, CL_MEM_READ_WRITE, "bench: gather");
     cl::Buffer caustics = dev.allocate<PclRadiance>(n, CL_MEM_READ_WRITE, "bench: caustics");
     cl::Buffer preview = dev.allocate<PclRadiance>(n, CL_MEM_READ_WRITE, "bench: preview");
-    const PclEyeParams ep = eyeParams(cp, s.geometry, s.buffers);
+    const PclEyeParams ep = eyeParams(cp, s.geometry, s.buffers, s.table);
     const PclDirectParams dp = directParams(ep, s.geometry, s.buffers, s.table, kLightSamples, kGatherRays);
     const PclGatherParams gp = gatherParams(dp, kGatherRays, kK, s.rMax * s.rMax);
     PclEyeEstimateParams pe{uint32_t(n), kK, s.rMax * s.rMax, 8};
@@ -116,7 +116,7 @@ void BM_Device(benchmark::State& state, std::string name) {
     for (auto _ : state) {
         auto t0 = std::chrono::steady_clock::now();
         cam += seconds(generateCameraRays(dev, cp, rays));
-        eye += seconds(traceEyePaths(dev, *s.deviceScene, ep, rays, hits));
+        eye += seconds(traceEyePaths(dev, *s.deviceScene, *s.lights, ep, rays, hits));
         dir += seconds(directLight(dev, *s.deviceScene, *s.lights, dp, hits, direct));
         const GatherTiming g = finalGather(dev, *s.deviceScene, *s.lights, gp, hits, *globalSource, gather);
         gt += g.traceSeconds;
@@ -164,7 +164,7 @@ void BM_Twin(benchmark::State& state, std::string name) {
     Device& dev = device();
     const PclCameraParams cp = cameraParams(s.scene.camera, true, true, eyePassSeed(1, 0), 1);
     const std::vector<PclRay> rays = cameraRaysOnDevice(dev, cp);
-    const PclEyeParams ep = eyeParams(cp, s.geometry, s.buffers);
+    const PclEyeParams ep = eyeParams(cp, s.geometry, s.buffers, s.table);
     const PclDirectParams dp = directParams(ep, s.geometry, s.buffers, s.table, kLightSamples, kGatherRays);
     double eye = 0, dir = 0;
     for (auto _ : state) {

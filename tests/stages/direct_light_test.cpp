@@ -22,7 +22,8 @@ void twinMatch(const char* name) {
     test::BuiltScene b = test::shippedScene(name, 48, 36);
     const PclCameraParams cp = cameraParams(b.scene.camera, true, true, eyePassSeed(5, 2), 2);
     const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
-    const PclEyeParams ep = eyeParams(cp, b.geometry, b.buffers);
+    const PclEyeParams ep =
+        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
     const std::vector<PclEyeHit> hits = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
     const AreaLightTable table = buildAreaLightTable(b.buffers, b.geometry.primitiveCount());
     for (uint32_t N : {0u, 16u}) {

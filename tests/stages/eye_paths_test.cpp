@@ -21,7 +21,8 @@ std::vector<PclEyeHit> deviceEyeHitsLocal(const test::BuiltScene& b, uint32_t st
                                           PclEyeParams* out = nullptr) {
     const PclCameraParams cp = cameraParams(b.scene.camera, true, true, seed, strata);
     const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
-    const PclEyeParams ep = eyeParams(cp, b.geometry, b.buffers);
+    const PclEyeParams ep =
+        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
     if (out) *out = ep;
     return eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
 }
@@ -30,7 +31,8 @@ void twinMatch(const char* name) {
     test::BuiltScene b = test::shippedScene(name, 48, 36);
     const PclCameraParams cp = cameraParams(b.scene.camera, true, true, eyePassSeed(3, 1), 2);
     const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
-    const PclEyeParams ep = eyeParams(cp, b.geometry, b.buffers);
+    const PclEyeParams ep =
+        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
     const std::vector<PclEyeHit> d = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
     const std::vector<PclEyeHit> t = referenceEyePaths(b.geometry, b.buffers, rays, ep);
     const StageComparison c = compareEyeHits(d, t, 1e-3, 3);
@@ -136,4 +138,114 @@ TEST(EyePaths, GlassAtNormalIncidenceReflectsTheFresnelFraction) {
 }
 
 }  // namespace
+
+// Direct light through a glossy lobe (next-event estimation at glossy hits), against the closed
+// form at each sample's hit: a glossy floor (ρd 0, ρs 0.6, exponent 20) seen from above, nothing
+// else in the scene. L = ρs (e+2)/(2π) cos^e α · I cosθ / d² for a point light: exact per sample
+// (no random numbers; 5e-5 relative for float pow at e = 20, measured 7e-6); without glossy
+// next-event estimation it is 0, since a lobe never hits a point. A 0.2 m square lamp instead:
+// one light sample per hit, MIS against the lobe, whose continuation may hit the lamp; the mean
+// over 64 × 64 × 4 samples within 2 % of the same integral by 32 × 32 quadrature over the lamp.
+// Counting the lamp found by the lobe in full as well (no MIS weight) fails it.
+namespace {
+
+struct GlossyFloor {
+    Scene scene;
+    float rhoS = 0.6f, e = 20.0f;
+    GlossyFloor(int lightKind) : scene(cameraScene(Vec3(0, 1, 1), Vec3(0, 0, -0.3f), 50.0f, 64, 64)) {
+        const int floor = test::addMaterial(scene, Vec3(0.0f), Vec3(rhoS), SpecularKind::Glossy, e);
+        TriangleMesh f;
+        f.material = floor;
+        test::addQuad(f, Vec3(-3, 0, -3), Vec3(-3, 0, 3), Vec3(3, 0, 3), Vec3(3, 0, -3));  // normal +y
+        scene.meshes.push_back(f);
+        if (lightKind == 0) {
+            scene.lights.push_back(test::pointLight(Vec3(0, 1, -1.2f), Vec3(2.0f)));
+        } else {
+            Material lamp;
+            lamp.emission = Vec3(5.0f);
+            scene.materials.push_back(lamp);
+            TriangleMesh q;
+            q.material = int(scene.materials.size()) - 1;
+            test::addQuad(q, Vec3(-0.1f, 1, -1.3f), Vec3(0.1f, 1, -1.3f), Vec3(0.1f, 1, -1.1f),
+                          Vec3(-0.1f, 1, -1.1f));  // normal −y: facing the floor
+            scene.meshes.push_back(q);
+            Light l;
+            l.type = LightType::Area;
+            l.mesh = 1;
+            scene.lights.push_back(l);
+        }
+    }
+    // The lobe toward wi at x seen along d: ρs (e+2)/(2π) cos^e α (floor normal +y).
+    double brdf(Vec3 d, Vec3 wi) const {
+        const Vec3 r(d.x, -d.y, d.z);
+        const double c = dot(r, wi);
+        return wi.y > 0 && c > 0 ? rhoS * (e + 2) / (2 * M_PI) * std::pow(c, double(e)) : 0.0;
+    }
+};
+
+}  // namespace
+
+TEST(EyePaths, GlossyHitsTakeAPointLightsHighlightExactly) {
+    GlossyFloor g(0);
+    test::BuiltScene b = test::build(g.scene);
+    const PclCameraParams cp = cameraParams(b.scene.camera, true, true, 7, 1);
+    const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
+    const PclEyeParams ep =
+        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
+    const std::vector<PclEyeHit> hits = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
+    const Vec3 light(0, 1, -1.2f);
+    double worst = 0, peak = 0;
+    size_t lit = 0;
+    for (size_t i = 0; i < hits.size(); ++i) {
+        const Vec3 o(rays[i].ox, rays[i].oy, rays[i].oz), d(rays[i].dx, rays[i].dy, rays[i].dz);
+        if (!(d.y < 0)) continue;
+        const Vec3 x = o + d * (-o.y / d.y);
+        if (std::fabs(x.x) > 3 || std::fabs(x.z) > 3) continue;
+        const Vec3 toL = light - x;
+        const double d2 = dot(toL, toL);
+        const Vec3 wi = toL / std::sqrt(float(d2));
+        const double expected = g.brdf(d, wi) * 2.0 * wi.y / d2;  // I = 2 W/sr
+        peak = std::max(peak, expected);
+        lit += expected > 0;
+        worst = std::max(worst, std::fabs(hits[i].emitted[0] - expected) / std::max(expected, 1e-3));
+    }
+    std::printf("[figure] glossy floor under a point light: %zu lit samples, peak %.4g, worst relative error %.3g\n",
+                lit, peak, worst);
+    EXPECT_GT(lit, hits.size() / 4);
+    EXPECT_LT(worst, 5e-5);
+}
+
+TEST(EyePaths, GlossyHitsUnderAnAreaLightAverageToTheIntegral) {
+    GlossyFloor g(1);
+    test::BuiltScene b = test::build(g.scene);
+    const PclCameraParams cp = cameraParams(b.scene.camera, true, true, 9, 2);
+    const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
+    const PclEyeParams ep =
+        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
+    const std::vector<PclEyeHit> hits = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
+    double sum = 0, expected = 0;
+    for (size_t i = 0; i < hits.size(); ++i) {
+        const Vec3 o(rays[i].ox, rays[i].oy, rays[i].oz), d(rays[i].dx, rays[i].dy, rays[i].dz);
+        if (!(d.y < 0)) continue;
+        const Vec3 x = o + d * (-o.y / d.y);
+        if (std::fabs(x.x) > 3 || std::fabs(x.z) > 3) continue;
+        // ∫ f Le cosθ cosθ_L / r² dA over the lamp (area 0.04, normal −y), 32 × 32 midpoints.
+        double integral = 0;
+        for (int v = 0; v < 32; ++v)
+            for (int u = 0; u < 32; ++u) {
+                const Vec3 q(-0.1f + 0.2f * (u + 0.5f) / 32, 1.0f, -1.3f + 0.2f * (v + 0.5f) / 32);
+                const Vec3 toQ = q - x;
+                const double r2 = dot(toQ, toQ);
+                const Vec3 wi = toQ / std::sqrt(float(r2));
+                integral += g.brdf(d, wi) * 5.0 * wi.y * wi.y / r2 * (0.04 / 1024);
+            }
+        expected += integral;
+        sum += hits[i].emitted[0];
+    }
+    std::printf("[figure] glossy floor under a square lamp: mean of %zu samples %.5g, integral %.5g (ratio %.4f)\n",
+                hits.size(), sum / hits.size(), expected / hits.size(), sum / expected);
+    EXPECT_GT(expected, 0.0);
+    EXPECT_NEAR(sum / expected, 1.0, 0.02);
+}
+
 }  // namespace pcl

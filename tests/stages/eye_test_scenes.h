@@ -78,7 +78,8 @@ inline std::vector<PclEyeHit> deviceEyeHits(const BuiltScene& b, uint32_t strata
                                             PclEyeParams* params = nullptr) {
     const PclCameraParams cp = cameraParams(b.scene.camera, true, true, passSeed, strata);
     const std::vector<PclRay> rays = cameraRaysOnDevice(testDevice(), cp);
-    const PclEyeParams ep = eyeParams(cp, b.geometry, b.buffers);
+    const PclEyeParams ep =
+        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
     if (params) *params = ep;
     return eyePathsOnDevice(testDevice(), b.geometry, b.buffers, rays, ep);
 }

@@ -1,0 +1,83 @@
+// Next-event estimation at a shading point, the twin of kernels/shared/light_sample.h: shared by
+// the direct-light twin (the diffuse record, ρd/π) and the eye-path twin (glossy chain hits, the
+// Phong lobe). The light's incident contribution before the BRDF (kernels/README.md, "direct
+// light").
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "geometry/scene_geometry.h"
+#include "prep/area_light_table.h"
+#include "prep/scene_buffers.h"
+#include "reference/eye_scatter.h"
+#include "reference/sampling.h"
+
+namespace pcl {
+
+inline float lightSmoothstep(float e0, float e1, float x) {
+    if (e1 <= e0) return x >= e1 ? 1.0f : 0.0f;
+    const float t = std::min(1.0f, std::max(0.0f, (x - e0) / (e1 - e0)));
+    return t * t * (3.0f - 2.0f * t);
+}
+
+// A point, spot or directional light seen from p (facing normal nf, o = p lifted): wi and the
+// factor g with contribution Φ g (times the BRDF); 0 when unlit or occluded.
+inline float lightDelta(const SceneGeometry& geometry, const PclLight& L, Vec3 p, Vec3 nf, Vec3 o, float tau,
+                        Vec3& wi) {
+    if (L.type == PCL_LIGHT_DIRECTIONAL) {
+        wi = -eyeVec(L.axis);
+        const float cosS = dot(nf, wi);
+        if (!(cosS > 0.0f) || geometry.occluded(eyeRay(o, wi, std::numeric_limits<float>::infinity(), tau)))
+            return 0.0f;
+        return cosS / (kPi * L.radius * L.radius);  // E = Φ/(πR²), × cosθ
+    }
+    const Vec3 toL = eyeVec(L.p) - p;
+    const float d2 = dot(toL, toL);
+    if (!(d2 > 0.0f)) return 0.0f;
+    const float dist = std::sqrt(d2);
+    wi = Vec3(toL.x / dist, toL.y / dist, toL.z / dist);
+    const float cosS = dot(nf, wi);
+    if (!(cosS > 0.0f)) return 0.0f;
+    float scale;  // I/Φ with the spot's falloff
+    if (L.type == PCL_LIGHT_POINT) {
+        scale = 1.0f / (4.0f * kPi);
+    } else {
+        const float falloff = lightSmoothstep(L.cosOuter, L.cosInner, -dot(eyeVec(L.axis), wi));
+        if (!(falloff > 0.0f)) return 0.0f;
+        scale = falloff / (2.0f * kPi * ((1.0f - L.cosInner) + 0.5f * (L.cosInner - L.cosOuter)));
+    }
+    if (geometry.occluded(eyeRay(o, eyeVec(L.p) - o, 1.0f, tau))) return 0.0f;
+    return scale * cosS / d2;
+}
+
+// One triangle-light sample: u0 chooses the light (the table's cdf), (u1, u2) the point. On
+// success wi, the solid-angle density pdfL, cosθ at p and the light's radiance le.
+inline bool lightAreaSample(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
+                            uint32_t lightCount, float areaPowerTotal, Vec3 p, Vec3 nf, Vec3 o, float eps, float tau,
+                            float u0, float u1, float u2, Vec3& wi, float& pdfL, float& cosS, Vec3& le) {
+    // The first light whose cumulative probability exceeds u0.
+    const size_t l =
+        std::min<size_t>(std::upper_bound(table.cdf.begin(), table.cdf.end(), u0) - table.cdf.begin(), lightCount - 1);
+    const PclLight& L = buffers.lights[l];
+    if (L.type != PCL_LIGHT_TRIANGLE) return false;
+    float b0, b1;
+    sampleUniformTriangle(u1, u2, b0, b1);
+    const float b2 = 1.0f - b0 - b1;
+    const Vec3 q = eyeVec(L.p) + eyeVec(L.e1) * b1 + eyeVec(L.e2) * b2 + eyeVec(L.motion) * tau;
+    const Vec3 toL = q - p;
+    const float d2 = dot(toL, toL);
+    if (!(d2 > 0.0f)) return false;
+    const float dist = std::sqrt(d2);
+    wi = Vec3(toL.x / dist, toL.y / dist, toL.z / dist);
+    cosS = dot(nf, wi);
+    if (!(cosS > 0.0f)) return false;
+    pdfL = eyeAreaLightPdf(L, areaPowerTotal, wi, d2);
+    if (!(pdfL > 0.0f)) return false;
+    const Vec3 end = q + eyeVec(L.axis) * eps;
+    if (geometry.occluded(eyeRay(o, end - o, 1.0f, tau))) return false;
+    le = eyeVec(buffers.materials[buffers.primInfo[L.prim].material].emission);
+    return true;
+}
+
+}  // namespace pcl
