@@ -125,8 +125,12 @@ TEST(EyePaths, GlassAtNormalIncidenceReflectsTheFresnelFraction) {
     for (const PclEyeHit& h : hits) {
         if (!(h.flags & PCL_EYE_DIFFUSE)) continue;
         ++diffuse;
-        reflected += h.z > 0.0f;
-        EXPECT_EQ(h.throughput[0], 1.0f);  // the Fresnel factor is in the choice, not the weight
+        const bool back = h.z > 0.0f;
+        reflected += back;
+        // The Fresnel factor is in the choice, not the weight; refracted into the glass, radiance
+        // from there reaches the camera scaled by (η_air/η_glass)² = 1/1.5².
+        const float eta = 1.0f / 1.5f;
+        EXPECT_FLOAT_EQ(h.throughput[0], back ? 1.0f : eta * eta);
     }
     const double F = 0.04, frac = double(reflected) / double(diffuse), sigma = std::sqrt(F * (1 - F) / diffuse);
     std::printf("[figure] glass η 1.5 at normal incidence: %.4f of %zu samples reflected (F = %.4f, σ %.4f)\n", frac,
