@@ -22,7 +22,7 @@ namespace pcl {
 constexpr uint32_t kDefaultEyeDepth = 8;  // hits examined per eye path (7 specular bounces)
 
 // Seed, sample range and samples per pixel from the camera's parameters; the scene's
-// triangleCount and rayEpsilon. InputError when maxDepth is outside 1..64.
+// triangleCount and rayEpsilon. InternalError when maxDepth is outside 1..64.
 PclEyeParams eyeParams(const PclCameraParams& camera, const SceneGeometry& geometry, const SceneBuffers& buffers,
                        uint32_t maxDepth = kDefaultEyeDepth);
 
