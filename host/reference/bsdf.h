@@ -21,6 +21,7 @@ struct BsdfSample {
     Vec3 weight;    // f |cos θi| / pdf
     float pdf = 0;  // solid-angle density of wi (non-delta), or the discrete probability (delta)
     bool delta = false;
+    float radianceScale = 1.0f;  // the (η_i/η_t)² of a refraction folded into weight; 1 otherwise
 };
 
 class MixedBsdf {

@@ -120,6 +120,7 @@ TEST(ReferenceBsdf, MirrorAndDielectricLobes) {
     for (int i = 0; i < n; ++i) {
         ASSERT_TRUE(glass.sample(outside, (i + 0.5f) / n, 0.5f, 0.5f, s));
         EXPECT_FLOAT_EQ(s.weight.x, s.wi.z > 0 ? 1.0f : 1.0f / (1.5f * 1.5f));
+        EXPECT_FLOAT_EQ(s.radianceScale, s.weight.x);  // what the path tracer's roulette undoes
         if (s.wi.z > 0) ++reflected;
         else EXPECT_NEAR(std::sqrt(1 - s.wi.z * s.wi.z), std::sin(60.0f * kPi / 180.0f) / 1.5f, 1e-5);  // Snell
     }
@@ -135,6 +136,7 @@ TEST(ReferenceBsdf, MirrorAndDielectricLobes) {
     ASSERT_TRUE(glass.sample(direction(180.0f - 20.0f, 0.0f), 0.99f, 0.5f, 0.5f, s));
     EXPECT_GT(s.wi.z, 0.0f);
     EXPECT_FLOAT_EQ(s.weight.x, 1.5f * 1.5f);
+    EXPECT_FLOAT_EQ(s.radianceScale, 1.5f * 1.5f);
 }
 
 TEST(ReferenceLightSampling, DensitiesMatchTheSamples) {
