@@ -10,8 +10,10 @@
 
 int main(int argc, char** argv) {
     CLI::App app{"photoncl: OpenCL photon-mapping renderer with a CPU twin of every stage.\n"
-                 "Exit status: 0 success, 1 a check or comparison failed, 2 bad input or options, "
-                 "3 device failure.",
+                 "Exit status: 0 success, 1 a check or comparison failed, 2 bad input (a file, an "
+                 "option or a scene's contents), 3 internal error (a device or OpenCL failure, a "
+                 "broken internal contract: a bug), 130 a batch shard cut short by Ctrl-C (128 + "
+                 "the signal when a second one quits at once).",
                  "photoncl"};
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string("photoncl ") + PHOTONCL_VERSION);
@@ -40,21 +42,16 @@ int main(int argc, char** argv) {
         return pcl::kExitBadInput;
     }
 
+    pcl::ExitReport report;
     try {
         for (auto& [sub, run] : commands)
             if (sub->parsed()) return run();
-    } catch (const pcl::InputError& e) {
-        std::fprintf(stderr, "photoncl: %s\n", e.what());
         return pcl::kExitBadInput;
-    } catch (const pcl::DeviceError& e) {
-        std::fprintf(stderr, "photoncl: device error: %s\n", e.what());
-        return pcl::kExitDevice;
     } catch (const cl::Error& e) {
-        std::fprintf(stderr, "photoncl: device error: %s\n", pcl::deviceError("unknown stage", e).what());
-        return pcl::kExitDevice;
+        report = pcl::exitReportFor(pcl::deviceError("unknown stage", e));
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "photoncl: internal error: %s\n", e.what());
-        return pcl::kExitCheckFailed;
+        report = pcl::exitReportFor(e);
     }
-    return pcl::kExitBadInput;
+    std::fprintf(stderr, "photoncl: %s\n", report.message.c_str());
+    return report.status;
 }

@@ -38,8 +38,8 @@ std::vector<PclPhotonRay> emitOnDevice(Device& device, const SceneGeometry& geom
 PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
                                        const std::vector<PclPhotonRay>& rays, const PclPhotonParams& params) {
     if (rays.size() != params.batchSize)
-        throw InputError("tracePhotonsOnDevice: " + std::to_string(rays.size()) + " rays for a batch of " +
-                         std::to_string(params.batchSize));
+        throw InternalError("tracePhotonsOnDevice: " + std::to_string(rays.size()) + " rays for a batch of " +
+                            std::to_string(params.batchSize));
     DeviceScene scene(device, geometry, buffers);
     PhotonTraceResult r;
     r.slotsPerPath = photonSlotsPerPath(params);
@@ -80,12 +80,12 @@ std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_
                                        const std::vector<PclPhoton>& slots, uint32_t slotsPerPath,
                                        size_t initialCapacity, uint32_t* growths) {
     if (slots.size() != counts.size() * size_t(slotsPerPath))
-        throw InputError("depositOnDevice: " + std::to_string(slots.size()) + " slots for " +
-                         std::to_string(counts.size()) + " paths of " + std::to_string(slotsPerPath));
+        throw InternalError("depositOnDevice: " + std::to_string(slots.size()) + " slots for " +
+                            std::to_string(counts.size()) + " paths of " + std::to_string(slotsPerPath));
     for (size_t i = 0; i < counts.size(); ++i)
         if (counts[i] > slotsPerPath)
-            throw InputError("depositOnDevice: path " + std::to_string(i) + " claims " + std::to_string(counts[i]) +
-                             " records in " + std::to_string(slotsPerPath) + " slots");
+            throw InternalError("depositOnDevice: path " + std::to_string(i) + " claims " + std::to_string(counts[i]) +
+                                " records in " + std::to_string(slotsPerPath) + " slots");
     const uint64_t total = std::accumulate(counts.begin(), counts.end(), uint64_t(0));
     DevicePhotonMap map = makeDevicePhotonMap(device, initialCapacity ? initialCapacity : size_t(total));
     // All paths in one deposit when their slots fit one buffer; else in chunks of paths that do
@@ -215,8 +215,8 @@ KnnResult knnSearchOnDevice(Device& device, const DeviceHashGrid& grid, const st
 KnnResult knnKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& heapNodes,
                             const std::vector<uint32_t>& nodeIndex, const std::vector<PclKnnQuery>& queries) {
     if (heapNodes.size() != nodeIndex.size())
-        throw InputError("knn: " + std::to_string(heapNodes.size()) + " kd-tree nodes with " +
-                         std::to_string(nodeIndex.size()) + " photon indices");
+        throw InternalError("knn: " + std::to_string(heapNodes.size()) + " kd-tree nodes with " +
+                            std::to_string(nodeIndex.size()) + " photon indices");
     const uint32_t maxK = knnMaxK(queries);
     const auto t0 = std::chrono::steady_clock::now();
     DeviceKdTree built;
@@ -237,7 +237,7 @@ KnnResult knnHashGridOnDevice(Device& device, const std::vector<PclPhoton>& map,
     float maxRadius2 = 0.0f;
     for (const PclKnnQuery& q : queries) maxRadius2 = std::max(maxRadius2, q.maxRadius2);
     if (!std::isfinite(maxRadius2))
-        throw InputError("knn: the hash grid needs a finite search radius (a query has maxRadius2 = inf)");
+        throw InternalError("knn: the hash grid needs a finite search radius (a query has maxRadius2 = inf)");
     float rMax = std::sqrt(maxRadius2);
     if (!(rMax > 0.0f)) rMax = 1.0f;  // every radius 0: any cell size finds the photons at the query
     const auto t0 = std::chrono::steady_clock::now();
@@ -273,7 +273,7 @@ float largestRadius(const std::vector<PclEstimateQuery>& queries) {
     float maxRadius2 = 0.0f;
     for (const PclEstimateQuery& q : queries) maxRadius2 = std::max(maxRadius2, q.maxRadius2);
     if (!std::isfinite(maxRadius2))
-        throw InputError("estimate: the hash grid needs a finite search radius (a query has maxRadius2 = inf)");
+        throw InternalError("estimate: the hash grid needs a finite search radius (a query has maxRadius2 = inf)");
     const float r = std::sqrt(maxRadius2);
     return r > 0.0f ? r : 1.0f;  // every radius 0: any cell size finds the photons at the query
 }
@@ -287,9 +287,9 @@ EstimateResult estimateOnDevice(Device& device, const PhotonMapOnDevice& map,
     if (map.structure() == KnnStructure::HashGrid)
         for (size_t i = 0; i < queries.size(); ++i)
             if (!(std::sqrt(queries[i].maxRadius2) <= map.maxRadius()))
-                throw InputError("estimate: query " + std::to_string(i) + " has radius " +
-                                 std::to_string(std::sqrt(queries[i].maxRadius2)) +
-                                 ", above the hash grid's maxRadius " + std::to_string(map.maxRadius()));
+                throw InternalError("estimate: query " + std::to_string(i) + " has radius " +
+                                    std::to_string(std::sqrt(queries[i].maxRadius2)) +
+                                    ", above the hash grid's maxRadius " + std::to_string(map.maxRadius()));
     EstimateResult r;
     cl::Buffer q = device.upload(queries, CL_MEM_READ_ONLY, "estimate: queries");
     cl::Buffer out = device.allocate<PclEstimate>(queries.size(), CL_MEM_READ_WRITE, "estimate: results");
@@ -316,10 +316,10 @@ IrradianceLookupResult lookupIrradianceOnDevice(Device& device, const DeviceIrra
     for (size_t i = 0; i < queries.size(); ++i) {
         const PclEstimateQuery& q = queries[i];
         if (!(q.maxRadius2 >= 0.0f))
-            throw InputError("precomputed irradiance: query " + std::to_string(i) +
-                             " has maxRadius2 = " + std::to_string(q.maxRadius2) + ", expected ≥ 0");
+            throw InternalError("precomputed irradiance: query " + std::to_string(i) +
+                                " has maxRadius2 = " + std::to_string(q.maxRadius2) + ", expected ≥ 0");
         if (!std::isfinite(q.nx) || !std::isfinite(q.ny) || !std::isfinite(q.nz))
-            throw InputError("precomputed irradiance: query " + std::to_string(i) + " has a non-finite normal");
+            throw InternalError("precomputed irradiance: query " + std::to_string(i) + " has a non-finite normal");
     }
     IrradianceLookupResult r;
     cl::Buffer q = device.upload(queries);
@@ -354,8 +354,8 @@ std::vector<PclRay> cameraRaysOnDevice(Device& device, const PclCameraParams& pa
 std::vector<PclEyeHit> eyePathsOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
                                         const std::vector<PclRay>& rays, const PclEyeParams& params) {
     if (rays.size() != params.sampleCount)
-        throw InputError("eyePathsOnDevice: " + std::to_string(rays.size()) + " rays for " +
-                         std::to_string(params.sampleCount) + " samples");
+        throw InternalError("eyePathsOnDevice: " + std::to_string(rays.size()) + " rays for " +
+                            std::to_string(params.sampleCount) + " samples");
     DeviceScene scene(device, geometry, buffers);
     const DeviceAreaLights lights(device, buildAreaLightTable(buffers, geometry.primitiveCount()));
     cl::Buffer rayBuf = device.upload(rays, CL_MEM_READ_ONLY, "eye paths: rays");
@@ -370,12 +370,12 @@ std::vector<PclRadiance> directLightOnDevice(Device& device, const SceneGeometry
                                              const std::vector<PclEyeHit>& hits, const PclDirectParams& params,
                                              const std::vector<float>* histograms) {
     if (hits.size() != params.sampleCount)
-        throw InputError("directLightOnDevice: " + std::to_string(hits.size()) + " records for " +
-                         std::to_string(params.sampleCount));
+        throw InternalError("directLightOnDevice: " + std::to_string(hits.size()) + " records for " +
+                            std::to_string(params.sampleCount));
     const size_t cells = size_t(params.histogramCells) * params.histogramCells;
     if (cells > 0 && (!histograms || histograms->size() != hits.size() * cells))
-        throw InputError("directLightOnDevice: histogramCells " + std::to_string(params.histogramCells) +
-                         " needs records × G² histogram entries");
+        throw InternalError("directLightOnDevice: histogramCells " + std::to_string(params.histogramCells) +
+                            " needs records × G² histogram entries");
     DeviceScene scene(device, geometry, buffers);
     DeviceAreaLights lights(device, buildAreaLightTable(buffers, geometry.primitiveCount()));
     cl::Buffer hitBuf = device.upload(hits, CL_MEM_READ_ONLY, "direct light: eye hits");
@@ -393,8 +393,8 @@ GatherResult finalGatherOnDevice(Device& device, const SceneGeometry& geometry, 
                                  IrradianceSource& source, const PhotonMapOnDevice* global,
                                  std::vector<float>* histogramsOut) {
     if (hits.size() != params.sampleCount)
-        throw InputError("finalGatherOnDevice: " + std::to_string(hits.size()) + " records for " +
-                         std::to_string(params.sampleCount));
+        throw InternalError("finalGatherOnDevice: " + std::to_string(hits.size()) + " records for " +
+                            std::to_string(params.sampleCount));
     DeviceScene scene(device, geometry, buffers);
     DeviceAreaLights lights(device, buildAreaLightTable(buffers, geometry.primitiveCount()));
     PclGatherParams p = params;
@@ -407,7 +407,7 @@ GatherResult finalGatherOnDevice(Device& device, const SceneGeometry& geometry, 
     GatherResult r;
     cl::Buffer histograms = device.allocate<float>(1, CL_MEM_READ_ONLY, "final gather: no histograms");
     if (p.histogramCells > 0) {
-        if (!global) throw InputError("finalGatherOnDevice: histogramCells > 0 needs the global map");
+        if (!global) throw InternalError("finalGatherOnDevice: histogramCells > 0 needs the global map");
         histograms = buildGatherHistograms(device, *global, p, hitBuf);
         if (histogramsOut)
             *histogramsOut = device.download<float>(histograms, hits.size() * p.histogramCells * p.histogramCells);
@@ -432,8 +432,8 @@ GatherResult finalGatherOnDevice(Device& device, const SceneGeometry& geometry, 
 EyeEstimateResult estimateAtEyeHitsOnDevice(Device& device, const std::vector<PclEyeHit>& hits,
                                             const PclEyeEstimateParams& params, IrradianceSource& source) {
     if (hits.size() != params.sampleCount)
-        throw InputError("estimateAtEyeHitsOnDevice: " + std::to_string(hits.size()) + " records for " +
-                         std::to_string(params.sampleCount));
+        throw InternalError("estimateAtEyeHitsOnDevice: " + std::to_string(hits.size()) + " records for " +
+                            std::to_string(params.sampleCount));
     validateEyeEstimateParams(params);
     PclEyeEstimateParams p = params;
     p.irradianceStride = source.strideFloats;

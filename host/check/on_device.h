@@ -156,7 +156,7 @@ struct IrradianceLookupResult {
     double seconds = 0.0;           // device time of the lookup kernel
 };
 
-// Upload the queries, look up, download. InputError when a radius is negative or NaN or a
+// Upload the queries, look up, download. InternalError when a radius is negative or NaN or a
 // normal is not finite.
 IrradianceLookupResult lookupIrradianceOnDevice(Device& device, const DeviceIrradianceMap& map,
                                                 const std::vector<PclEstimateQuery>& queries);

@@ -35,10 +35,6 @@ namespace fs = std::filesystem;
 namespace pcl::cli {
 namespace {
 
-// Exit status of a run a Ctrl-C cut short (a partial shard was written): 128 + SIGINT, as a
-// shell reports it, so a scheduler does not take the shard for done.
-constexpr int kExitInterrupted = 130;
-
 // Ctrl-C (or a scheduler's SIGTERM; core/interrupt.h): the shard finishes its pass and is
 // written as a partial shard; a second signal a second later quits.
 const std::atomic<bool>* gStop = nullptr;

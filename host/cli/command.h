@@ -1,6 +1,7 @@
 // One subcommand per file under host/cli/: each add*Command registers its options on the app
-// and returns the function that runs it (an exit status: 0 ok, 1 check failed, 2 bad input,
-// 3 device failure; errors may also be thrown as InputError / DeviceError).
+// and returns the function that runs it (an exit status, core/error.h: 0 ok, 1 check failed,
+// 2 bad input, 3 internal error, 130 interrupted; errors may also be thrown: InputError exits 2,
+// any other exception 3).
 #pragma once
 #include <CLI/CLI.hpp>
 

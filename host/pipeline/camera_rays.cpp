@@ -13,11 +13,11 @@ uint64_t eyePassSeed(uint64_t seed, uint32_t pass) { return seed + uint64_t(pass
 PclCameraParams cameraParams(const Camera& camera, bool lensSampling, bool timeSampling, uint64_t passSeed,
                              uint32_t strata) {
     if (strata < 1 || strata > 16)
-        throw InputError("camera rays: strata " + std::to_string(strata) +
-                         ": expected 1..16 (n × n samples per pixel)");
+        throw InternalError("camera rays: strata " + std::to_string(strata) +
+                            ": expected 1..16 (n × n samples per pixel)");
     if (camera.width < 1 || camera.height < 1)
-        throw InputError("camera rays: image " + std::to_string(camera.width) + "×" + std::to_string(camera.height) +
-                         ": expected at least one pixel");
+        throw InternalError("camera rays: image " + std::to_string(camera.width) + "×" + std::to_string(camera.height) +
+                            ": expected at least one pixel");
     // The frame as reference/camera.cpp builds it.
     const Vec3 forward = normalize(camera.lookAt - camera.position);
     const Vec3 right = normalize(cross(forward, camera.up));

@@ -26,7 +26,7 @@ uint64_t eyePassSeed(uint64_t seed, uint32_t pass);
 
 // Parameters for the whole pass (firstSample 0, sampleCount = width · height · n²): the camera
 // frame as reference/camera.cpp builds it; lens and time sampling as the plan says (a sampler
-// the plan leaves out is not run: the pinhole ray, time 0). InputError when strata is 0 or
+// the plan leaves out is not run: the pinhole ray, time 0). InternalError when strata is 0 or
 // above 16, or the image has no pixel.
 PclCameraParams cameraParams(const Camera& camera, bool lensSampling, bool timeSampling, uint64_t passSeed,
                              uint32_t strata);

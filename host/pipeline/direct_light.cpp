@@ -28,8 +28,8 @@ PclDirectParams directParams(const PclEyeParams& eye, const SceneGeometry& geome
 cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
                       const PclDirectParams& params, const cl::Buffer& hits, cl::Buffer& radiance) {
     if (params.histogramCells != 0)
-        throw InputError("direct light: histogramCells " + std::to_string(params.histogramCells) +
-                         " without histograms: expected the overload that takes them, or 0");
+        throw InternalError("direct light: histogramCells " + std::to_string(params.histogramCells) +
+                            " without histograms: expected the overload that takes them, or 0");
     const cl::Buffer none = device.allocate<float>(1, CL_MEM_READ_ONLY, "direct light: no histograms");
     return directLight(device, scene, lights, params, hits, none, radiance);
 }

@@ -66,8 +66,8 @@ void PhotonMapOnDevice::build(Device& device, const float lo[3]) {
         return;
     }
     if (!(maxRadius_ > 0.0f) || !std::isfinite(maxRadius_))
-        throw InputError("estimate: the hash grid needs a positive finite maxRadius, got " +
-                         std::to_string(maxRadius_));
+        throw InternalError("estimate: the hash grid needs a positive finite maxRadius, got " +
+                            std::to_string(maxRadius_));
     if (count_ > (size_t(1) << 31))
         throw InputError("estimate: " + std::to_string(count_) + " photons exceed the hash grid's 32-bit table");
     PclGridParams g{};  // as hashGridParams, with the caller's bounds minimum
@@ -100,11 +100,11 @@ EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, con
                                size_t queryCount, uint32_t maxK, const EstimateSettings& settings,
                                const DeviceScene* scene, cl::Buffer& results) {
     validateEstimateSettings(settings);
-    knnHeapCapacity(maxK);  // InputError outside 1..PCL_KNN_MAX_K
+    knnHeapCapacity(maxK);  // InternalError outside 1..PCL_KNN_MAX_K
     if (settings.visibility && !scene)
-        throw InputError("estimate: the visibility test needs the scene on the device, got none");
+        throw InternalError("estimate: the visibility test needs the scene on the device, got none");
     if (queryCount >= (size_t(1) << 32))
-        throw InputError("estimate: " + std::to_string(queryCount) + " queries exceed 32-bit indices");
+        throw InternalError("estimate: " + std::to_string(queryCount) + " queries exceed 32-bit indices");
     EstimateTiming timing;
     if (queryCount == 0) return timing;
 

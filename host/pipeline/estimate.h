@@ -31,7 +31,7 @@ namespace pcl {
 class PhotonMapOnDevice {
 public:
     // Uploads `map` and builds `structure`. maxRadius: the largest search radius any query will
-    // ask (the hash grid's cells are 2 maxRadius; queries above it are an InputError there);
+    // ask (the hash grid's cells are 2 maxRadius; queries above it are an InternalError there);
     // the kd-tree ignores it.
     PhotonMapOnDevice(Device& device, const std::vector<PclPhoton>& map, KnnStructure structure, float maxRadius);
     // A map already on the device: `photons` holds `count` records in map order. The hash grid
@@ -76,7 +76,7 @@ size_t estimateBatchQueries(const Device& device, uint32_t maxK);
 // queryCount], allocated by the caller), in batches of estimateBatchQueries. maxK ≥ every
 // query's k (a larger k is clamped to maxK); each k in 1..PCL_KNN_MAX_K. With the hash grid a
 // query radius above the map's maxRadius is clamped to it. `scene` is required when
-// settings.visibility is on (InputError otherwise) and ignored when off; its programOptions()
+// settings.visibility is on (InternalError otherwise) and ignored when off; its programOptions()
 // size the traversal stack. settings.structure is ignored (the map's is used). Enqueues and
 // waits for the launches.
 EstimateTiming estimateBuffers(Device& device, const PhotonMapOnDevice& map, const cl::Buffer& queries,

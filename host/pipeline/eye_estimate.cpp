@@ -22,9 +22,10 @@ cl::Event eyeEstimateResolve(Device& device, const PclEyeEstimateParams& params,
 
 void validateEyeEstimateParams(const PclEyeEstimateParams& p) {
     if (p.k < 1 || p.k > PCL_KNN_MAX_K)
-        throw InputError("eye estimate: k " + std::to_string(p.k) + ": expected 1.." + std::to_string(PCL_KNN_MAX_K));
+        throw InternalError("eye estimate: k " + std::to_string(p.k) + ": expected 1.." +
+                            std::to_string(PCL_KNN_MAX_K));
     if (!(p.maxRadius2 >= 0.0f))
-        throw InputError("eye estimate: maxRadius² " + std::to_string(p.maxRadius2) + ": expected ≥ 0");
+        throw InternalError("eye estimate: maxRadius² " + std::to_string(p.maxRadius2) + ": expected ≥ 0");
 }
 
 double estimateAtEyeHits(Device& device, PclEyeEstimateParams params, const cl::Buffer& hits, IrradianceSource& source,

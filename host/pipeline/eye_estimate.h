@@ -33,7 +33,7 @@ inline double causticRadiance(Device& device, const PclEyeEstimateParams& params
     return estimateAtEyeHits(device, params, hits, causticMap, radiance);
 }
 
-// InputError when params.k is outside 1..PCL_KNN_MAX_K or maxRadius2 is negative or NaN; run by
+// InternalError when params.k is outside 1..PCL_KNN_MAX_K or maxRadius2 is negative or NaN; run by
 // estimateAtEyeHits. Public for check/on_device.h's estimateAtEyeHitsOnDevice, which launches
 // the two kernels itself (to download the queries) and must refuse the same parameters.
 void validateEyeEstimateParams(const PclEyeEstimateParams& params);

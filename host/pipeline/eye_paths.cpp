@@ -7,7 +7,7 @@ namespace pcl {
 PclEyeParams eyeParams(const PclCameraParams& camera, const SceneGeometry& geometry, const SceneBuffers& buffers,
                        const AreaLightTable& table, uint32_t maxDepth) {
     if (maxDepth < 1 || maxDepth > 64)
-        throw InputError("eye paths: maxDepth " + std::to_string(maxDepth) + ": expected 1..64");
+        throw InternalError("eye paths: maxDepth " + std::to_string(maxDepth) + ": expected 1..64");
     PclEyeParams p{};
     p.seedLo = camera.seedLo;
     p.seedHi = camera.seedHi;
@@ -25,8 +25,8 @@ PclEyeParams eyeParams(const PclCameraParams& camera, const SceneGeometry& geome
 cl::Event traceEyePaths(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
                         const PclEyeParams& params, const cl::Buffer& rays, cl::Buffer& hits) {
     if (params.samplesPerPixel == 0 || params.maxDepth < 1 || params.maxDepth > 64)
-        throw InputError("eye paths: samplesPerPixel " + std::to_string(params.samplesPerPixel) + ", maxDepth " +
-                         std::to_string(params.maxDepth) + ": expected ≥ 1 and 1..64");
+        throw InternalError("eye paths: samplesPerPixel " + std::to_string(params.samplesPerPixel) + ", maxDepth " +
+                            std::to_string(params.maxDepth) + ": expected ≥ 1 and 1..64");
     auto kernel =
         device.kernel<PclEyeParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                       cl::Buffer, cl::Buffer, cl::Buffer>("eye_paths", "eye_paths", scene.geometry.programOptions());

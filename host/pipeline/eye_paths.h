@@ -27,7 +27,7 @@ namespace pcl {
 constexpr uint32_t kDefaultEyeDepth = 8;  // hits examined per eye path (7 specular bounces)
 
 // Seed, sample range and samples per pixel from the camera's parameters; the scene's
-// triangleCount, rayEpsilon, light count and the area lights' total power. InputError when
+// triangleCount, rayEpsilon, light count and the area lights' total power. InternalError when
 // maxDepth is outside 1..64.
 PclEyeParams eyeParams(const PclCameraParams& camera, const SceneGeometry& geometry, const SceneBuffers& buffers,
                        const AreaLightTable& table, uint32_t maxDepth = kDefaultEyeDepth);

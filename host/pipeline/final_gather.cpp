@@ -10,17 +10,17 @@ namespace pcl {
 PclGatherParams gatherParams(const PclDirectParams& direct, uint32_t gatherRays, uint32_t k, float maxRadius2,
                              uint32_t maxSpecular) {
     if (gatherRays < 1)
-        throw InputError("final gather: 0 gather rays: expected at least 1 (direct visualisation reads the global "
-                         "map at the eye hits instead)");
+        throw InternalError("final gather: 0 gather rays: expected at least 1 (direct visualisation reads the global "
+                            "map at the eye hits instead)");
     if (direct.gatherRays != gatherRays)
-        throw InputError("final gather: " + std::to_string(gatherRays) +
-                         " gather rays, but direct light weighs its "
-                         "samples against " +
-                         std::to_string(direct.gatherRays) + ": expected the same N");
+        throw InternalError("final gather: " + std::to_string(gatherRays) +
+                            " gather rays, but direct light weighs its "
+                            "samples against " +
+                            std::to_string(direct.gatherRays) + ": expected the same N");
     if (k < 1 || k > PCL_KNN_MAX_K)
-        throw InputError("final gather: k " + std::to_string(k) + ": expected 1.." + std::to_string(PCL_KNN_MAX_K));
+        throw InternalError("final gather: k " + std::to_string(k) + ": expected 1.." + std::to_string(PCL_KNN_MAX_K));
     if (!(maxRadius2 >= 0.0f))
-        throw InputError("final gather: maxRadius² " + std::to_string(maxRadius2) + ": expected ≥ 0");
+        throw InternalError("final gather: maxRadius² " + std::to_string(maxRadius2) + ": expected ≥ 0");
     PclGatherParams p{};
     p.seedLo = direct.seedLo;
     p.seedHi = direct.seedHi;
@@ -45,8 +45,8 @@ cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const Device
                           const PclGatherParams& params, const cl::Buffer& hits, cl::Buffer& queries,
                           cl::Buffer& gathered) {
     if (params.histogramCells != 0)
-        throw InputError("final gather: histogramCells " + std::to_string(params.histogramCells) +
-                         " without histograms: expected the overload that takes them, or 0");
+        throw InternalError("final gather: histogramCells " + std::to_string(params.histogramCells) +
+                            " without histograms: expected the overload that takes them, or 0");
     const cl::Buffer none = device.allocate<float>(1, CL_MEM_READ_ONLY, "final gather: no histograms");
     return traceGatherRays(device, scene, lights, params, hits, none, queries, gathered);
 }
@@ -55,10 +55,11 @@ cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const Device
                           const PclGatherParams& params, const cl::Buffer& hits, const cl::Buffer& histograms,
                           cl::Buffer& queries, cl::Buffer& gathered) {
     if (gatherRayCount(params) > 0xFFFFFFFFull)
-        throw InputError("final gather: " + std::to_string(gatherRayCount(params)) +
-                         " gather rays in one launch: expected below 2^32 (launch fewer records)");
+        throw InternalError("final gather: " + std::to_string(gatherRayCount(params)) +
+                            " gather rays in one launch: expected below 2^32 (launch fewer records)");
     if (params.histogramCells > PCL_GATHER_MAX_CELLS)
-        throw InputError("final gather: histogramCells " + std::to_string(params.histogramCells) + ": expected 0..16");
+        throw InternalError("final gather: histogramCells " + std::to_string(params.histogramCells) +
+                            ": expected 0..16");
     auto kernel = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "final_gather", "final_gather_trace", scene.geometry.programOptions());
@@ -72,7 +73,7 @@ cl::Buffer buildGatherHistograms(Device& device, const PhotonMapOnDevice& global
                                  const cl::Buffer& hits) {
     const uint32_t G = params.histogramCells;
     if (G < 1 || G > PCL_GATHER_MAX_CELLS)
-        throw InputError("final gather: histogramCells " + std::to_string(G) + ": expected 1..16");
+        throw InternalError("final gather: histogramCells " + std::to_string(G) + ": expected 1..16");
     const size_t n = params.sampleCount;
     cl::Buffer queries = device.allocate<PclKnnQuery>(n, CL_MEM_READ_WRITE, "final gather: histogram queries");
     auto q = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer>("final_gather", "final_gather_histogram_queries");
@@ -100,8 +101,8 @@ GatherTiming finalGather(Device& device, const DeviceScene& scene, const DeviceA
                          PclGatherParams params, const cl::Buffer& hits, IrradianceSource& source,
                          cl::Buffer& radiance) {
     if (params.histogramCells != 0)
-        throw InputError("final gather: histogramCells " + std::to_string(params.histogramCells) +
-                         " without histograms: expected the overload that takes them, or 0");
+        throw InternalError("final gather: histogramCells " + std::to_string(params.histogramCells) +
+                            " without histograms: expected the overload that takes them, or 0");
     const cl::Buffer none = device.allocate<float>(1, CL_MEM_READ_ONLY, "final gather: no histograms");
     return finalGather(device, scene, lights, params, hits, none, source, radiance);
 }

@@ -30,7 +30,7 @@ namespace pcl {
 constexpr uint32_t kDefaultGatherSpecular = 4;
 
 // From the direct-light parameters (seed, M, table total, scene counts); gatherRays ≥ 1 must
-// equal direct.gatherRays for the MIS weights to add up (InputError otherwise).
+// equal direct.gatherRays for the MIS weights to add up (InternalError otherwise).
 PclGatherParams gatherParams(const PclDirectParams& direct, uint32_t gatherRays, uint32_t k, float maxRadius2,
                              uint32_t maxSpecular = kDefaultGatherSpecular);
 

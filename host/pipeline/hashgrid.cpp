@@ -12,7 +12,8 @@ namespace pcl {
 
 PclGridParams hashGridParams(const std::vector<PclPhoton>& photons, float maxRadius) {
     if (!(maxRadius > 0.0f) || !std::isfinite(maxRadius))
-        throw InputError("hash grid: the search radius must be positive and finite, got " + std::to_string(maxRadius));
+        throw InternalError("hash grid: the search radius must be positive and finite, got " +
+                            std::to_string(maxRadius));
     PclGridParams g{};
     if (!photons.empty()) {
         float lo[3] = {photons[0].x, photons[0].y, photons[0].z};
@@ -36,10 +37,10 @@ PclGridParams hashGridParams(const std::vector<PclPhoton>& photons, float maxRad
 
 DeviceHashGrid buildHashGrid(Device& device, const cl::Buffer& photons, size_t count, const PclGridParams& params) {
     if (params.photonCount != count)
-        throw InputError("buildHashGrid: params.photonCount " + std::to_string(params.photonCount) + " for " +
-                         std::to_string(count) + " photons");
+        throw InternalError("buildHashGrid: params.photonCount " + std::to_string(params.photonCount) + " for " +
+                            std::to_string(count) + " photons");
     if (params.tableSize == 0 || (params.tableSize & (params.tableSize - 1)) != 0)
-        throw InputError("buildHashGrid: tableSize " + std::to_string(params.tableSize) + " is not a power of two");
+        throw InternalError("buildHashGrid: tableSize " + std::to_string(params.tableSize) + " is not a power of two");
     DeviceHashGrid g;
     g.params = params;
     g.count = count;

@@ -14,7 +14,7 @@ namespace pcl {
 
 // origin = the map's bounds minimum (0 for an empty map), cellSize = 2 maxRadius,
 // invCellSize = 1 / cellSize, tableSize = the smallest power of two ≥ max(photons, 1).
-// maxRadius must be positive and finite (InputError otherwise).
+// maxRadius must be positive and finite (InternalError otherwise).
 PclGridParams hashGridParams(const std::vector<PclPhoton>& photons, float maxRadius);
 
 // A hash grid on the device. `points` holds the photons in sorted order as float4

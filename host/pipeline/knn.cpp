@@ -40,7 +40,7 @@ size_t knnQueryBatch(size_t maxAlloc, size_t globalMem, uint32_t maxK) {
 
 uint32_t knnHeapCapacity(uint32_t maxK) {
     if (maxK == 0 || maxK > PCL_KNN_MAX_K)
-        throw InputError("knn: k = " + std::to_string(maxK) + ", expected 1.." + std::to_string(PCL_KNN_MAX_K));
+        throw InternalError("knn: k = " + std::to_string(maxK) + ", expected 1.." + std::to_string(PCL_KNN_MAX_K));
     for (uint32_t cap : {8u, 32u, 64u, 128u, 256u})
         if (maxK <= cap) return cap;
     return PCL_KNN_MAX_K;
@@ -51,11 +51,11 @@ uint32_t knnMaxK(const std::vector<PclKnnQuery>& queries) {
     for (size_t i = 0; i < queries.size(); ++i) {
         const PclKnnQuery& q = queries[i];
         if (q.k == 0 || q.k > PCL_KNN_MAX_K)
-            throw InputError("knn: query " + std::to_string(i) + " asks k = " + std::to_string(q.k) + ", expected 1.." +
-                             std::to_string(PCL_KNN_MAX_K));
+            throw InternalError("knn: query " + std::to_string(i) + " asks k = " + std::to_string(q.k) +
+                                ", expected 1.." + std::to_string(PCL_KNN_MAX_K));
         if (!(q.maxRadius2 >= 0.0f))
-            throw InputError("knn: query " + std::to_string(i) + " has maxRadius2 = " + std::to_string(q.maxRadius2) +
-                             ", expected ≥ 0");
+            throw InternalError("knn: query " + std::to_string(i) +
+                                " has maxRadius2 = " + std::to_string(q.maxRadius2) + ", expected ≥ 0");
         maxK = std::max(maxK, q.k);
     }
     return maxK;
@@ -89,7 +89,7 @@ KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree) {
 double knnSearchKdTree(Device& device, const KnnKdTree& tree, const cl::Buffer& queries, size_t queryCount,
                        uint32_t maxK, DeviceKnnOutput& out, float firstRadius2) {
     if (std::isnan(firstRadius2) || firstRadius2 < 0.0f)
-        throw InputError("knn: first search radius² " + std::to_string(firstRadius2) + ": expected ≥ 0 or ∞");
+        throw InternalError("knn: first search radius² " + std::to_string(firstRadius2) + ": expected ≥ 0 or ∞");
     out = allocateOutput(device, queryCount, maxK);
     if (queryCount == 0) return 0.0;
     auto k = device.kernel<cl::Buffer, cl_uint, cl_uint, cl_float, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer,

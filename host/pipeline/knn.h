@@ -50,7 +50,7 @@ size_t knnPackedKdTreeElements(size_t count);
 KnnKdTree packKdTree(Device& device, const DeviceKdTree& tree);
 
 // Heap capacity the kernel is specialised for (-DPCL_KNN_CAP): the smallest of 8, 32, 64, 128,
-// 256, 500 holding maxK. InputError outside 1..PCL_KNN_MAX_K.
+// 256, 500 holding maxK. InternalError outside 1..PCL_KNN_MAX_K.
 uint32_t knnHeapCapacity(uint32_t maxK);
 
 // Queries per search launch for the memory plan (and the host-vector searches of
@@ -71,7 +71,7 @@ double knnSearchKdTree(Device& device, const KnnKdTree& tree, const cl::Buffer& 
 double knnSearchHashGrid(Device& device, const DeviceHashGrid& grid, const cl::Buffer& queries, size_t queryCount,
                          uint32_t maxK, DeviceKnnOutput& out);
 
-// Largest k over the queries; InputError when a k is 0 or above PCL_KNN_MAX_K or a radius is
+// Largest k over the queries; InternalError when a k is 0 or above PCL_KNN_MAX_K or a radius is
 // negative or NaN.
 uint32_t knnMaxK(const std::vector<PclKnnQuery>& queries);
 

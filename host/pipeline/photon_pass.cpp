@@ -108,7 +108,7 @@ std::string PhotonPassStats::summary() const {
 PhotonMaps runPhotonPass(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
                          const PhotonPassOptions& options) {
     if (options.maxDepth < 1 || options.maxDepth > 255)
-        throw InputError("photon pass: maxDepth " + std::to_string(options.maxDepth) + ": expected 1..255");
+        throw InternalError("photon pass: maxDepth " + std::to_string(options.maxDepth) + ": expected 1..255");
     const auto start = std::chrono::steady_clock::now();
     PhotonMaps maps;
     DeviceScene scene(device, geometry, buffers);

@@ -55,7 +55,8 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
         throw InputError("precomputed irradiance: a global map of " + std::to_string(n) +
                          " photons exceeds the 2^30 of the stored photon index");
     if (options.estimate.structure == KnnStructure::HashGrid && !lo)
-        throw InputError("precomputed irradiance: a hash grid over the other photons needs the map's bounds minimum");
+        throw InternalError(
+            "precomputed irradiance: a hash grid over the other photons needs the map's bounds minimum");
     const size_t count = n == 0 ? 0 : (n - 1) / options.every + 1;
     const size_t others = n - count;
     cl::Buffer points = device.allocate<PclIrradiancePoint>(count, CL_MEM_READ_WRITE, "precomputed irradiance: points");
@@ -119,7 +120,7 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
     if (count >= (size_t(1) << 30))
         throw InputError("precomputed irradiance: " + std::to_string(count) +
                          " points exceed the 2^30 of the stored photon index");
-    if (std::isnan(minNormalCos)) throw InputError("precomputed irradiance: minNormalCos is NaN");
+    if (std::isnan(minNormalCos)) throw InternalError("precomputed irradiance: minNormalCos is NaN");
     const auto t0 = std::chrono::steady_clock::now();
     DeviceIrradianceMap map;
     map.points = points;
@@ -158,8 +159,8 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
 DeviceIrradianceMap uploadIrradiancePoints(Device& device, const std::vector<PclIrradiancePoint>& points,
                                            float minNormalCos, const std::vector<float>& cover) {
     if (!cover.empty() && cover.size() != points.size())
-        throw InputError("precomputed irradiance: " + std::to_string(cover.size()) + " covers for " +
-                         std::to_string(points.size()) + " points");
+        throw InternalError("precomputed irradiance: " + std::to_string(cover.size()) + " covers for " +
+                            std::to_string(points.size()) + " points");
     const std::vector<float> unlimited(cover.empty() ? points.size() : 0, INFINITY);
     return buildIrradianceTree(device, device.upload(points, CL_MEM_READ_WRITE),
                                device.upload(cover.empty() ? unlimited : cover, CL_MEM_READ_WRITE), points.size(),

@@ -29,9 +29,9 @@ uint32_t queryOrderKey(float x, float y, float z, float cell) {
 
 QueryOrder orderQueries(Device& device, const cl::Buffer& queries, size_t count, float cell) {
     if (!(cell > 0.0f) || !std::isfinite(cell))
-        throw InputError("query order: cell " + std::to_string(cell) + ": expected a positive finite size");
+        throw InternalError("query order: cell " + std::to_string(cell) + ": expected a positive finite size");
     if (count >= (size_t(1) << 31))
-        throw InputError("query order: " + std::to_string(count) + " queries (at most 2^31 - 1)");
+        throw InternalError("query order: " + std::to_string(count) + " queries (at most 2^31 - 1)");
     QueryOrder o;
     o.count = count;
     cl::Buffer keys = device.allocate<uint32_t>(count, CL_MEM_READ_WRITE, "query order: keys");
@@ -50,7 +50,7 @@ QueryOrder orderQueries(Device& device, const cl::Buffer& queries, size_t count,
 void scatterResults(Device& device, const QueryOrder& order, const cl::Buffer& sortedResults, uint32_t floats,
                     cl::Buffer& results) {
     if (floats == 0 || floats % 4 != 0)
-        throw InputError("query order: records of " + std::to_string(floats) + " floats: expected a multiple of 4");
+        throw InternalError("query order: records of " + std::to_string(floats) + " floats: expected a multiple of 4");
     if (order.count == 0) return;
     auto scatter = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer>(kStage, "query_order_scatter");
     device.launchLocal(kStage, scatter, wholeWorkGroups(order.count), workGroup(), sortedResults, order.order,

@@ -61,11 +61,11 @@ size_t sortHistogramEntries(cl_device_type type, size_t n) {
 void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, size_t n, int keyBits, int sortBits,
                        double* seconds, SortWorkspace* workspace) {
     if (keyBits != 32 && keyBits != 64)
-        throw InputError("sortPairsOnDevice: keys of " + std::to_string(keyBits) + " bits (32 or 64 expected)");
+        throw InternalError("sortPairsOnDevice: keys of " + std::to_string(keyBits) + " bits (32 or 64 expected)");
     if (sortBits == 0) sortBits = keyBits;
     if (sortBits < 1 || sortBits > keyBits)
-        throw InputError("sortPairsOnDevice: " + std::to_string(sortBits) + " bits to sort of " +
-                         std::to_string(keyBits) + "-bit keys");
+        throw InternalError("sortPairsOnDevice: " + std::to_string(sortBits) + " bits to sort of " +
+                            std::to_string(keyBits) + "-bit keys");
     if (n >= (size_t(1) << 31))
         throw InputError("sortPairsOnDevice: " + std::to_string(n) + " pairs (at most 2^31 - 1)");
     if (n < 2) return;
@@ -168,8 +168,8 @@ void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, siz
 
 void sortPairsOnDevice(Device& device, std::vector<uint32_t>& keys, std::vector<uint32_t>& values) {
     if (keys.size() != values.size())
-        throw InputError("sortPairsOnDevice: " + std::to_string(keys.size()) + " keys, " +
-                         std::to_string(values.size()) + " values");
+        throw InternalError("sortPairsOnDevice: " + std::to_string(keys.size()) + " keys, " +
+                            std::to_string(values.size()) + " values");
     cl::Buffer k = device.upload(keys, CL_MEM_READ_WRITE), v = device.upload(values, CL_MEM_READ_WRITE);
     sortPairsOnDevice(device, k, v, keys.size(), 32);
     keys = device.download<uint32_t>(k, keys.size());
@@ -178,8 +178,8 @@ void sortPairsOnDevice(Device& device, std::vector<uint32_t>& keys, std::vector<
 
 void sortPairsOnDevice(Device& device, std::vector<uint64_t>& keys, std::vector<uint32_t>& values, int sortBits) {
     if (keys.size() != values.size())
-        throw InputError("sortPairsOnDevice: " + std::to_string(keys.size()) + " keys, " +
-                         std::to_string(values.size()) + " values");
+        throw InternalError("sortPairsOnDevice: " + std::to_string(keys.size()) + " keys, " +
+                            std::to_string(values.size()) + " values");
     cl::Buffer k = device.upload(keys, CL_MEM_READ_WRITE), v = device.upload(values, CL_MEM_READ_WRITE);
     sortPairsOnDevice(device, k, v, keys.size(), 64, sortBits);
     keys = device.download<uint64_t>(k, keys.size());

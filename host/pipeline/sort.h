@@ -30,7 +30,7 @@ struct SortWorkspace {
 // − 1), higher key bits are ignored (they still move with their key); ⌈sortBits/8⌉ passes on a
 // CPU (the top digit, then each bucket in cache, from 2^18 pairs), ⌈sortBits/4⌉ on a GPU.
 // n < 2^31. Adds the device time to *seconds when given. Throws
-// InputError on a bad width, DeviceError on a device failure.
+// InternalError on a bad width, DeviceError on a device failure.
 void sortPairsOnDevice(Device& device, cl::Buffer& keys, cl::Buffer& values, size_t n, int keyBits, int sortBits = 0,
                        double* seconds = nullptr, SortWorkspace* workspace = nullptr);
 

@@ -27,8 +27,8 @@ uint32_t photonSlotsPerPath(const PclPhotonParams& params) { return params.maxDe
 cl::Event tracePhotons(Device& device, const DeviceScene& scene, const PclPhotonParams& params, const cl::Buffer& rays,
                        cl::Buffer& slots, cl::Buffer& counts, cl::Buffer& ends) {
     if (params.maxDepth < 1 || params.maxDepth > 255)
-        throw InputError("photon pass: maxDepth " + std::to_string(params.maxDepth) +
-                         ": expected 1..255 (the bounce count is a byte of the photon record)");
+        throw InternalError("photon pass: maxDepth " + std::to_string(params.maxDepth) +
+                            ": expected 1..255 (the bounce count is a byte of the photon record)");
     auto kernel = device.kernel<PclPhotonParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                                 cl::Buffer, cl::Buffer, cl::Buffer>(
         "trace_photons", params.pass == PCL_PASS_CAUSTIC ? "trace_photons_caustic" : "trace_photons_global",

@@ -49,12 +49,12 @@ uint32_t estimateFilterCode(EstimateFilter f) {
 
 void validateEstimateSettings(const EstimateSettings& s) {
     if (std::isnan(s.firstRadius2) || s.firstRadius2 < 0.0f)
-        throw InputError("estimate: first search radius² " + std::to_string(s.firstRadius2) + ": expected ≥ 0 or ∞");
+        throw InternalError("estimate: first search radius² " + std::to_string(s.firstRadius2) + ": expected ≥ 0 or ∞");
     if (!(s.coneK >= 1.0f) || !std::isfinite(s.coneK))
-        throw InputError("estimate: cone filter k = " + std::to_string(s.coneK) + ", expected a finite k ≥ 1");
-    if (std::isnan(s.minNormalCos)) throw InputError("estimate: minNormalCos is NaN, expected a cosine in [-1, 1]");
+        throw InternalError("estimate: cone filter k = " + std::to_string(s.coneK) + ", expected a finite k ≥ 1");
+    if (std::isnan(s.minNormalCos)) throw InternalError("estimate: minNormalCos is NaN, expected a cosine in [-1, 1]");
     if (!(s.rayEpsilon >= 0.0f) || !std::isfinite(s.rayEpsilon))
-        throw InputError("estimate: rayEpsilon = " + std::to_string(s.rayEpsilon) + ", expected a finite value ≥ 0");
+        throw InternalError("estimate: rayEpsilon = " + std::to_string(s.rayEpsilon) + ", expected a finite value ≥ 0");
 }
 
 PclEstimateParams estimateParams(const EstimateSettings& s, uint32_t firstQuery, uint32_t queryCount, uint32_t stride) {
@@ -94,14 +94,14 @@ uint32_t estimateMaxK(const std::vector<PclEstimateQuery>& queries) {
     for (size_t i = 0; i < queries.size(); ++i) {
         const PclEstimateQuery& q = queries[i];
         if (q.k == 0 || q.k > PCL_KNN_MAX_K)
-            throw InputError("estimate: query " + std::to_string(i) + " asks k = " + std::to_string(q.k) +
-                             ", expected 1.." + std::to_string(PCL_KNN_MAX_K));
+            throw InternalError("estimate: query " + std::to_string(i) + " asks k = " + std::to_string(q.k) +
+                                ", expected 1.." + std::to_string(PCL_KNN_MAX_K));
         if (!(q.maxRadius2 >= 0.0f))
-            throw InputError("estimate: query " + std::to_string(i) +
-                             " has maxRadius2 = " + std::to_string(q.maxRadius2) + ", expected ≥ 0");
+            throw InternalError("estimate: query " + std::to_string(i) +
+                                " has maxRadius2 = " + std::to_string(q.maxRadius2) + ", expected ≥ 0");
         if (!std::isfinite(q.nx) || !std::isfinite(q.ny) || !std::isfinite(q.nz))
-            throw InputError("estimate: query " + std::to_string(i) +
-                             " has a non-finite normal, expected a unit vector");
+            throw InternalError("estimate: query " + std::to_string(i) +
+                                " has a non-finite normal, expected a unit vector");
         maxK = std::max(maxK, q.k);
     }
     return maxK;

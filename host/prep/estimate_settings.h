@@ -44,7 +44,7 @@ struct EstimateSettings {
 // the disc that holds k photons at the mean density (∞ when either is 0).
 float firstSearchRadius2(size_t photons, uint32_t k, double area);
 
-// InputError when coneK < 1 or not finite, minNormalCos is NaN or rayEpsilon is negative/NaN.
+// InternalError when coneK < 1 or not finite, minNormalCos is NaN or rayEpsilon is negative/NaN.
 void validateEstimateSettings(const EstimateSettings& s);
 
 // The filter's normalisation: the mean of w over the unit disc, 2∫₀¹ w(u) u du (double):
@@ -56,7 +56,7 @@ double estimateGaussianScale();
 // The kernel's parameters for a batch (norm and gaussianScale rounded to float).
 PclEstimateParams estimateParams(const EstimateSettings& s, uint32_t firstQuery, uint32_t queryCount, uint32_t stride);
 
-// Largest k over the queries; InputError when a k is outside 1..PCL_KNN_MAX_K, a radius is
+// Largest k over the queries; InternalError when a k is outside 1..PCL_KNN_MAX_K, a radius is
 // negative or NaN, or a normal is not finite.
 uint32_t estimateMaxK(const std::vector<PclEstimateQuery>& queries);
 

@@ -17,7 +17,7 @@ struct PrecomputedIrradianceOptions {
                                 // estimate.minNormalCos is also the lookup's normal threshold
 };
 
-// InputError when every < 2, coverFactor is not positive (or NaN), k is outside 1..PCL_KNN_MAX_K, maxRadius is not positive and
+// InternalError when every < 2, coverFactor is not positive (or NaN), k is outside 1..PCL_KNN_MAX_K, maxRadius is not positive and
 // finite, or the estimate settings are invalid.
 void validatePrecomputedIrradianceOptions(const PrecomputedIrradianceOptions& o);
 

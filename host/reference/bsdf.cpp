@@ -97,6 +97,10 @@ bool MixedBsdf::sample(Vec3 wo, float uLobe, float u1, float u2, BsdfSample& out
     }
     if (!refract(wo, n, etaI / etaT, out.wi)) return false;  // cannot happen: F = 1 under TIR
     out.pdf = pSpecular_ * (1.0f - F);
+    // Radiance mode (pbrt-v4's DielectricBxDF): radiance arriving from the etaT side scales by
+    // (etaI/etaT)² as it crosses to wo's side.
+    out.radianceScale = (etaI / etaT) * (etaI / etaT);
+    out.weight *= out.radianceScale;
     return dot(ng_, wo) * dot(ng_, out.wi) < 0.0f;  // it must cross the geometric surface
 }
 

@@ -6,9 +6,10 @@
 // luminance of ρd and ρs, and returns the sample's weight f |cosθ| / pdf with that choice
 // folded in, so the estimator stays unbiased whatever the split.
 //
-// Refraction does not scale radiance by η² (pbrt's "radiance" mode would): the path carries
-// L/η², which is invariant along a path, and equals L wherever the camera and the emitters
-// are — outside the dielectric (η = 1). An emitter inside glass would come out η² too dim.
+// Refraction scales radiance by η² as pbrt-v4's "radiance" mode does: crossing from wo's side
+// (index η_o) to the other (η_t), the weight picks up (η_o/η_t)², so a camera inside glass sees
+// the world outside η² brighter and a diffuse floor under water looks 1/η² dimmer. (Paths that
+// enter and leave a dielectric get factors that cancel.)
 #pragma once
 #include "core/vec3.h"
 #include "scene/scene.h"
@@ -20,6 +21,7 @@ struct BsdfSample {
     Vec3 weight;    // f |cos θi| / pdf
     float pdf = 0;  // solid-angle density of wi (non-delta), or the discrete probability (delta)
     bool delta = false;
+    float radianceScale = 1.0f;  // the (η_i/η_t)² of a refraction folded into weight; 1 otherwise
 };
 
 class MixedBsdf {

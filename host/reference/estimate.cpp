@@ -68,7 +68,7 @@ PclEstimate referenceEstimateFromNeighbours(const std::vector<PclPhoton>& map, c
                                             const uint32_t* indices, const float* dist2, uint32_t count, float radius2,
                                             const EstimateSettings& settings, const SceneGeometry* geometry) {
     if (settings.visibility && !geometry)
-        throw InputError("estimate (reference): the visibility test needs the scene geometry, got none");
+        throw InternalError("estimate (reference): the visibility test needs the scene geometry, got none");
     const PclEstimateParams p = estimateParams(settings, 0, 1, count);
     float sum[3] = {0.0f, 0.0f, 0.0f};
     uint32_t used = 0;
@@ -127,8 +127,8 @@ std::vector<PclEstimate> referenceEstimateWithKnn(const std::vector<PclPhoton>& 
                                                   unsigned threads) {
     validateEstimateSettings(settings);
     if (knn.counts.size() != queries.size())
-        throw InputError("estimate (reference): " + std::to_string(knn.counts.size()) + " kNN results for " +
-                         std::to_string(queries.size()) + " queries");
+        throw InternalError("estimate (reference): " + std::to_string(knn.counts.size()) + " kNN results for " +
+                            std::to_string(queries.size()) + " queries");
     std::vector<PclEstimate> out(queries.size());
     referenceParallelFor(queries.size(), threads, [&](size_t i) {
         // The first k slots of a larger stride are the answer for k (the order is total).

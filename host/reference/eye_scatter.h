@@ -32,7 +32,8 @@ inline float eyeDiffuseProbability(const PclMaterial& m) {
     return sum > 0.0f ? ld / sum : -1.0f;
 }
 
-// The specular part scatters unit d (arriving at outside normal n); weight before 1/P_s.
+// The specular part scatters unit d (arriving at outside normal n); weight before 1/P_s
+// (refraction: ρs η², η = η_i/η_t on the path's side over the other).
 inline bool eyeSpecularScatter(const PclMaterial& m, Vec3 d, Vec3 n, float uF, float uA, float uB, Vec3& dNew,
                                Vec3& weight) {
     const float dn = dot(d, n);
@@ -58,6 +59,7 @@ inline bool eyeSpecularScatter(const PclMaterial& m, Vec3 d, Vec3 n, float uF, f
             } else {
                 const float cosT = std::sqrt(std::max(0.0f, 1.0f - eta * eta * (1.0f - cosI * cosI)));
                 dNew = d * eta + nf * (eta * cosI - cosT);
+                weight = weight * (eta * eta);  // radiance scales by (η_i/η_t)² across the surface
             }
             return true;
         }

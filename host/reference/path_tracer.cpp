@@ -42,6 +42,9 @@ Vec3 PathTracer::sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3
 // found by the BSDF-sampled ray (MIS-weighted), then a light sample, then the next direction.
 Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
     Vec3 L(0.0f), beta(1.0f);
+    // The product of the refractions' radiance scales undone for Russian roulette (pbrt-v4's
+    // etaScale): inside glass beta is 1/η² smaller without the path being any less worth tracing.
+    float rouletteScale = 1.0f;
     bool specularBounce = true;  // the camera ray counts as specular: emitters seen directly count fully
     float prevPdf = 0.0f;
     Vec3 prevP;
@@ -71,6 +74,7 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
                          sampler.vertex(vertex, PathVertexDims::kDirection + 1), bs))
             break;
         beta *= bs.weight;
+        rouletteScale /= bs.radianceScale;
         specularBounce = bs.delta;
         prevPdf = bs.pdf;
         prevP = s.p;
@@ -78,7 +82,7 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
 
         // Russian roulette (Arvo & Kirk 1990): end with probability q, divide survivors by 1 - q.
         if (depth + 1 >= settings_.rouletteDepth) {
-            float q = std::max(0.05f, 1.0f - maxComponent(beta));
+            float q = std::max(0.05f, 1.0f - maxComponent(beta) * rouletteScale);
             if (sampler.vertex(vertex, PathVertexDims::kRoulette) < q) break;
             beta *= 1.0f / (1.0f - q);
         }

@@ -10,9 +10,9 @@ std::shared_ptr<IrradianceSource> fixedRadiusSource(const PhotonMapOnDevice& map
                                                     const EstimateSettings& settings, float radius2,
                                                     const DeviceScene* scene) {
     if (settings.filter != EstimateFilter::Box)
-        throw InputError("fixed-radius estimate: needs the box filter, got " +
-                         std::string(estimateFilterName(settings.filter)));
-    if (!(radius2 > 0.0f)) throw InputError("fixed-radius estimate: radius² must be positive");
+        throw InternalError("fixed-radius estimate: needs the box filter, got " +
+                            std::string(estimateFilterName(settings.filter)));
+    if (!(radius2 > 0.0f)) throw InternalError("fixed-radius estimate: radius² must be positive");
     std::shared_ptr<IrradianceSource> knn = estimateIrradianceSource(map, maxK, settings, scene);
     auto source = std::make_shared<IrradianceSource>();
     source->name = "fixed-radius estimate (box, r² " + std::to_string(radius2) + ")";

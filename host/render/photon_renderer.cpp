@@ -483,7 +483,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
                                       const SceneBuffers& buffers, const RenderPlan& plan,
                                       const PhotonRenderSettings& settings) {
     if (settings.method == RenderMethod::PathTracing)
-        throw InputError("renderPhotonMapped: the path tracer is render/path_render.h, not a photon method");
+        throw InternalError("renderPhotonMapped: the path tracer is render/path_render.h, not a photon method");
     validateRenderSettings(settings);
     return PhotonRenderer(device, scene, geometry, buffers, plan, settings).run();
 }

@@ -1,6 +1,7 @@
 #include "render/render_settings.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -126,6 +127,14 @@ void validateRenderSettings(const PhotonRenderSettings& s) {
     if (s.globalK < 1 || s.globalK > PCL_KNN_MAX_K || s.causticK < 1 || s.causticK > PCL_KNN_MAX_K)
         throw InputError("render: k must be 1.." + std::to_string(PCL_KNN_MAX_K));
     if (!(s.alpha > 0.0f && s.alpha < 1.0f)) throw InputError("render: alpha must be in (0, 1)");
+    if (s.histogramCells > PCL_GATHER_MAX_CELLS)
+        throw InputError("render: gather importance cells must be 0..16, got " + std::to_string(s.histogramCells));
+    if (!(s.maxRadius >= 0.0f && std::isfinite(s.maxRadius)))
+        throw InputError("render: max radius must be finite and ≥ 0 (0: the default), got " +
+                         std::to_string(s.maxRadius));
+    if (!(s.initialRadius >= 0.0f && std::isfinite(s.initialRadius)))
+        throw InputError("render: radius must be finite and ≥ 0 (0: the default), got " +
+                         std::to_string(s.initialRadius));
     if (s.passes == 0 && !(s.seconds > 0.0)) throw InputError("render: give a pass count or a time budget");
 }
 

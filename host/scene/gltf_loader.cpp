@@ -254,7 +254,18 @@ private:
         };
         Transform t;
         if (finite(node.matrix, 16, "matrix")) {
-            t = Transform::columnMajor(node.matrix.data());
+            // Column-major: the last row is elements 3, 7, 11, 15. A projective row would make
+            // the transform non-affine, which nothing downstream can represent.
+            const std::vector<double>& m = node.matrix;
+            if (m[3] != 0.0 || m[7] != 0.0 || m[11] != 0.0 || m[15] != 1.0) {
+                std::ostringstream row;
+                row << "last row " << m[3] << " " << m[7] << " " << m[11] << " " << m[15];
+                const std::string name = node.name.empty() ? "" : " (\"" + node.name + "\")";
+                fail(field + name + ".matrix",
+                     "an affine matrix (column-major: elements 3, 7, 11 equal to 0 and 15 to 1, last row 0 0 0 1)",
+                     row.str());
+            }
+            t = Transform::columnMajor(m.data());
         } else {
             Transform tr, r, s;
             if (finite(node.translation, 3, "translation"))

@@ -42,7 +42,8 @@ inline float eye_diffuse_probability(const PclMaterial M) {
 
 /* The specular part of M scatters the unit direction d arriving at a surface with outside
  * normal n: mirror, glossy (Phong lobe about the mirror direction, weight ρs (e+2)/(e+1) cosθ';
- * false below the surface) or dielectric (reflect when uF < F, else refract; weight ρs).
+ * false below the surface) or dielectric (reflect when uF < F, weight ρs; else refract, weight
+ * ρs η² with η = η_i/η_t, the indices on the path's side and beyond).
  * w gets the weight (before dividing by the lobe choice). */
 inline bool eye_specular_scatter(const PclMaterial M, PclV3 d, PclV3 n, float uF, float uA, float uB,
                                  PclV3* dNew, float w[3]) {
@@ -64,7 +65,16 @@ inline bool eye_specular_scatter(const PclMaterial M, PclV3 d, PclV3 n, float uF
         const float eta = dn < 0.0f ? 1.0f / M.ior : M.ior;
         const float cosI = fabs(dn);
         const float F = sampling_fresnel_dielectric(cosI, eta);
-        *dNew = uF < F ? sampling_reflect(d, nf) : sampling_refract(d, nf, cosI, eta);
+        if (uF < F) {
+            *dNew = sampling_reflect(d, nf);
+        } else {
+            /* Radiance crossing into the path's side scales by (η_i/η_t)² = η² (pbrt-v4's
+             * radiance mode): an eye path carries importance, its throughput picks up the factor
+             * light undergoes on the way back. Photons (flux) are not scaled. */
+            *dNew = sampling_refract(d, nf, cosI, eta);
+            const float eta2 = eta * eta;
+            for (int c = 0; c < 3; ++c) w[c] = w[c] * eta2;
+        }
     } else {
         return false;
     }

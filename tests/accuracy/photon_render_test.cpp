@@ -11,6 +11,8 @@
 #include <memory>
 
 #include "accuracy/accuracy_common.h"
+#include "common/test_scenes.h"
+#include "core/math.h"
 #include "geometry/scene_geometry.h"
 #include "prep/plan.h"
 #include "prep/projection_map.h"
@@ -33,15 +35,19 @@ struct Prepared {
     RenderPlan plan;
 };
 
-std::unique_ptr<Prepared> prepare(const std::string& name, int width, int height) {
+std::unique_ptr<Prepared> prepareScene(Scene scene) {
     auto p = std::make_unique<Prepared>();
-    p->scene = loadSceneAt(name, width, height);
+    p->scene = std::move(scene);
     p->geometry = std::make_unique<SceneGeometry>(SceneGeometry::build(p->scene));
     p->buffers = buildSceneBuffers(p->scene, *p->geometry);
     buildProjectionMaps(p->scene, *p->geometry, p->buffers);
     p->paths = classifyLightPaths(p->scene, *p->geometry, p->buffers);
     p->plan = makePlan(p->scene, p->paths);
     return p;
+}
+
+std::unique_ptr<Prepared> prepare(const std::string& name, int width, int height) {
+    return prepareScene(loadSceneAt(name, width, height));
 }
 
 PhotonRenderResult render(const Prepared& p, PhotonRenderSettings s) {
@@ -242,5 +248,83 @@ TEST(PhotonRenderAccuracy, HashGridAndKdTreeRenderTheSameImage) {
         std::printf("[figure] %s: %zu of %zu values differ between kd-tree and hash grid, by at most %.3g relative\n",
                     renderMethodName(m), differ, kd.rgb.size(), worst);
         EXPECT_LT(worst, 1e-6) << renderMethodName(m);
+    }
+}
+
+// Radiance seen from inside glass (issue 16): radiance crossing from index η_i into η_t scales
+// by (η_t/η_i)², so a camera inside glass (η = 1.5) sees the world outside 2.25 times brighter
+// (pbrt-v4's DielectricBxDF in radiance mode). The camera sits at the centre of a glass sphere
+// (radius 1, ρs = 1), so every camera ray leaves it at normal incidence (F = ((η−1)/(η+1))² =
+// 0.04), and looks at a diffuse wall (ρ = 0.5, z = −3) lit by a directional light at 60° with
+// E = π on the wall: L_wall = ρE/π = 0.5. Refracted out with 1 − F, or reflected back and out
+// after two more internal reflections (F², F⁴, ...; the far side sees nothing):
+// L = η² L_wall (1 − F)/(1 − F²) = η² L_wall/(1 + F) = 1.0817. Without the η² factor: 0.4808.
+// The light, the sphere's shadow (x > 3.2 on the wall's plane) and its caustic are away from
+// the view (|x|, |y| < 0.53). Not in the closed form: light reflected by the sphere's outside onto
+// the wall (≈ E F(60°)/36 ≈ +0.5 %, in the photon methods' caustic map only: the path tracer
+// cannot find a delta light through a delta surface) and the wall lighting itself via the
+// sphere (< 0.3 %).
+TEST(PhotonRenderAccuracy, RadianceSeenFromInsideGlassScalesByEtaSquared) {
+    using namespace test_scenes;
+    const float eta = 1.5f, rho = 0.5f;
+    Scene scene;
+    const int glass = addMaterial(scene, Vec3(0.0f), Vec3(1.0f), SpecularKind::Dielectric);
+    scene.materials[glass].ior = eta;
+    const int wall = addMaterial(scene, Vec3(rho));
+    addSphere(scene, Vec3(0.0f), 1.0f, glass);
+    addQuad(scene, Vec3(-1.5f, -1.5f, -3.0f), Vec3(3.0f, 0.0f, 0.0f), Vec3(0.0f, 3.0f, 0.0f), wall);  // faces +z
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = normalize(Vec3(std::sqrt(3.0f), 0.0f, -1.0f));  // 60° off the wall's normal
+    sun.irradiance = Vec3(2.0f * kPi);                              // E = 2π cos 60° = π on the wall
+    scene.lights.push_back(sun);
+    scene.camera.position = Vec3(0.0f);
+    scene.camera.lookAt = Vec3(0.0f, 0.0f, -1.0f);
+    scene.camera.vfovDegrees = 20.0f;
+    scene.camera.width = scene.camera.height = 16;
+    auto p = prepareScene(scene);
+
+    const double F = std::pow((eta - 1.0) / (eta + 1.0), 2.0);
+    const double expected = double(eta) * eta * rho / (1.0 + F);
+    for (RenderMethod m : {RenderMethod::PathTracing, RenderMethod::FinalGather, RenderMethod::DirectVisualisation,
+                           RenderMethod::Progressive}) {
+        Image img;
+        if (m == RenderMethod::PathTracing) {
+            PathTracerSettings pt;
+            pt.samplesPerPixel = 256;
+            pt.seed = 7;
+            pt.threads = 2;
+            img = PathTracer(p->scene, *p->geometry, pt).render().resolve();
+            EXPECT_TRUE(allFinite(img));
+        } else {
+            PhotonRenderSettings s;
+            s.method = m;
+            s.strata = m == RenderMethod::Progressive ? 4 : 8;  // 128 samples per pixel in each method
+            s.passes = m == RenderMethod::Progressive ? 8 : 2;
+            s.gatherRays = 16;
+            s.globalPhotons = 200000;
+            s.causticPhotons = 50000;
+            s.globalK = 200;
+            s.seed = 7;
+            PhotonRenderResult r = render(*p, s);
+            img = r.film.resolve();
+            expectFinite(r, img, renderMethodName(m));
+        }
+        double worst = 0.0;
+        for (float v : img.rgb) worst = std::max(worst, std::abs(v / expected - 1.0));
+        const double mean = meanValue(img);
+        std::printf("[figure] inside glass, %s: mean %.5f expected %.5f (%+.2f%%), worst pixel %.2f%%\n",
+                    renderMethodName(m), mean, expected, 100.0 * (mean / expected - 1.0), 100.0 * worst);
+        // Mean: within 3 %. The photon methods measure +1.5..1.8 %: the light the sphere's
+        // outside sends onto the wall (with the caustic map left out, fg and progressive measure
+        // −0.2 %); the path tracer −0.03 %. Per pixel: 128 or 256 samples of which 4 % reflect
+        // to nothing give 1.8 % (1.25 %) noise; worst of 256 pixels measured 6.1-6.9 % (4.5 %
+        // path); direct visualisation adds its kNN noise (200 photons: 13.6 %). Bounds 8 % path,
+        // 12 % fg and progressive, 20 % direct. Without the η² factor every method is −55 %.
+        EXPECT_NEAR(mean / expected, 1.0, 0.03) << renderMethodName(m);
+        const double perPixel = m == RenderMethod::PathTracing           ? 0.08
+                                : m == RenderMethod::DirectVisualisation ? 0.20
+                                                                         : 0.12;
+        EXPECT_LT(worst, perPixel) << renderMethodName(m);
     }
 }

@@ -107,7 +107,7 @@ TEST(CameraRays, PlanWithoutLensAndTimeSamplesNeither) {
     const PclCameraParams p = cameraParams(b.scene.camera, plan, 3, 1);
     EXPECT_EQ(p.lensSampling, 0u);
     EXPECT_EQ(p.timeSampling, 0u);
-    EXPECT_THROW(cameraParams(b.scene.camera, plan, 3, 0), InputError);
+    EXPECT_THROW(cameraParams(b.scene.camera, plan, 3, 0), InternalError);
 }
 
 }  // namespace

@@ -86,8 +86,8 @@ TEST(HashGrid, ParamsFollowTheSpec) {
     EXPECT_EQ(g.invCellSize, 2.0f);
     EXPECT_EQ(g.tableSize, 4u);
     EXPECT_EQ(g.photonCount, 3u);
-    EXPECT_THROW(hashGridParams(m, 0.0f), InputError);
-    EXPECT_THROW(hashGridParams(m, -1.0f), InputError);
+    EXPECT_THROW(hashGridParams(m, 0.0f), InternalError);
+    EXPECT_THROW(hashGridParams(m, -1.0f), InternalError);
 }
 
 TEST(HashGrid, MillionIdenticalPhotons) {

@@ -287,10 +287,10 @@ TEST(Knn, HugeCoordinatesAndTinyRadii) {
 
 TEST(Knn, RejectsBadQueries) {
     const std::vector<PclPhoton> map = uniformMap(10, 1);
-    EXPECT_THROW(knnHashGridOnDevice(test::testDevice(), map, {query(0, 0, 0, 1.0f, 0)}), InputError);
-    EXPECT_THROW(knnHashGridOnDevice(test::testDevice(), map, {query(0, 0, 0, 1.0f, 501)}), InputError);
-    EXPECT_THROW(knnHashGridOnDevice(test::testDevice(), map, {query(0, 0, 0, INFINITY, 5)}), InputError);
-    EXPECT_THROW(knnHashGridOnDevice(test::testDevice(), map, {query(0, 0, 0, -1.0f, 5)}), InputError);
+    EXPECT_THROW(knnHashGridOnDevice(test::testDevice(), map, {query(0, 0, 0, 1.0f, 0)}), InternalError);
+    EXPECT_THROW(knnHashGridOnDevice(test::testDevice(), map, {query(0, 0, 0, 1.0f, 501)}), InternalError);
+    EXPECT_THROW(knnHashGridOnDevice(test::testDevice(), map, {query(0, 0, 0, INFINITY, 5)}), InternalError);
+    EXPECT_THROW(knnHashGridOnDevice(test::testDevice(), map, {query(0, 0, 0, -1.0f, 5)}), InternalError);
 }
 
 // Real surface points of shipped scenes, on their own photon maps (global and caustic).
@@ -352,8 +352,8 @@ TEST(Knn, FirstSearchBoundGivesTheSameNeighbours) {
     for (float first : {1e-6f, 0.004f, 0.0071f, 0.02f, firstSearchRadius2(map.size(), 50, 6.0)})
         EXPECT_TRUE(run(first) == none) << "firstRadius2 " << first;
     DeviceKnnOutput out;
-    EXPECT_THROW(knnSearchKdTree(device, tree, qb, qs.size(), 50, out, -1.0f), InputError);
-    EXPECT_THROW(knnSearchKdTree(device, tree, qb, qs.size(), 50, out, NAN), InputError);
+    EXPECT_THROW(knnSearchKdTree(device, tree, qb, qs.size(), 50, out, -1.0f), InternalError);
+    EXPECT_THROW(knnSearchKdTree(device, tree, qb, qs.size(), 50, out, NAN), InternalError);
     EXPECT_EQ(firstSearchRadius2(0, 50, 1.0), INFINITY);
     EXPECT_NEAR(firstSearchRadius2(1000, 50, 2.0), 9.0 * 50 * 2.0 / (3.14159265 * 1000), 1e-6);
 }

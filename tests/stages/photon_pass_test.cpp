@@ -143,9 +143,9 @@ TEST(PhotonPass, RejectsAMaximumDepthTheRecordCannotHold) {
     }());
     PhotonPassOptions o;
     o.maxDepth = 256;
-    EXPECT_THROW(runPhotonPass(test::testDevice(), b.geometry, b.buffers, o), InputError);
+    EXPECT_THROW(runPhotonPass(test::testDevice(), b.geometry, b.buffers, o), InternalError);
     o.maxDepth = 0;
-    EXPECT_THROW(runPhotonPass(test::testDevice(), b.geometry, b.buffers, o), InputError);
+    EXPECT_THROW(runPhotonPass(test::testDevice(), b.geometry, b.buffers, o), InternalError);
 }
 
 TEST(PhotonPass, AnEmptySceneLetsEveryPhotonEscape) {

@@ -283,13 +283,13 @@ TEST(PrecomputedIrradiance, RejectsBadOptions) {
     o.maxRadius = 0.1f;
     EXPECT_NO_THROW(validatePrecomputedIrradianceOptions(o));
     o.every = 1;  // no other photons to estimate from
-    EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InputError);
+    EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InternalError);
     o.every = 4, o.k = 0;
-    EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InputError);
+    EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InternalError);
     o.k = 50, o.maxRadius = 0.0f;
-    EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InputError);
+    EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InternalError);
     o.maxRadius = 0.1f, o.coverFactor = 0.0f;
-    EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InputError);
+    EXPECT_THROW(validatePrecomputedIrradianceOptions(o), InternalError);
     o.coverFactor = INFINITY;  // no cover limit
     EXPECT_NO_THROW(validatePrecomputedIrradianceOptions(o));
 }

@@ -68,11 +68,11 @@ TEST(QueryOrder, NearbyQueriesShareKeysAndBadArgumentsAreRefused) {
     EXPECT_LT(queryOrderKey(1e30f, -1e30f, 3.0f, 0.1f), 1u << kQueryOrderKeyBits);
     Device& device = test::testDevice();
     const cl::Buffer none = device.allocate<PclEstimateQuery>(1, CL_MEM_READ_WRITE, "test: none");
-    EXPECT_THROW(orderQueries(device, none, 1, 0.0f), InputError);
-    EXPECT_THROW(orderQueries(device, none, 1, INFINITY), InputError);
+    EXPECT_THROW(orderQueries(device, none, 1, 0.0f), InternalError);
+    EXPECT_THROW(orderQueries(device, none, 1, INFINITY), InternalError);
     const QueryOrder empty = orderQueries(device, none, 0, 1.0f);
     cl::Buffer out = device.allocate<float>(4, CL_MEM_READ_WRITE, "test: out");
-    EXPECT_THROW(scatterResults(device, empty, out, 6, out), InputError);
+    EXPECT_THROW(scatterResults(device, empty, out, 6, out), InternalError);
 }
 
 }  // namespace

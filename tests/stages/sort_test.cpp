@@ -142,8 +142,8 @@ TEST(Sort, EmptyAndBadWidth) {
     sortPairsOnDevice(dev, k, v);
     EXPECT_TRUE(k.empty());
     cl::Buffer kb = dev.allocate<uint32_t>(4), vb = dev.allocate<uint32_t>(4);
-    EXPECT_THROW(sortPairsOnDevice(dev, kb, vb, 4, 16), InputError);
-    EXPECT_THROW(sortPairsOnDevice(dev, kb, vb, 4, 32, 33), InputError);
+    EXPECT_THROW(sortPairsOnDevice(dev, kb, vb, 4, 16), InternalError);
+    EXPECT_THROW(sortPairsOnDevice(dev, kb, vb, 4, 32, 33), InternalError);
 }
 
 // The flip: device keys equal the twin's, and sorting by them puts floats in numeric order

@@ -6,6 +6,10 @@
 #include <fstream>
 #include <string>
 
+#include <new>
+#include <stdexcept>
+
+#include "core/error.h"
 #include "image/image_io.h"
 #include "image/metrics.h"
 #include "run_photoncl.h"
@@ -142,6 +146,33 @@ TEST_F(CliTest, UnknownDeviceIsADeviceFailureThatListsDevices) {
     Result r = run("check " + scene("cornell-box.json") + " --device no-such-device-xyz --rays 100");
     EXPECT_EQ(r.status, 3) << r.output;
     EXPECT_NE(r.output.find("no-such-device-xyz"), std::string::npos) << r.output;
+}
+
+// main.cpp maps the exception that ended a command through exitReportFor: bad input (what the
+// user supplied) 2, everything else 3 (internal: a device failure or a broken contract, a bug),
+// never 1, which says a check ran and failed. The binary's own statuses are tested around it:
+// 2 for bad input, 1 for a failed comparison, 3 for an unknown device.
+TEST(ExitStatus, EachKindOfErrorHasItsStatusAndPrefix) {
+    const pcl::ExitReport input =
+        pcl::exitReportFor(pcl::InputError("scene.json: camera.fov: expected (0, 180), got 0"));
+    EXPECT_EQ(input.status, 2);
+    EXPECT_EQ(input.message, "scene.json: camera.fov: expected (0, 180), got 0");
+    const pcl::ExitReport device = pcl::exitReportFor(pcl::DeviceError("emit: CL_OUT_OF_RESOURCES"));
+    EXPECT_EQ(device.status, 3);
+    EXPECT_EQ(device.message, "device error: emit: CL_OUT_OF_RESOURCES");
+    const pcl::ExitReport internal = pcl::exitReportFor(pcl::InternalError("eye paths: maxDepth 0: expected 1..64"));
+    EXPECT_EQ(internal.status, 3);
+    EXPECT_EQ(internal.message, "internal error: eye paths: maxDepth 0: expected 1..64");
+    EXPECT_EQ(pcl::exitReportFor(std::runtime_error("x")).status, 3);
+    EXPECT_EQ(pcl::exitReportFor(std::bad_alloc()).status, 3);
+    EXPECT_EQ(pcl::kExitCheckFailed, 1);
+}
+
+TEST_F(CliTest, HelpDocumentsTheExitStatuses) {
+    Result r = run("--help");
+    EXPECT_EQ(r.status, 0);
+    for (const char* s : {"0 success", "1 a check or comparison failed", "2 bad input", "3 internal error", "130"})
+        EXPECT_NE(r.output.find(s), std::string::npos) << s << " missing from: " << r.output;
 }
 
 TEST_F(CliTest, CheckTraceOnAShippedScenePasses) {

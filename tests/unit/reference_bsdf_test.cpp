@@ -110,7 +110,8 @@ TEST(ReferenceBsdf, MirrorAndDielectricLobes) {
     // evalCos holds the non-delta part only: here the diffuse term alone.
     EXPECT_NEAR(m.evalCos(wo, s.wi).x, 0.2f / kPi * std::cos(40.0f * kPi / 180.0f), 1e-5);
 
-    // Glass: reflection with probability F, refraction otherwise (Snell), weight ρs.
+    // Glass: reflection with probability F (weight ρs), refraction otherwise (Snell; weight ρs
+    // (η_i/η_t)², radiance mode: 1/1.5² entering from outside).
     MixedBsdf glass(mixed(Vec3(0.0f), Vec3(1.0f), SpecularKind::Dielectric), kN, kN);
     EXPECT_FALSE(glass.hasNonDelta());  // no light sampling on clear glass
     Vec3 outside = direction(60.0f, 0.0f);
@@ -118,7 +119,8 @@ TEST(ReferenceBsdf, MirrorAndDielectricLobes) {
     int reflected = 0, n = 20000;
     for (int i = 0; i < n; ++i) {
         ASSERT_TRUE(glass.sample(outside, (i + 0.5f) / n, 0.5f, 0.5f, s));
-        EXPECT_EQ(s.weight.x, 1.0f);
+        EXPECT_FLOAT_EQ(s.weight.x, s.wi.z > 0 ? 1.0f : 1.0f / (1.5f * 1.5f));
+        EXPECT_FLOAT_EQ(s.radianceScale, s.weight.x);  // what the path tracer's roulette undoes
         if (s.wi.z > 0) ++reflected;
         else EXPECT_NEAR(std::sqrt(1 - s.wi.z * s.wi.z), std::sin(60.0f * kPi / 180.0f) / 1.5f, 1e-5);  // Snell
     }
@@ -129,6 +131,12 @@ TEST(ReferenceBsdf, MirrorAndDielectricLobes) {
         ASSERT_TRUE(glass.sample(inside, u, 0.5f, 0.5f, s));
         EXPECT_LT(s.wi.z, 0.0f);  // stays inside
     }
+    // From inside below it (20°): refracted out with weight 1.5² (a camera inside glass sees the
+    // world outside η² brighter).
+    ASSERT_TRUE(glass.sample(direction(180.0f - 20.0f, 0.0f), 0.99f, 0.5f, 0.5f, s));
+    EXPECT_GT(s.wi.z, 0.0f);
+    EXPECT_FLOAT_EQ(s.weight.x, 1.5f * 1.5f);
+    EXPECT_FLOAT_EQ(s.radianceScale, 1.5f * 1.5f);
 }
 
 TEST(ReferenceLightSampling, DensitiesMatchTheSamples) {

@@ -186,6 +186,11 @@ TEST(RenderSettings, ValidationRefusesOutOfRangeSettings) {
     bad([](PhotonRenderSettings& s) { s.causticK = 0; });
     bad([](PhotonRenderSettings& s) { s.alpha = 1.0f; });
     bad([](PhotonRenderSettings& s) { s.passes = 0; });
+    // The user's boundary for what the stages below take as a contract (InternalError there).
+    bad([](PhotonRenderSettings& s) { s.histogramCells = PCL_GATHER_MAX_CELLS + 1; });
+    bad([](PhotonRenderSettings& s) { s.maxRadius = -1.0f; });
+    bad([](PhotonRenderSettings& s) { s.maxRadius = INFINITY; });
+    bad([](PhotonRenderSettings& s) { s.initialRadius = NAN; });
 }
 
 // The text batch shards recorded before the settings had one home (batch_render.cpp's own

@@ -463,6 +463,29 @@ TEST_F(SceneLoaderTest, GltfNodeCycle) {
     expectError(write("scene.gltf", g.doc.dump()), {"nodes[0]", "glTF nodes form a tree", "reached twice"});
 }
 
+// glTF node matrices are column-major: elements 3, 7, 11 and 15 are the last row, which must be
+// 0 0 0 1 (an affine transform). Each element off its value is refused, naming the node.
+TEST_F(SceneLoaderTest, GltfNodeMatrixNotAffine) {
+    REQUIRE_GLTF();
+    for (int element : {3, 7, 11, 15}) {
+        GltfDoc g = triangleGltf();
+        json m = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        m[size_t(element)] = element == 15 ? 2.0 : 0.5;
+        g.doc["nodes"][0]["name"] = "tilted";
+        g.doc["nodes"][0]["matrix"] = m;
+        const std::string row = element == 3    ? "last row 0.5 0 0 1"
+                                : element == 7  ? "last row 0 0.5 0 1"
+                                : element == 11 ? "last row 0 0 0.5 1"
+                                                : "last row 0 0 0 2";
+        expectError(write("scene.gltf", g.doc.dump()),
+                    {"scene.gltf", "nodes[0] (\"tilted\").matrix", "an affine matrix", "last row 0 0 0 1", row});
+    }
+    // The translation column (12, 13, 14) is fine.
+    GltfDoc g = triangleGltf();
+    g.doc["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.5, 0.5, 0.5, 1};
+    EXPECT_NO_THROW(loadScene(write("scene.gltf", g.doc.dump())));
+}
+
 TEST_F(SceneLoaderTest, GltfBaseColorOutOfRange) {
     REQUIRE_GLTF();
     GltfDoc g = triangleGltf();
