@@ -52,9 +52,10 @@ jobs=$(nproc 2>/dev/null || echo 2)
 
 start=$(date +%s)
 if [ ! -f "$build_dir/build.ninja" ]; then
+  mkdir -p "$build_dir"
   cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER="$cxx" "${launcher[@]}" \
-        -DPHOTONCL_BUILD_FUZZ=ON -DPHOTONCL_BUILD_TESTS=OFF -DPHOTONCL_BUILD_BENCH=OFF > "$build_dir.configure.log" 2>&1 ||
-    { cat "$build_dir.configure.log" >&2; exit 1; }
+        -DPHOTONCL_BUILD_FUZZ=ON -DPHOTONCL_BUILD_TESTS=OFF -DPHOTONCL_BUILD_BENCH=OFF > "$build_dir/configure.log" 2>&1 ||
+    { cat "$build_dir/configure.log" >&2; exit 1; }
 fi
 targets=()
 for k in "${kinds[@]}"; do targets+=("${k}_loader_fuzz"); done
