@@ -11,12 +11,13 @@
 #   --only KIND       run one harness (json or gltf) instead of both
 #   --keep-corpus DIR keep the inputs the fuzzers found in DIR/<kind>/ (default: a temp folder
 #                     removed at the end, so the committed corpus is never written to)
+#   FUZZ_CXX=...      the compiler (default clang++-14, else clang++)
 #
 # With two or more cores the two harnesses run side by side, one core each, so CI waits N
 # seconds, not 2N. A crashing input lands in <build-dir>/artifacts/<kind>/: reproduce it with
 #   <build-dir>/tests/fuzz/<kind>_loader_fuzz <that file>
 # and, once fixed, commit it to tests/fuzz/regressions/<kind>/ (the unit test
-# SceneLoaderTest.FuzzRegressions loads every file there in the normal build).
+# FuzzRegressions.* loads every file there in the normal build).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -30,7 +31,7 @@ while [ $# -gt 0 ]; do
     --build-dir) build_dir="$2"; shift 2 ;;
     --only) kinds=("$2"); shift 2 ;;
     --keep-corpus) keep_corpus="$2"; shift 2 ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "fuzz.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -68,6 +69,7 @@ artifacts="$build_dir/artifacts"
 run_one() {  # kind -> the fuzzer's exit status; its output in $work/<kind>.log
   local k=$1 corpus="$work/corpus/$1"
   [ -n "$keep_corpus" ] && corpus="$keep_corpus/$k"
+  rm -rf "$artifacts/$k"  # only this run's findings, so the one named below is this run's
   mkdir -p "$corpus" "$artifacts/$k"
   # The first folder receives new inputs; the committed ones after it are only read.
   local seeds=(tests/fuzz/corpus/"$k")
