@@ -11,9 +11,10 @@ skip only if it carries the label `gpu` (tests/gpu/: gtest_discover_tests labels
 Two kinds of skip are caught:
   - CTest's own: a <skipped> result (SKIP_REGULAR_EXPRESSION matched GoogleTest's
     "[  SKIPPED ]", or SKIP_RETURN_CODE 77 from a script);
-  - a hidden one: a test CTest counted as passed whose output still shows "[  SKIPPED ]"
-    (a GoogleTest binary registered without SKIP_REGULAR_EXPRESSION). ctest must keep the whole
-    output of passed tests for this (scripts/test.sh passes --test-output-size-passed).
+  - a hidden one: a test CTest counted as passed whose output still shows "[  SKIPPED ]" (a
+    GoogleTest binary registered by add_test without SKIP_REGULAR_EXPRESSION; gtest_discover_tests
+    sets it). ctest must keep the whole output of passed tests for this (scripts/test.sh passes
+    --test-output-size-passed).
 Exit 0: no such skip; 1: some; 2: bad arguments or unreadable files.
 """
 import json
@@ -33,6 +34,17 @@ def labels_by_test(build_dir):
         props = {p["name"]: p["value"] for p in test.get("properties", [])}
         labels[test["name"]] = props.get("LABELS", [])
     return labels
+
+
+def skip_reason(out):
+    """GoogleTest's skip message (the line after "FILE:LINE: Skipped") or a script's "SKIP: ..."."""
+    lines = [l.strip() for l in out.splitlines()]
+    for i, line in enumerate(lines):
+        if line.endswith(": Skipped") and i + 1 < len(lines):
+            return lines[i + 1]
+        if line.startswith("SKIP:"):
+            return line
+    return ""
 
 
 def main(argv):
@@ -56,17 +68,14 @@ def main(argv):
         if skipped is not None:
             why = skipped.get("message", "skipped")
         elif GTEST_SKIP_MARK in out:
-            why = "passed in CTest's count, but GoogleTest says SKIPPED (no SKIP_REGULAR_EXPRESSION?)"
+            why = "counted as passed by CTest, but GoogleTest says SKIPPED: no SKIP_REGULAR_EXPRESSION"
         else:
             ran += 1
             continue
         if ALLOWED_LABEL in labels.get(name, []):
             skipped_gpu += 1
         else:
-            # GoogleTest's skip message or a script's "SKIP: ..." line, for the report.
-            reason = next((l.strip() for l in out.splitlines() if "skip" in l.lower() and not l.lstrip().startswith("[")),
-                          "")
-            bad.append((name, why, labels.get(name, []), reason))
+            bad.append((name, why, labels.get(name, []), skip_reason(out)))
 
     for name, why, test_labels, reason in bad:
         print(f"check_skips: {name} skipped ({why}); labels {test_labels or 'none'}: only tests labelled "
