@@ -14,6 +14,8 @@ packages=(
   libembree-dev libnanoflann-dev
   slurm-wlm munge  # tests/batch/slurm_test.sh: a single-node cluster started by hand
   clang-format     # scripts/check_format.sh (CTest format): the tree against .clang-format
+  clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer, ASan and UBSan live in libclang-rt-14-dev,
+                               # only a Recommends of clang-14, so --no-install-recommends needs it named
 )
 
 missing=()

@@ -233,14 +233,22 @@ private:
             visited[size_t(index)] = true;
             const tinygltf::Node& node = model_.nodes[size_t(index)];
             Transform world = parent * localTransform(node, at("nodes", size_t(index)));
-            if (node.mesh >= 0) addMesh(node.mesh, world);
+            if (present(node.mesh, at("nodes", size_t(index)) + ".mesh")) addMesh(node.mesh, world);
             if (!options_.geometryOnly) {
-                if (node.camera >= 0 && !result_.hasCamera) readCamera(node.camera, world);
+                if (present(node.camera, at("nodes", size_t(index)) + ".camera") && !result_.hasCamera)
+                    readCamera(node.camera, world);
                 auto light = node.extensions.find("KHR_lights_punctual");
                 if (light != node.extensions.end()) addLight(light->second, world, at("nodes", size_t(index)));
             }
             for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) stack.push_back({*c, world});
         }
+    }
+
+    // tinygltf stores an absent index as -1 and any other negative number as written: that one is
+    // bad input, not "absent" (it would drop a mesh's indices or a node's mesh without a word).
+    bool present(int index, const std::string& field) {
+        if (index < -1) fail(field, "an index >= 0", std::to_string(index));
+        return index >= 0;
     }
 
     Transform localTransform(const tinygltf::Node& node, const std::string& field) {
@@ -396,7 +404,7 @@ private:
                          std::to_string(out.normals.size()));
             }
             std::vector<uint32_t> vertices;
-            if (prim.indices >= 0) {
+            if (present(prim.indices, field + ".indices")) {
                 vertices = readIndices(prim.indices, field + ".indices");
                 for (uint32_t k : vertices)
                     if (k >= out.positions.size())
@@ -412,6 +420,7 @@ private:
             if (world.flipsWinding())
                 for (size_t i = 0; i + 2 < out.indices.size(); i += 3)
                     std::swap(out.indices[i + 1], out.indices[i + 2]);
+            present(prim.material, field + ".material");
             out.material = materialFor(prim.material, field + ".material");
             out.motion = options_.motion;
             if (out.indices.empty()) continue;
