@@ -227,8 +227,10 @@ PixelZ pixelZ(const Image& a, const std::vector<double>& varA, const Image& b, c
 // 0.9995; the errors here are skewed (Russian roulette from the 3rd bounce leaves 1 in 8
 // furnace paths to carry the rest; rare caustic paths in cornell-spheres), so a pixel that drew
 // few of the rare paths has both a low mean and a low sample variance: furnace-0.5 fails 7 of
-// 1024 pixels, all below Mitsuba (2.82 against 3.00). Bounds: |z| < 3.5 on at least 99 % of the
-// pixels; the image mean within 4 of its standard errors (both sides) and within 1 %.
+// 1024 pixels, all below Mitsuba (2.82 against 3.00), the largest |z| 6.44. Bounds: |z| < 3.5 on
+// at least 99 % of the pixels and no pixel beyond |z| = 10 (a change confined to a few pixels,
+// such as a sphere's edge moved by a pixel, shows as a few huge |z|, not as a pass-rate drop);
+// the image mean within 4 of its standard errors (both sides) and within 1 %.
 TEST(MitsubaReferences, PathTracerAgreesPerPixel) {
     ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
     for (const std::string& name : mitsubaScenes()) {
@@ -243,6 +245,7 @@ TEST(MitsubaReferences, PathTracerAgreesPerPixel) {
                     "the pixels (max %.2f)\n",
                     name.c_str(), ratio, zMean, 100 * z.passFraction(), z.maxAbsZ);
         EXPECT_GE(z.passFraction(), 0.99) << name;
+        EXPECT_LT(z.maxAbsZ, 10.0) << name;
         EXPECT_LT(std::abs(zMean), 4.0) << name;
         EXPECT_NEAR(ratio, 1.0, 0.01) << name;
     }
@@ -278,12 +281,14 @@ TEST(MitsubaReferences, StoredReferencesAgree) {
 // into dark corners and out of bright edges), so they are held on the image mean, on relMSE and
 // on 8×8 block means of R+G+B, not per pixel. Settings as in photon_render_test.cpp: fg 2 passes
 // × 4 spp, 32 gather rays, 8 light samples, 50k + 50k photons per pass (bounds there, against
-// ref-*.exr: mean 2 %, relMSE 0.03; kept here); direct 2 passes × 4 spp, 100k + 100k; progressive
-// 8 passes × 4 spp of 50k + 50k. Bounds, Cornell scenes: mean within 2 %, relMSE < 0.03, every
+// ref-*.exr: mean 2 %, relMSE 0.03); direct 2 passes × 4 spp, 100k + 100k; progressive 8 passes
+// × 4 spp of 50k + 50k. Bounds, Cornell scenes: mean within 1 % for fg (measured within 0.1 %),
+// 1.5 % for direct and progressive (measured −0.2 % and −0.7 %), relMSE < 0.03, every
 // 8×8 block within 16 % and at least 80 % of the blocks within 5 % (the worst blocks are the box's
 // corners, where every method's boundary bias darkens the estimate; against ref-*.exr the same
 // blocks are off by the same amounts). Furnaces (L = 1, 4 everywhere, no corners): mean within
-// 1 % (photon_render_test.cpp's bound against the closed form), every 8×8 block within 5 %.
+// 1 % (photon_render_test.cpp's bound against the closed form; measured up to +0.8 %, direct),
+// every 8×8 block within 5 % (measured up to 3.7 %).
 // Not here: cornell-spheres-point, whose light reflected or refracted from a point light
 // (LS+D…) no path tracer finds (Mitsuba's neither), so photon mapping is brighter by design
 // (+4.5 %; tests/data/references.md).
@@ -320,7 +325,7 @@ TEST(MitsubaReferences, PhotonMethodsAgree) {
                 EXPECT_NEAR(e.meanRatio, 1.0, 0.01) << what;
                 EXPECT_LT(b.worst, 0.05) << what;
             } else {
-                EXPECT_NEAR(e.meanRatio, 1.0, 0.02) << what;
+                EXPECT_NEAR(e.meanRatio, 1.0, method == RenderMethod::FinalGather ? 0.01 : 0.015) << what;
                 EXPECT_LT(e.relMse, 0.03) << what;
                 EXPECT_LT(b.worst, 0.16) << what;
                 EXPECT_GE(b.fractionWithin, 0.8) << what;
