@@ -14,7 +14,7 @@ from host/reference/{camera,bsdf,light_sampling,path_tracer}.cpp and host/scene/
   diffuse + mirror -> twosided(blendbsdf(w, diffuse(rho_d/(1-w)), conductor(rho_s/w))), with w
   chosen so both stay reflectances <= 1 (needs max rho_d + max rho_s <= 1, else refused);
   dielectric -> dielectric(int_ior eta, ext_ior 1, both scales rho_s) on spheres only, with the
-  camera and every point light outside it: Mitsuba scales radiance by eta^2 at each crossing
+  camera, every point light and every area light's vertices outside it: Mitsuba scales radiance by eta^2 at each crossing
   (photoncl does not), which cancels only on paths that enter and leave a closed body.
 - lights: point -> `point` (intensity; power / 4 pi), directional -> `directional` (irradiance),
   area -> an emissive one-sided `area` emitter on the triangles (front = cross(u, v), as
@@ -205,6 +205,8 @@ class _Converter:
                 positions, faces = [_vec(p) for p in l["vertices"]], [[0, 1, 2]]
             else:
                 self.refuse(field + ".shape", f"unknown area light shape {l.get('shape')!r}")
+            for k, p in enumerate(positions):
+                self.check_outside_dielectrics(p, f"{field} vertex {k}")
             area = sum(0.5 * _norm(_cross(_sub(positions[f[1]], positions[f[0]]), _sub(positions[f[2]], positions[f[0]])))
                        for f in faces)
             radiance = _vec(l["radiance"]) if "radiance" in l else [x / (math.pi * area) for x in l["power"]]
