@@ -17,7 +17,7 @@ class TwinRenderStages : public RenderStages {
 public:
     TwinRenderStages(const Scene& scene, const SceneGeometry& geometry, const SceneBuffers& buffers);
 
-    // A whole pass at once, up to 2^18 samples a chunk (the device's largest: its records are small).
+    // Up to 2^18 samples a chunk (the device's largest chunk): bounds the gather queries held.
     size_t chunkSamples(size_t passSamples) const override;
     PassPhotons tracePhotons(const PhotonPassOptions& options) override;
     void buildMaps(const PassMapSpec& spec) override;
