@@ -25,9 +25,33 @@
 #include "reference/eye_paths.h"
 #include "reference/final_gather.h"
 #include "reference/precomputed_irradiance.h"
+#include "render/device_stages.h"
+#include "render/photon_renderer.h"
+#include "render/shared_photons.h"
+#include "render/twin_stages.h"
 
 namespace pcl {
 namespace {
+
+// The film rows' render: one pass (the check's) at the check's sizes, seeds and radius.
+PhotonRenderSettings filmSettings(const RenderCheckOptions& o, RenderMethod method, float rMax) {
+    PhotonRenderSettings s;
+    s.method = method;
+    s.strata = o.strata;
+    s.globalPhotons = o.globalPhotons;
+    s.causticPhotons = o.causticPhotons;
+    s.globalK = s.causticK = o.k;
+    s.gatherRays = o.gatherRays;
+    s.lightSamples = o.lightSamples;
+    s.eyeDepth = o.maxDepth;
+    s.maxRadius = rMax;
+    s.filter = o.estimate.filter;
+    s.histogramCells = method == RenderMethod::FinalGather ? o.histogramCells : 0;
+    s.seed = o.seed;
+    s.firstPass = o.pass;
+    s.passes = 1;
+    return s;
+}
 
 std::vector<float> radianceFloats(const std::vector<PclRadiance>& r) {
     std::vector<float> v;
@@ -159,9 +183,16 @@ std::string RenderCheckReport::table() const {
         }
     std::snprintf(line, sizeof line,
                   "a value matches when |d - t| <= %.0e max(|d|, |t|) + 1e-6 peak; a stage passes with >= %.2f %% of "
-                  "its samples matching and no NaN/Inf\n",
+                  "its samples matching and no NaN/Inf",
                   tolerance, 100.0 * required);
     o << line;
+    for (const StageComparison& s : stages)
+        if (s.ownRequired > 0.0) {
+            std::snprintf(line, sizeof line, " (the films: >= %.2f %% of their pixels)", 100.0 * s.ownRequired);
+            o << line;
+            break;
+        }
+    o << "\n";
     return o.str();
 }
 
@@ -369,6 +400,30 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
         }
     }
     timed(compareValues("pixels", dPix, tPix, 3, o.tolerance, o.worstShown), 0.0, 0.0);
+
+    // 7. The films: the renderer on the device and on the twin, the twin given the device's photons.
+    if (o.films)
+        for (RenderMethod m :
+             {RenderMethod::FinalGather, RenderMethod::DirectVisualisation, RenderMethod::Progressive}) {
+            const PhotonRenderSettings s = filmSettings(o, m, rMax);
+            PhotonPassRecord photons;
+            t0 = Clock::now();
+            Image dFilm;
+            {
+                DeviceRenderStages stages(device, scene, geometry, buffers, s);
+                SharedPhotonStages recording(stages, photons, SharedPhotonStages::Mode::Record);
+                dFilm = renderPhotonMapped(recording, scene, geometry, buffers, plan, s).film.resolve();
+            }
+            dt = since(t0);
+            t0 = Clock::now();
+            TwinRenderStages stages(scene, geometry, buffers);
+            SharedPhotonStages replaying(stages, photons, SharedPhotonStages::Mode::Replay);
+            const Image tFilm = renderPhotonMapped(replaying, scene, geometry, buffers, plan, s).film.resolve();
+            StageComparison c = compareValues(std::string("film ") + renderMethodName(m), dFilm.rgb, tFilm.rgb, 3,
+                                              o.tolerance, o.worstShown);
+            c.ownRequired = o.filmRequired;
+            timed(std::move(c), dt, since(t0));
+        }
     return report;
 }
 

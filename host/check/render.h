@@ -9,6 +9,13 @@
 // compared reading precomputed irradiance (the twin looks up the device's stored points), and
 // importance-sampled (Jensen's incident-flux histograms: the histograms themselves, then the
 // gather and direct light given the device's histograms).
+// Last, the films: the whole renderer (render/photon_renderer.h) on the device against the same
+// renderer on the twin's stages, one pass of fg (precomputed irradiance, importance-sampled
+// gather when histogramCells > 0), direct and progressive, the twin given the device's photon
+// pass (render/shared_photons.h: the photon pass is `check --stage pass`'s business), per pixel.
+// A film pixel matches at the same tolerance, but the film rows pass with ≥ filmRequired of their
+// pixels matching: a pixel is off when any of its eye or gather paths was sent the other way by
+// a rounding at an edge, which the eye and gather rows allow each of their samples.
 //
 // A value matches when |d − t| ≤ tolerance · max(|d|, |t|) + 1e-6 · peak (peak: the stage's
 // largest twin value, so values a millionth of the brightest count as equal); a sample (or
@@ -42,6 +49,8 @@ struct RenderCheckOptions {
     uint32_t histogramCells = 8;  // G of the importance-sampled gather's rows (0: those rows left out)
     double tolerance = 1e-3;      // relative, per value
     double required = 0.999;      // fraction of samples that must match
+    double filmRequired = 0.99;   // fraction of film pixels that must match (see above)
+    bool films = true;            // the film rows (false: the stages and their pixel sum only)
     size_t worstShown = 5;
 };
 
@@ -59,8 +68,11 @@ struct StageComparison {
     double maxRelError = 0.0;
     std::vector<WorstSample> worst;  // largest relative errors first
     double deviceSeconds = 0.0, twinSeconds = 0.0;
+    double ownRequired = 0.0;  // > 0: the fraction this stage needs instead of the report's
     double fraction() const { return compared ? double(matched) / double(compared) : 1.0; }
-    bool passed(double required) const { return nonFinite == 0 && compared > 0 && fraction() >= required; }
+    bool passed(double required) const {
+        return nonFinite == 0 && compared > 0 && fraction() >= (ownRequired > 0.0 ? ownRequired : required);
+    }
 };
 
 // Compares n samples of `values` floats each (device vs twin). Used by the check and the
@@ -77,7 +89,8 @@ StageComparison compareEyeHits(const std::vector<PclEyeHit>& device, const std::
                                double tolerance, size_t worstShown);
 
 struct RenderCheckReport {
-    std::vector<StageComparison> stages;  // camera, eye paths, direct, gather, caustics, direct vis, pixels
+    std::vector<StageComparison> stages;  // camera, eye paths, direct, gather, caustics, direct vis, pixels,
+                                          // films
     double required = 0.999, tolerance = 1e-3;
     int width = 0, height = 0;
     size_t globalPhotons = 0, causticPhotons = 0;

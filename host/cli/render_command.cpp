@@ -121,9 +121,13 @@ std::string kernelProfileTable(const std::vector<Device::KernelTime>& profile, u
 int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedScene& prepared,
                     const std::string& output, Clock::time_point start) {
     const RenderRequest& q = o.request;
-    if (o.device == "ref")
-        throw InputError("render: --method " + q.method +
-                         " runs on an OpenCL device; --device ref (the CPU twins) renders only --method path");
+    // --device ref: the whole render on the CPU twin's stages (host/reference), no OpenCL.
+    const bool twin = o.device == "ref";
+    if (twin && o.profile)
+        throw InputError("render: --profile times OpenCL kernels; --device ref (the CPU twin) runs none");
+    if (twin && o.maxBufferMib)
+        throw InputError("render: --max-buffer-mib caps an OpenCL device's buffers; --device ref (the CPU twin) has "
+                         "none");
     std::vector<std::string> aovs = parseAovs(o.aov);
     const SceneGeometry& geometry = prepared.geometry;
     const SceneBuffers& buffers = prepared.buffers;
@@ -133,27 +137,34 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
     s.aovs = !aovs.empty();
     s.stop = gStop;
 
-    Device device = Device::open(o.device);
-    applyBufferCap(device, o.maxBufferMib);
-    device.setProfiling(o.profile);
-    // The memory plan for one pass's photon maps, before any work (fails early with advice).
-    s.photonBatch = planRenderMemory(device.info(), geometry, buffers, s, plan).photonBatch;
+    std::unique_ptr<Device> device;
+    std::string deviceName = "ref", platform = "CPU twin (host/reference)";
+    if (!twin) {
+        device = std::make_unique<Device>(Device::open(o.device));
+        applyBufferCap(*device, o.maxBufferMib);
+        device->setProfiling(o.profile);
+        // The memory plan for one pass's photon maps, before any work (fails early with advice).
+        s.photonBatch = planRenderMemory(device->info(), geometry, buffers, s, plan).photonBatch;
+        deviceName = device->info().name;
+        platform = device->info().platform;
+    }
 
     if (!o.quiet) {
         std::fprintf(stderr, "%s", formatPlan(scene, prepared.paths, plan).c_str());
-        std::fprintf(stderr, "render %s with %s on %s (%s):\n%s", o.scene.c_str(), q.method.c_str(),
-                     device.info().name.c_str(), device.info().platform.c_str(), resolved.log().c_str());
+        std::fprintf(stderr, "render %s with %s on %s (%s):\n%s", o.scene.c_str(), q.method.c_str(), deviceName.c_str(),
+                     platform.c_str(), resolved.log().c_str());
     }
     Progress progress("render", !o.quiet);
     s.onPass = [&](uint32_t, double fraction) { progress.update(fraction); };
-    PhotonRenderResult r = renderPhotonMapped(device, scene, geometry, buffers, plan, s);
+    PhotonRenderResult r = twin ? renderPhotonMappedTwin(scene, geometry, buffers, plan, s)
+                                : renderPhotonMapped(*device, scene, geometry, buffers, plan, s);
     progress.finish();
     double seconds = since(start);
 
     ImageMetadata meta;
     meta.scene = o.scene;
     meta.method = q.method;
-    meta.device = device.info().name;
+    meta.device = deviceName;
     meta.samples = static_cast<int64_t>(r.passes) * s.strata * s.strata;
     meta.seed = q.seed;
     meta.seconds = seconds;
@@ -168,7 +179,7 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
     add("causticPhotonsEmitted", std::to_string(r.causticEmitted));
     add("globalPhotonsStored", std::to_string(r.globalStored));
     add("causticPhotonsStored", std::to_string(r.causticStored));
-    add("platform", device.info().platform);
+    add("platform", platform);
     if (s.method == RenderMethod::Progressive) {
         add("radiusFirst", std::to_string(r.firstRadius));
         add("radiusLast", std::to_string(r.lastRadius));
@@ -206,7 +217,7 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
         std::fprintf(stderr, "photons: %llu global, %llu caustic emitted over %u passes\ntime by stage:\n%s",
                      static_cast<unsigned long long>(r.globalEmitted),
                      static_cast<unsigned long long>(r.causticEmitted), r.passes, r.times.table().c_str());
-    if (o.profile) std::fprintf(stderr, "%s", kernelProfileTable(device.kernelProfile(), r.passes).c_str());
+    if (o.profile) std::fprintf(stderr, "%s", kernelProfileTable(device->kernelProfile(), r.passes).c_str());
     if (r.nonFiniteSamples)
         std::fprintf(stderr, "warning: %llu non-finite eye samples were dropped\n",
                      static_cast<unsigned long long>(r.nonFiniteSamples));
@@ -271,7 +282,9 @@ Run addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--device", o->device,
                     "OpenCL device for the photon methods: cpu (PoCL), gpu, auto, <index> or <name substring> "
-                    "(photoncl devices lists them); ref: the CPU reference, for --method path only")
+                    "(photoncl devices lists them); ref: the CPU reference, no OpenCL: --method path, or the photon "
+                    "methods on the CPU twin of every kernel stage (same seeds and passes as a device render; "
+                    "brute-force searches, for small images)")
         ->capture_default_str();
     auto passes = sub->add_option("--passes", o->request.passes,
                                   "Passes (each: fresh photons and eye samples); --method path: samples per pixel "

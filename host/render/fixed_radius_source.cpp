@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "render/fixed_radius.h"
 
 namespace pcl {
 
@@ -24,17 +25,7 @@ std::shared_ptr<IrradianceSource> fixedRadiusSource(const PhotonMapOnDevice& map
         // The rescale runs on the host: one pass over count records, small beside the search.
         std::vector<PclEstimate> e = device.download<PclEstimate>(results, count);
         std::vector<PclEstimateQuery> q = device.download<PclEstimateQuery>(queries, count);
-        for (size_t i = 0; i < count; ++i) {
-            float r2 = std::min(q[i].maxRadius2, radius2);
-            uint32_t k = std::min(q[i].k, maxK);
-            if (e[i].found < k && e[i].radius2 > 0.0f && r2 > 0.0f) {
-                float scale = e[i].radius2 / r2;
-                e[i].r *= scale;
-                e[i].g *= scale;
-                e[i].b *= scale;
-                e[i].radius2 = r2;
-            }
-        }
+        for (size_t i = 0; i < count; ++i) rescaleToFixedRadius(e[i], q[i], maxK, radius2);
         return device.upload(e, CL_MEM_READ_WRITE, "fixed-radius estimate: results");
     };
     return source;

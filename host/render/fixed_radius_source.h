@@ -1,9 +1,6 @@
-// A fixed-radius irradiance estimate for progressive photon mapping (Knaus & Zwicker 2011): the
-// box-filtered sum of the photons within radius r divided by π r², not by the area out to the
-// k-th photon. Built on the k-nearest-neighbour estimate (pipeline/estimate.h) with the box
-// filter and k = maxK: where the search returns fewer than maxK photons it found every photon
-// within r, and E_box · r_found² / r² is exactly the fixed-radius sum; where it returns maxK
-// (a disc holding more than maxK photons) the k-nearest estimate is kept as it is.
+// The fixed-radius irradiance estimate of progressive photon mapping on the device: the
+// k-nearest-neighbour estimate (pipeline/estimate.h) with the box filter and k = maxK, rescaled
+// on the host by render/fixed_radius.h.
 #pragma once
 #include <memory>
 

@@ -4,21 +4,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 
 #include "core/clock.h"
 #include "core/error.h"
 #include "core/math.h"
 #include "pipeline/camera_rays.h"
-#include "pipeline/device_scene.h"
 #include "pipeline/direct_light.h"
-#include "pipeline/eye_estimate.h"
 #include "pipeline/eye_paths.h"
 #include "pipeline/final_gather.h"
-#include "pipeline/irradiance_source.h"
-#include "pipeline/photon_pass.h"
-#include "pipeline/precomputed_irradiance.h"
-#include "render/fixed_radius_source.h"
+#include "render/device_stages.h"
+#include "render/render_stages.h"
+#include "render/twin_stages.h"
 
 namespace pcl {
 
@@ -80,12 +76,12 @@ MemoryPlan planRenderMemory(const DeviceInfo& device, const SceneGeometry& geome
 
 namespace {
 
-// Runs f, waits for the device, adds the wall time to `slot`.
+// Runs f, waits for the stages' work, adds the wall time to `slot`.
 template <class F>
-void timed(Device& device, double& slot, F&& f) {
+void timed(RenderStages& stages, double& slot, F&& f) {
     auto t = Clock::now();
     f();
-    device.finish();
+    stages.wait();
     slot += since(t);
 }
 
@@ -102,25 +98,20 @@ std::vector<PclPhoton> indirectPhotons(const std::vector<PclPhoton>& global) {
 
 bool finite(const PclRadiance& r) { return std::isfinite(r.r) && std::isfinite(r.g) && std::isfinite(r.b); }
 
-// One render: the scene's device buffers and the eye buffers live for the whole render; each
-// pass traces fresh photons, builds the maps it needs and runs the eye pass in chunks.
+// One render: each pass traces fresh photons, decides how its maps are read and runs the eye
+// pass in chunks, every stage through `stages` (the device's or the twin's); the film is
+// accumulated here, on the host, for both.
 class PhotonRenderer {
 public:
-    PhotonRenderer(Device& device, const Scene& scene, const SceneGeometry& geometry, const SceneBuffers& buffers,
+    PhotonRenderer(RenderStages& stages, const Scene& scene, const SceneGeometry& geometry, const SceneBuffers& buffers,
                    const RenderPlan& plan, const PhotonRenderSettings& s)
-        : start_(Clock::now()), device_(device), scene_(scene), geometry_(geometry), buffers_(buffers), plan_(plan),
+        : start_(Clock::now()), stages_(stages), scene_(scene), geometry_(geometry), buffers_(buffers), plan_(plan),
           s_(s), maps_(mapsFor(s.method, plan)), width_(scene.camera.width), height_(scene.camera.height),
           spp_(s.strata * s.strata), passSamples_(size_t(width_) * height_ * spp_),
           eyeDepth_(s.eyeDepth ? s.eyeDepth : kDefaultEyeDepth),
           maxRadius_(s.maxRadius > 0 ? s.maxRadius : 0.05f * length(geometry.bounds().extent())),
-          area_(sceneSurfaceArea(scene)), dscene_(device, geometry, buffers),
-          table_(buildAreaLightTable(buffers, geometry.primitiveCount())), lights_(device, table_) {
-        chunk_ = eyeChunkSamples(s, device.info().maxAlloc, passSamples_);
-        rays_ = device.allocate<PclRay>(chunk_, CL_MEM_READ_WRITE, "render: camera rays");
-        hits_ = device.allocate<PclEyeHit>(chunk_, CL_MEM_READ_WRITE, "render: eye hits");
-        directRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: direct radiance");
-        causticRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: caustic radiance");
-        indirectRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: indirect radiance");
+          area_(sceneSurfaceArea(scene)), table_(buildAreaLightTable(buffers, geometry.primitiveCount())),
+          chunk_(stages.chunkSamples(passSamples_)) {
         est_.filter = s.method == RenderMethod::Progressive ? EstimateFilter::Box : s.filter;
         est_.rayEpsilon = buffers.rayEpsilon;
         est_.visibility = s.visibility;
@@ -130,36 +121,30 @@ public:
     PhotonRenderResult run();
 
 private:
-    // The maps of one pass and the irradiance sources that read them.
+    // The photon vectors a pass's maps read (the stages keep pointers into them for the pass).
     struct PassMaps {
-        std::unique_ptr<PhotonMapOnDevice> global, caustic, histogram;
-        std::unique_ptr<DeviceIrradianceMap> irradiance;
-        std::shared_ptr<IrradianceSource> globalSource, causticSource;
-        float radius2 = 0.0f;  // the search radius² of the pass (progressive: the schedule's)
-    };
-    // Which parts a chunk's eye samples got (the others are 0).
-    struct ChunkParts {
-        bool direct = false, caustic = false, indirect = false;
+        std::vector<PclPhoton> indirect;  // progressive: the global map's photons after a diffuse bounce
+        PassMapSpec spec;
     };
 
-    PhotonMaps tracePhotons(uint32_t pass);
-    double firstRadius2(const PhotonMaps& pass0) const;
-    PassMaps buildMaps(const PhotonMaps& photons, float radius2);
+    PassPhotons tracePhotons(uint32_t pass);
+    double firstRadius2(const PassPhotons& pass0) const;
+    void specifyMaps(const PassPhotons& photons, float radius2, PassMaps& m) const;
     // est_ with the first kNN bound for k-nearest queries into a map of `photons` (speed only).
     EstimateSettings hinted(size_t photons, uint32_t k) const {
         EstimateSettings e = est_;
         e.firstRadius2 = firstSearchRadius2(photons, k, area_);
         return e;
     }
-    void eyePass(uint32_t pass, const PassMaps& maps, Film& passFilm);
-    ChunkParts shadeFinalGather(const PassMaps& maps, const PclEyeParams& ep, uint32_t count);
-    ChunkParts shadeDirectVisualisation(const PassMaps& maps, uint32_t count);
-    ChunkParts shadeProgressive(const PassMaps& maps, const PclEyeParams& ep, uint32_t count);
+    void eyePass(uint32_t pass, const PassMapSpec& maps, Film& passFilm);
+    ChunkParts shadeFinalGather(const PassMapSpec& maps, const PclEyeParams& ep, uint32_t count);
+    ChunkParts shadeDirectVisualisation(const PassMapSpec& maps, uint32_t count);
+    ChunkParts shadeProgressive(const PassMapSpec& maps, const PclEyeParams& ep, uint32_t count);
     void accumulate(size_t first, uint32_t count, ChunkParts parts, Film& passFilm);
     std::string summary() const;
 
     const Clock::time_point start_;  // the render's start: its time budget and total count from here
-    Device& device_;
+    RenderStages& stages_;
     const Scene& scene_;
     const SceneGeometry& geometry_;
     const SceneBuffers& buffers_;
@@ -172,125 +157,112 @@ private:
     const uint32_t eyeDepth_;
     const float maxRadius_;
     const double area_;
-    DeviceScene dscene_;
-    AreaLightTable table_;
-    DeviceAreaLights lights_;
-    size_t chunk_ = 0;
-    cl::Buffer rays_, hits_, directRad_, causticRad_, indirectRad_;
-    std::vector<PclEyeHit> hostHits_;        // a chunk's downloads, kept across chunks and passes
-    std::vector<PclRadiance> hostParts_[3];  // direct, caustic, indirect
+    const AreaLightTable table_;
+    const size_t chunk_;
+    ChunkResult chunkResult_;  // a chunk's records and parts, kept across chunks and passes
     EstimateSettings est_;
     double r0Squared_ = 0.0;
     PhotonRenderResult result_;
 };
 
 // 1. Photons: a fresh pass, the pass index in its seed.
-PhotonMaps PhotonRenderer::tracePhotons(uint32_t pass) {
-    return runPhotonPass(device_, geometry_, buffers_, photonPassOptions(s_, plan_, pass));
+PassPhotons PhotonRenderer::tracePhotons(uint32_t pass) {
+    return stages_.tracePhotons(photonPassOptions(s_, plan_, pass));
 }
 
 // Progressive r_0: about progressiveK0 photons in the first disc at the mean density of pass 0's
 // stored global photons (caustic-only scenes: the caustic map's).
-double PhotonRenderer::firstRadius2(const PhotonMaps& pass0) const {
+double PhotonRenderer::firstRadius2(const PassPhotons& pass0) const {
     double stored = maps_.global ? pass0.global.size() : pass0.caustic.size();
     double lambda = std::max(stored, 1.0) / std::max(area_, 1e-12);
     return std::min(double(maxRadius_) * maxRadius_, s_.progressiveK0 / (kPiD * lambda));
 }
 
-// 2. The maps the method reads and their irradiance sources.
-PhotonRenderer::PassMaps PhotonRenderer::buildMaps(const PhotonMaps& photons, float radius2) {
+// 2. How the method reads the maps: the estimate (k nearest), the fixed-radius estimate
+// (progressive) or precomputed irradiance (fg's default gather source).
+void PhotonRenderer::specifyMaps(const PassPhotons& photons, float radius2, PassMaps& m) const {
     const bool fg = s_.method == RenderMethod::FinalGather, progressive = s_.method == RenderMethod::Progressive;
-    PassMaps m;
-    m.radius2 = radius2;
-    const float searchRadius = std::sqrt(radius2);
+    PassMapSpec& spec = m.spec;
+    spec.radius2 = radius2;
     if (maps_.global && !photons.global.empty()) {
+        MapSpec& g = spec.global;
         if (progressive) {
-            std::vector<PclPhoton> indirect = indirectPhotons(photons.global);
-            if (!indirect.empty()) {
-                m.global = std::make_unique<PhotonMapOnDevice>(device_, indirect, s_.structure, searchRadius);
-                m.globalSource = fixedRadiusSource(*m.global, PCL_KNN_MAX_K, est_, radius2, &dscene_);
+            m.indirect = indirectPhotons(photons.global);
+            if (!m.indirect.empty()) {
+                g.reader = MapReader::FixedRadius;
+                g.photons = &m.indirect;
+                g.maxK = PCL_KNN_MAX_K;
+                g.estimate = est_;
             }
         } else if (fg && s_.gatherSource == GatherSource::Precomputed && !s_.visibility) {
             // (With visibility the full estimate is read instead: a precomputed record is found
             // by one nearest lookup with no visibility test, so a record across a thin wall would
             // be read: the stability suite's thin-wall test.)
-            PrecomputedIrradianceOptions po;
+            g.reader = MapReader::Precomputed;
+            g.photons = &photons.global;
+            PrecomputedIrradianceOptions& po = g.precomputed;
             po.k = s_.globalK;
             po.maxRadius = maxRadius_;
             po.estimate = hinted(photons.global.size() - photons.global.size() / po.every, s_.globalK);  // the others
-            m.irradiance =
-                std::make_unique<DeviceIrradianceMap>(precomputeIrradiance(device_, photons.global, po, &dscene_));
-            m.globalSource = precomputedIrradianceSource(*m.irradiance);
         } else {
-            m.global = std::make_unique<PhotonMapOnDevice>(device_, photons.global, s_.structure, searchRadius);
-            m.globalSource =
-                estimateIrradianceSource(*m.global, s_.globalK, hinted(photons.global.size(), s_.globalK), &dscene_);
+            g.reader = MapReader::Estimate;
+            g.photons = &photons.global;
+            g.maxK = s_.globalK;
+            g.estimate = hinted(photons.global.size(), s_.globalK);
         }
     }
-    if (fg && s_.histogramCells > 0 && m.globalSource) {
-        // The importance histograms read the global map's k nearest photons directly.
-        m.histogram = std::make_unique<PhotonMapOnDevice>(device_, photons.global, s_.structure, searchRadius);
-    }
+    // The importance histograms read the global map's k nearest photons directly.
+    if (fg && s_.histogramCells > 0 && spec.global.reader != MapReader::None) spec.histogramPhotons = &photons.global;
     if (maps_.caustic && !photons.caustic.empty()) {
-        m.caustic = std::make_unique<PhotonMapOnDevice>(device_, photons.caustic, s_.structure, searchRadius);
-        m.causticSource = progressive ? fixedRadiusSource(*m.caustic, PCL_KNN_MAX_K, est_, radius2, &dscene_)
-                                      : estimateIrradianceSource(*m.caustic, s_.causticK,
-                                                                 hinted(photons.caustic.size(), s_.causticK), &dscene_);
+        MapSpec& c = spec.caustic;
+        c.photons = &photons.caustic;
+        c.reader = progressive ? MapReader::FixedRadius : MapReader::Estimate;
+        c.maxK = progressive ? PCL_KNN_MAX_K : s_.causticK;
+        c.estimate = progressive ? est_ : hinted(photons.caustic.size(), s_.causticK);
     }
-    return m;
 }
 
 // 3. fg at the diffuse eye hits: direct light by shadow rays (MIS with the gather rays for area
 // lights), the caustic map, and final gathering into the global map.
-PhotonRenderer::ChunkParts PhotonRenderer::shadeFinalGather(const PassMaps& m, const PclEyeParams& ep, uint32_t count) {
+ChunkParts PhotonRenderer::shadeFinalGather(const PassMapSpec& m, const PclEyeParams& ep, uint32_t count) {
     ChunkParts parts;
     StageTimes& t = result_.times;
-    const bool gather = static_cast<bool>(m.globalSource);
+    const bool gather = m.global.reader != MapReader::None;
     PclDirectParams dp = directParams(ep, geometry_, buffers_, table_, s_.lightSamples, gather ? s_.gatherRays : 0u);
     PclGatherParams gp{};
-    cl::Buffer histograms;
     if (gather) {
         gp = gatherParams(dp, s_.gatherRays, s_.globalK, maxRadius_ * maxRadius_, kDefaultGatherSpecular);
         gp.causticMapRead = maps_.caustic ? 1u : 0u;
-        if (m.histogram) {
+        if (m.histogramPhotons) {
             gp.histogramCells = dp.histogramCells = s_.histogramCells;
-            timed(device_, t.indirect, [&] { histograms = buildGatherHistograms(device_, *m.histogram, gp, hits_); });
+            timed(stages_, t.indirect, [&] { stages_.gatherHistograms(gp); });
         }
     }
-    timed(device_, t.direct, [&] {
-        if (m.histogram) directLight(device_, dscene_, lights_, dp, hits_, histograms, directRad_);
-        else directLight(device_, dscene_, lights_, dp, hits_, directRad_);
-    });
+    timed(stages_, t.direct, [&] { stages_.directLight(dp); });
     parts.direct = true;
-    if (m.causticSource) {
+    if (m.caustic.reader != MapReader::None) {
         PclEyeEstimateParams cq{count, s_.causticK, m.radius2, 0};
-        timed(device_, t.caustic, [&] { causticRadiance(device_, cq, hits_, *m.causticSource, causticRad_); });
+        timed(stages_, t.caustic, [&] { stages_.causticEstimate(cq); });
         parts.caustic = true;
     }
     if (gather) {
-        timed(device_, t.indirect, [&] {
-            if (m.histogram)
-                finalGather(device_, dscene_, lights_, gp, hits_, histograms, *m.globalSource, indirectRad_);
-            else finalGather(device_, dscene_, lights_, gp, hits_, *m.globalSource, indirectRad_);
-        });
+        timed(stages_, t.indirect, [&] { stages_.finalGather(gp); });
         parts.indirect = true;
     }
     return parts;
 }
 
 // 3. direct: the global map read at the diffuse eye hits (it holds direct light too).
-PhotonRenderer::ChunkParts PhotonRenderer::shadeDirectVisualisation(const PassMaps& m, uint32_t count) {
+ChunkParts PhotonRenderer::shadeDirectVisualisation(const PassMapSpec& m, uint32_t count) {
     ChunkParts parts;
-    if (m.causticSource) {
+    if (m.caustic.reader != MapReader::None) {
         PclEyeEstimateParams cq{count, s_.causticK, m.radius2, 0};
-        timed(device_, result_.times.caustic,
-              [&] { causticRadiance(device_, cq, hits_, *m.causticSource, causticRad_); });
+        timed(stages_, result_.times.caustic, [&] { stages_.causticEstimate(cq); });
         parts.caustic = true;
     }
-    if (m.globalSource) {
+    if (m.global.reader != MapReader::None) {
         PclEyeEstimateParams gq{count, s_.globalK, m.radius2, 0};
-        timed(device_, result_.times.indirect,
-              [&] { estimateAtEyeHits(device_, gq, hits_, *m.globalSource, indirectRad_); });
+        timed(stages_, result_.times.indirect, [&] { stages_.globalEstimate(gq); });
         parts.indirect = true;
     }
     return parts;
@@ -298,21 +270,19 @@ PhotonRenderer::ChunkParts PhotonRenderer::shadeDirectVisualisation(const PassMa
 
 // 3. progressive: direct light by shadow rays, then the caustic map and the global map's
 // indirect photons with the pass's fixed radius.
-PhotonRenderer::ChunkParts PhotonRenderer::shadeProgressive(const PassMaps& m, const PclEyeParams& ep, uint32_t count) {
+ChunkParts PhotonRenderer::shadeProgressive(const PassMapSpec& m, const PclEyeParams& ep, uint32_t count) {
     ChunkParts parts;
     PclDirectParams dp = directParams(ep, geometry_, buffers_, table_, s_.lightSamples, 0u);
-    timed(device_, result_.times.direct, [&] { directLight(device_, dscene_, lights_, dp, hits_, directRad_); });
+    timed(stages_, result_.times.direct, [&] { stages_.directLight(dp); });
     parts.direct = true;
-    if (m.causticSource) {
+    if (m.caustic.reader != MapReader::None) {
         PclEyeEstimateParams cq{count, PCL_KNN_MAX_K, m.radius2, 0};
-        timed(device_, result_.times.caustic,
-              [&] { causticRadiance(device_, cq, hits_, *m.causticSource, causticRad_); });
+        timed(stages_, result_.times.caustic, [&] { stages_.causticEstimate(cq); });
         parts.caustic = true;
     }
-    if (m.globalSource) {
+    if (m.global.reader != MapReader::None) {
         PclEyeEstimateParams gq{count, PCL_KNN_MAX_K, m.radius2, 0};
-        timed(device_, result_.times.indirect,
-              [&] { estimateAtEyeHits(device_, gq, hits_, *m.globalSource, indirectRad_); });
+        timed(stages_, result_.times.indirect, [&] { stages_.globalEstimate(gq); });
         parts.indirect = true;
     }
     return parts;
@@ -322,16 +292,10 @@ PhotonRenderer::ChunkParts PhotonRenderer::shadeProgressive(const PassMaps& m, c
 void PhotonRenderer::accumulate(size_t first, uint32_t count, ChunkParts parts, Film& passFilm) {
     auto t = Clock::now();
     const PclRadiance zero{0, 0, 0, 0};
-    std::vector<PclEyeHit>& eye = hostHits_;
-    device_.downloadInto(hits_, count, eye);
-    auto part = [&](bool have, cl::Buffer& b, std::vector<PclRadiance>& v) -> const std::vector<PclRadiance>& {
-        if (have) device_.downloadInto(b, count, v);
-        else v.assign(count, zero);
-        return v;
-    };
-    const std::vector<PclRadiance>&direct = part(parts.direct, directRad_, hostParts_[0]),
-          &caustic = part(parts.caustic, causticRad_, hostParts_[1]),
-          &indirect = part(parts.indirect, indirectRad_, hostParts_[2]);
+    stages_.readChunk(count, parts, chunkResult_);
+    const std::vector<PclEyeHit>& eye = chunkResult_.hits;
+    const std::vector<PclRadiance>&direct = chunkResult_.direct, &caustic = chunkResult_.caustic,
+          &indirect = chunkResult_.indirect;
     for (uint32_t i = 0; i < count; ++i) {
         size_t pixel = (first + i) / spp_;
         int x = static_cast<int>(pixel % width_), y = static_cast<int>(pixel / width_);
@@ -363,16 +327,16 @@ void PhotonRenderer::accumulate(size_t first, uint32_t count, ChunkParts parts, 
 
 // 3. The eye pass, chunk by chunk: camera rays, eye paths to the first diffuse hit, the method's
 // parts there, then into the pass's film.
-void PhotonRenderer::eyePass(uint32_t pass, const PassMaps& maps, Film& passFilm) {
+void PhotonRenderer::eyePass(uint32_t pass, const PassMapSpec& maps, Film& passFilm) {
     const uint64_t passSeed = eyePassSeed(s_.seed, pass);
     for (size_t first = 0; first < passSamples_; first += chunk_) {
         const uint32_t count = static_cast<uint32_t>(std::min(chunk_, passSamples_ - first));
         PclCameraParams cp = cameraParams(scene_.camera, plan_, passSeed, s_.strata);
         cp.firstSample = static_cast<uint32_t>(first);
         cp.sampleCount = count;
-        timed(device_, result_.times.camera, [&] { generateCameraRays(device_, cp, rays_); });
+        timed(stages_, result_.times.camera, [&] { stages_.cameraRays(cp); });
         PclEyeParams ep = eyeParams(cp, geometry_, buffers_, table_, eyeDepth_);
-        timed(device_, result_.times.eyePaths, [&] { traceEyePaths(device_, dscene_, lights_, ep, rays_, hits_); });
+        timed(stages_, result_.times.eyePaths, [&] { stages_.eyePaths(ep); });
         ChunkParts parts;
         switch (s_.method) {
             case RenderMethod::FinalGather: parts = shadeFinalGather(maps, ep, count); break;
@@ -417,7 +381,7 @@ PhotonRenderResult PhotonRenderer::run() {
     // A render that starts later (a batch shard, firstPass > 0) traces pass 0's photons once to
     // get the same r_0, so r_0 never depends on which passes a shard holds.
     if (progressive && r0Squared_ == 0.0 && s_.firstPass > 0 && (maps_.global || maps_.caustic)) {
-        timed(device_, result_.times.photons, [&] { r0Squared_ = firstRadius2(tracePhotons(0)); });
+        timed(stages_, result_.times.photons, [&] { r0Squared_ = firstRadius2(tracePhotons(0)); });
         result_.firstRadius = static_cast<float>(std::sqrt(r0Squared_));
     }
     result_.summary = summary();
@@ -433,11 +397,11 @@ PhotonRenderResult PhotonRenderer::run() {
         }
         const uint32_t pass = s_.firstPass + done;  // the global pass index: in every seed
         passFilm = Film(width_, height_);
-        PhotonMaps photons;
+        PassPhotons photons;
         if (maps_.global || maps_.caustic) {
-            timed(device_, result_.times.photons, [&] { photons = tracePhotons(pass); });
-            result_.globalEmitted += photons.stats.global.emitted;
-            result_.causticEmitted += photons.stats.caustic.emitted;
+            timed(stages_, result_.times.photons, [&] { photons = tracePhotons(pass); });
+            result_.globalEmitted += photons.globalEmitted;
+            result_.causticEmitted += photons.causticEmitted;
             result_.globalStored += photons.global.size();
             result_.causticStored += photons.caustic.size();
         }
@@ -451,8 +415,9 @@ PhotonRenderResult PhotonRenderer::run() {
             result_.lastRadius = std::sqrt(radius2);
         }
         PassMaps maps;
-        timed(device_, result_.times.maps, [&] { maps = buildMaps(photons, radius2); });
-        eyePass(pass, maps, passFilm);
+        specifyMaps(photons, radius2, maps);
+        timed(stages_, result_.times.maps, [&] { stages_.buildMaps(maps.spec); });
+        eyePass(pass, maps.spec, passFilm);
         // 5. The pass's sums, rounded once to fixed point, join the render's (exact: any
         // grouping of passes gives the same bits).
         {
@@ -479,13 +444,38 @@ PhotonRenderResult PhotonRenderer::run() {
 
 }  // namespace
 
-PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const SceneGeometry& geometry,
-                                      const SceneBuffers& buffers, const RenderPlan& plan,
-                                      const PhotonRenderSettings& settings) {
+namespace {
+
+// Before any stage is built: a photon method and valid settings.
+void requirePhotonRender(const PhotonRenderSettings& settings) {
     if (settings.method == RenderMethod::PathTracing)
         throw InternalError("renderPhotonMapped: the path tracer is render/path_render.h, not a photon method");
     validateRenderSettings(settings);
-    return PhotonRenderer(device, scene, geometry, buffers, plan, settings).run();
+}
+
+}  // namespace
+
+PhotonRenderResult renderPhotonMapped(RenderStages& stages, const Scene& scene, const SceneGeometry& geometry,
+                                      const SceneBuffers& buffers, const RenderPlan& plan,
+                                      const PhotonRenderSettings& settings) {
+    requirePhotonRender(settings);
+    return PhotonRenderer(stages, scene, geometry, buffers, plan, settings).run();
+}
+
+PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const SceneGeometry& geometry,
+                                      const SceneBuffers& buffers, const RenderPlan& plan,
+                                      const PhotonRenderSettings& settings) {
+    requirePhotonRender(settings);
+    DeviceRenderStages stages(device, scene, geometry, buffers, settings);
+    return renderPhotonMapped(stages, scene, geometry, buffers, plan, settings);
+}
+
+PhotonRenderResult renderPhotonMappedTwin(const Scene& scene, const SceneGeometry& geometry,
+                                          const SceneBuffers& buffers, const RenderPlan& plan,
+                                          const PhotonRenderSettings& settings) {
+    requirePhotonRender(settings);
+    TwinRenderStages stages(scene, geometry, buffers);
+    return renderPhotonMapped(stages, scene, geometry, buffers, plan, settings);
 }
 
 }  // namespace pcl

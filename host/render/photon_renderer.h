@@ -11,6 +11,10 @@
 // Eye samples are processed in chunks so the gather buffers stay within the device's max
 // allocation. The film holds the average over the passes done; a stop request (Ctrl-C) is
 // honoured between passes, so the film always holds whole passes.
+// The stages run on an OpenCL device (renderPhotonMapped) or on the CPU twin
+// (renderPhotonMappedTwin, host/reference): one loop calls either (render/render_stages.h), and
+// the film is accumulated by the same host code, so the two renders of the same settings differ
+// only where the stages do.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -25,6 +29,7 @@
 #include "prep/plan.h"
 #include "prep/scene_buffers.h"
 #include "render/render_settings.h"
+#include "render/render_stages.h"
 #include "scene/scene.h"
 
 namespace pcl {
@@ -78,6 +83,19 @@ double progressiveRadius2(double r0Squared, double alpha, uint32_t pass);
 // Renders scene.camera's image with the photon-mapping method settings.method (not
 // PathTracing: that is render/path_render.h). `buffers` must hold the projection maps.
 PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const SceneGeometry& geometry,
+                                      const SceneBuffers& buffers, const RenderPlan& plan,
+                                      const PhotonRenderSettings& settings);
+
+// The same render on the CPU twin's stages: no OpenCL, the same seeds, pass structure and
+// outputs (settings.photonBatch and chunkSamples are ignored: they change no pixel). The twin's
+// searches are brute force: meant for small images (`render --device ref`, the render checks).
+PhotonRenderResult renderPhotonMappedTwin(const Scene& scene, const SceneGeometry& geometry,
+                                          const SceneBuffers& buffers, const RenderPlan& plan,
+                                          const PhotonRenderSettings& settings);
+
+// The same loop on any stages (a DeviceRenderStages or TwinRenderStages built for this scene
+// and these settings, or one wrapped by render/shared_photons.h).
+PhotonRenderResult renderPhotonMapped(RenderStages& stages, const Scene& scene, const SceneGeometry& geometry,
                                       const SceneBuffers& buffers, const RenderPlan& plan,
                                       const PhotonRenderSettings& settings);
 

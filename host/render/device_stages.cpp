@@ -1,0 +1,119 @@
+#include "render/device_stages.h"
+
+#include <cmath>
+
+#include <stdexcept>
+#include "pipeline/camera_rays.h"
+#include "pipeline/estimate.h"
+#include "pipeline/eye_estimate.h"
+#include "pipeline/eye_paths.h"
+#include "pipeline/final_gather.h"
+#include "pipeline/irradiance_source.h"
+#include "pipeline/precomputed_irradiance.h"
+#include "render/fixed_radius_source.h"
+
+namespace pcl {
+
+struct DeviceRenderStages::Maps {
+    std::unique_ptr<PhotonMapOnDevice> global, caustic, histogram;
+    std::unique_ptr<DeviceIrradianceMap> irradiance;
+    std::shared_ptr<IrradianceSource> globalSource, causticSource;
+};
+
+DeviceRenderStages::DeviceRenderStages(Device& device, const Scene& scene, const SceneGeometry& geometry,
+                                       const SceneBuffers& buffers, const PhotonRenderSettings& s)
+    : device_(device), geometry_(geometry), buffers_(buffers), s_(s), dscene_(device, geometry, buffers),
+      lights_(device, buildAreaLightTable(buffers, geometry.primitiveCount())), maps_(std::make_unique<Maps>()) {
+    const size_t passSamples = size_t(scene.camera.width) * scene.camera.height * s.strata * s.strata;
+    chunk_ = eyeChunkSamples(s, device.info().maxAlloc, passSamples);
+    rays_ = device.allocate<PclRay>(chunk_, CL_MEM_READ_WRITE, "render: camera rays");
+    hits_ = device.allocate<PclEyeHit>(chunk_, CL_MEM_READ_WRITE, "render: eye hits");
+    directRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: direct radiance");
+    causticRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: caustic radiance");
+    indirectRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: indirect radiance");
+}
+
+DeviceRenderStages::~DeviceRenderStages() = default;
+
+size_t DeviceRenderStages::chunkSamples(size_t passSamples) const { return std::min(chunk_, passSamples); }
+
+PassPhotons DeviceRenderStages::tracePhotons(const PhotonPassOptions& options) {
+    PhotonMaps maps = runPhotonPass(device_, geometry_, buffers_, options);
+    PassPhotons p;
+    p.global = std::move(maps.global);
+    p.caustic = std::move(maps.caustic);
+    p.globalEmitted = maps.stats.global.emitted;
+    p.causticEmitted = maps.stats.caustic.emitted;
+    return p;
+}
+
+void DeviceRenderStages::buildMaps(const PassMapSpec& spec) {
+    maps_ = std::make_unique<Maps>();
+    const float searchRadius = std::sqrt(spec.radius2);
+    auto build = [&](const MapSpec& m, std::unique_ptr<PhotonMapOnDevice>& map,
+                     std::shared_ptr<IrradianceSource>& source) {
+        switch (m.reader) {
+            case MapReader::None: break;
+            case MapReader::Estimate:
+                map = std::make_unique<PhotonMapOnDevice>(device_, *m.photons, s_.structure, searchRadius);
+                source = estimateIrradianceSource(*map, m.maxK, m.estimate, &dscene_);
+                break;
+            case MapReader::FixedRadius:
+                map = std::make_unique<PhotonMapOnDevice>(device_, *m.photons, s_.structure, searchRadius);
+                source = fixedRadiusSource(*map, m.maxK, m.estimate, spec.radius2, &dscene_);
+                break;
+            case MapReader::Precomputed:
+                maps_->irradiance = std::make_unique<DeviceIrradianceMap>(
+                    precomputeIrradiance(device_, *m.photons, m.precomputed, &dscene_));
+                source = precomputedIrradianceSource(*maps_->irradiance);
+                break;
+        }
+    };
+    build(spec.global, maps_->global, maps_->globalSource);
+    build(spec.caustic, maps_->caustic, maps_->causticSource);
+    if (spec.histogramPhotons)
+        maps_->histogram =
+            std::make_unique<PhotonMapOnDevice>(device_, *spec.histogramPhotons, s_.structure, searchRadius);
+}
+
+void DeviceRenderStages::cameraRays(const PclCameraParams& params) { generateCameraRays(device_, params, rays_); }
+
+void DeviceRenderStages::eyePaths(const PclEyeParams& params) { traceEyePaths(device_, dscene_, lights_, params, rays_, hits_); }
+
+void DeviceRenderStages::gatherHistograms(const PclGatherParams& params) {
+    if (!maps_->histogram)
+        throw std::logic_error("render: importance histograms asked of a pass without the global map");
+    histograms_ = buildGatherHistograms(device_, *maps_->histogram, params, hits_);
+}
+
+void DeviceRenderStages::directLight(const PclDirectParams& params) {
+    if (params.histogramCells > 0) pcl::directLight(device_, dscene_, lights_, params, hits_, histograms_, directRad_);
+    else pcl::directLight(device_, dscene_, lights_, params, hits_, directRad_);
+}
+
+void DeviceRenderStages::causticEstimate(const PclEyeEstimateParams& params) {
+    causticRadiance(device_, params, hits_, *maps_->causticSource, causticRad_);
+}
+
+void DeviceRenderStages::globalEstimate(const PclEyeEstimateParams& params) {
+    estimateAtEyeHits(device_, params, hits_, *maps_->globalSource, indirectRad_);
+}
+
+void DeviceRenderStages::finalGather(const PclGatherParams& params) {
+    if (params.histogramCells > 0)
+        pcl::finalGather(device_, dscene_, lights_, params, hits_, histograms_, *maps_->globalSource, indirectRad_);
+    else pcl::finalGather(device_, dscene_, lights_, params, hits_, *maps_->globalSource, indirectRad_);
+}
+
+void DeviceRenderStages::readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) {
+    device_.downloadInto(hits_, count, out.hits);
+    auto part = [&](bool have, const cl::Buffer& b, std::vector<PclRadiance>& v) {
+        if (have) device_.downloadInto(b, count, v);
+        else v.assign(count, PclRadiance{0, 0, 0, 0});
+    };
+    part(parts.direct, directRad_, out.direct);
+    part(parts.caustic, causticRad_, out.caustic);
+    part(parts.indirect, indirectRad_, out.indirect);
+}
+
+}  // namespace pcl

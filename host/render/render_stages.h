@@ -1,0 +1,93 @@
+// The stages one photon-mapped render calls, pass by pass and chunk by chunk, behind one
+// interface with two implementations: the OpenCL pipeline (render/device_stages.h) and the CPU
+// twin (render/twin_stages.h, host/reference). The loop around them (render/photon_renderer.cpp)
+// decides everything a pixel depends on — seeds, parameters, which maps are read how, which parts
+// a method adds — so the device render and the twin render of the same settings differ only
+// where the stages themselves differ (what `check --stage render` and the stage checks measure).
+//
+//   stages.tracePhotons(pass options)   the pass's photon maps, as host vectors
+//   stages.buildMaps(spec)              the search structures and irradiance readers of the pass
+//   per chunk of eye samples (records 0 .. count−1):
+//     cameraRays → eyePaths → [gatherHistograms] → directLight / causticEstimate /
+//     globalEstimate / finalGather (each fills one part) → readChunk (records and parts to host)
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "pipeline/photon_pass.h"
+#include "prep/irradiance_settings.h"
+#include "shared/types.h"
+
+namespace pcl {
+
+// How a pass reads one photon map at its queries.
+enum class MapReader {
+    None,         // not read (the method does not use it, or it holds no photons)
+    Estimate,     // the k-nearest-neighbour estimate (pipeline/estimate.h), k ≤ maxK
+    FixedRadius,  // progressive: the box estimate over the disc of radius² `radius2`
+                  // (render/fixed_radius.h), k ≤ maxK
+    Precomputed,  // Christensen's precomputed irradiance (pipeline/precomputed_irradiance.h)
+};
+
+struct MapSpec {
+    MapReader reader = MapReader::None;
+    const std::vector<PclPhoton>* photons = nullptr;  // the records read (kept by the loop for the pass)
+    uint32_t maxK = 0;                                // Estimate, FixedRadius
+    EstimateSettings estimate;                        // Estimate, FixedRadius (rayEpsilon set)
+    PrecomputedIrradianceOptions precomputed;         // Precomputed
+};
+
+// The maps of one pass.
+struct PassMapSpec {
+    MapSpec global, caustic;
+    // fg with importance-sampled gather rays: the histograms read the k nearest of these photons
+    // (the whole global map) directly; null when not used.
+    const std::vector<PclPhoton>* histogramPhotons = nullptr;
+    float radius2 = 0.0f;  // the pass's search radius² (progressive: the schedule's; the hash grid's
+                           // cells follow it)
+};
+
+// Which parts a chunk's records got (the others are 0).
+struct ChunkParts {
+    bool direct = false, caustic = false, indirect = false;
+};
+
+// A chunk on the host: the eye records and the three parts, `count` each.
+struct ChunkResult {
+    std::vector<PclEyeHit> hits;
+    std::vector<PclRadiance> direct, caustic, indirect;
+};
+
+// The photons of one pass and how many paths each map emitted.
+struct PassPhotons {
+    std::vector<PclPhoton> global, caustic;
+    uint64_t globalEmitted = 0, causticEmitted = 0;
+};
+
+class RenderStages {
+public:
+    virtual ~RenderStages() = default;
+
+    // Eye samples per chunk for a pass of passSamples (the device: what its buffers hold).
+    virtual size_t chunkSamples(size_t passSamples) const = 0;
+    // Waits for the work enqueued so far (the loop's stage timings); the twin has none.
+    virtual void wait() {}
+
+    virtual PassPhotons tracePhotons(const PhotonPassOptions& options) = 0;
+    // Replaces the previous pass's maps; spec's photon vectors must live until the next call.
+    virtual void buildMaps(const PassMapSpec& spec) = 0;
+
+    virtual void cameraRays(const PclCameraParams& params) = 0;
+    virtual void eyePaths(const PclEyeParams& params) = 0;
+    // The importance histograms at the chunk's records (spec.histogramPhotons);
+    // directLight and finalGather use them when their params' histogramCells > 0.
+    virtual void gatherHistograms(const PclGatherParams& params) = 0;
+    virtual void directLight(const PclDirectParams& params) = 0;           // → direct
+    virtual void causticEstimate(const PclEyeEstimateParams& params) = 0;  // caustic map → caustic
+    virtual void globalEstimate(const PclEyeEstimateParams& params) = 0;   // global map → indirect
+    virtual void finalGather(const PclGatherParams& params) = 0;           // global map → indirect
+    // The chunk's records and the parts it got (the others zero-filled), `count` each.
+    virtual void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) = 0;
+};
+
+}  // namespace pcl

@@ -1,0 +1,121 @@
+#include "render/twin_stages.h"
+
+#include <algorithm>
+
+#include <stdexcept>
+#include "reference/camera_rays.h"
+#include "reference/direct_light.h"
+#include "reference/estimate.h"
+#include "reference/eye_estimate.h"
+#include "reference/eye_paths.h"
+#include "reference/final_gather.h"
+#include "reference/photon_pass.h"
+#include "reference/precomputed_irradiance.h"
+#include "render/fixed_radius.h"
+
+namespace pcl {
+
+TwinRenderStages::TwinRenderStages(const Scene& scene, const SceneGeometry& geometry, const SceneBuffers& buffers)
+    : scene_(scene), geometry_(geometry), buffers_(buffers) {}
+
+size_t TwinRenderStages::chunkSamples(size_t passSamples) const { return std::min(passSamples, size_t(1) << 18); }
+
+PassPhotons TwinRenderStages::tracePhotons(const PhotonPassOptions& options) {
+    ReferencePhotonPassSettings r;
+    r.seed = options.seed;
+    r.pass = options.pass;
+    r.globalPhotons = options.buildGlobal ? options.globalPhotons : 0;
+    r.causticPhotons = options.buildCaustic ? options.causticPhotons : 0;
+    r.maxDepth = options.maxDepth;
+    ReferencePhotonMaps maps = runPhotonPassReference(buffers_, geometry_, r);
+    PassPhotons p;
+    p.global = std::move(maps.global);
+    p.caustic = std::move(maps.caustic);
+    p.globalEmitted = maps.globalStats.paths;
+    p.causticEmitted = maps.causticStats.paths;
+    return p;
+}
+
+void TwinRenderStages::buildMaps(const PassMapSpec& spec) {
+    spec_ = spec;
+    points_.clear();
+    cover_.clear();
+    // (The k-nearest readers search by brute force: nothing to build.)
+    for (const MapSpec* m : {&spec.global, &spec.caustic})
+        if (m->reader == MapReader::Precomputed)
+            points_ = referencePrecomputeIrradiance(*m->photons, m->precomputed, &geometry_, 0, &cover_);
+}
+
+std::vector<Vec3> TwinRenderStages::irradiance(const MapSpec& m, const std::vector<PclEstimateQuery>& queriesIn) const {
+    std::vector<Vec3> E(queriesIn.size(), Vec3(0.0f));
+    if (m.reader == MapReader::None) throw std::logic_error("render (twin): a map the pass does not read was read");
+    if (m.reader == MapReader::Precomputed) {
+        const ReferenceIrradianceLookup l =
+            referenceLookupIrradiance(points_, cover_, queriesIn, m.precomputed.estimate.minNormalCos);
+        for (size_t i = 0; i < E.size(); ++i)
+            E[i] = Vec3(l.irradiance[4 * i], l.irradiance[4 * i + 1], l.irradiance[4 * i + 2]);
+        return E;
+    }
+    // As the device's estimate: a query's k above maxK is searched with maxK.
+    std::vector<PclEstimateQuery> queries = queriesIn;
+    for (PclEstimateQuery& q : queries) q.k = std::min(q.k, m.maxK);
+    std::vector<PclEstimate> e = referenceEstimate(*m.photons, queries, m.estimate, &geometry_);
+    for (size_t i = 0; i < E.size(); ++i) {
+        if (m.reader == MapReader::FixedRadius) rescaleToFixedRadius(e[i], queries[i], m.maxK, spec_.radius2);
+        E[i] = Vec3(e[i].r, e[i].g, e[i].b);
+    }
+    return E;
+}
+
+void TwinRenderStages::cameraRays(const PclCameraParams& params) { rays_ = referenceCameraRays(scene_.camera, params); }
+
+void TwinRenderStages::eyePaths(const PclEyeParams& params) {
+    hits_ = referenceEyePaths(geometry_, buffers_, rays_, params);
+}
+
+void TwinRenderStages::gatherHistograms(const PclGatherParams& params) {
+    if (!spec_.histogramPhotons)
+        throw std::logic_error("render (twin): importance histograms asked of a pass without the global map");
+    histograms_ = referenceGatherHistograms(*spec_.histogramPhotons, hits_, params);
+}
+
+void TwinRenderStages::directLight(const PclDirectParams& params) {
+    direct_ =
+        referenceDirectLight(geometry_, buffers_, hits_, params, params.histogramCells > 0 ? &histograms_ : nullptr);
+}
+
+void TwinRenderStages::causticEstimate(const PclEyeEstimateParams& params) {
+    caustic_ = referenceEstimateAtEyeHits(hits_, params, [&](const std::vector<PclEstimateQuery>& q) {
+        return irradiance(spec_.caustic, q);
+    });
+}
+
+void TwinRenderStages::globalEstimate(const PclEyeEstimateParams& params) {
+    indirect_ = referenceEstimateAtEyeHits(hits_, params, [&](const std::vector<PclEstimateQuery>& q) {
+        return irradiance(spec_.global, q);
+    });
+}
+
+void TwinRenderStages::finalGather(const PclGatherParams& params) {
+    indirect_ = referenceFinalGather(
+                    geometry_, buffers_, hits_, params,
+                    [&](const std::vector<PclEstimateQuery>& q) { return irradiance(spec_.global, q); },
+                    params.histogramCells > 0 ? &histograms_ : nullptr)
+                    .radiance;
+}
+
+void TwinRenderStages::readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) {
+    if (hits_.size() != count)
+        throw std::logic_error("render (twin): chunk of " + std::to_string(count) + " records read after " +
+                               std::to_string(hits_.size()) + " were traced");
+    out.hits = hits_;
+    auto part = [&](bool have, const std::vector<PclRadiance>& v, std::vector<PclRadiance>& o) {
+        if (have) o = v;
+        else o.assign(count, PclRadiance{0, 0, 0, 0});
+    };
+    part(parts.direct, direct_, out.direct);
+    part(parts.caustic, caustic_, out.caustic);
+    part(parts.indirect, indirect_, out.indirect);
+}
+
+}  // namespace pcl
