@@ -78,7 +78,9 @@ void DeviceRenderStages::buildMaps(const PassMapSpec& spec) {
 
 void DeviceRenderStages::cameraRays(const PclCameraParams& params) { generateCameraRays(device_, params, rays_); }
 
-void DeviceRenderStages::eyePaths(const PclEyeParams& params) { traceEyePaths(device_, dscene_, lights_, params, rays_, hits_); }
+void DeviceRenderStages::eyePaths(const PclEyeParams& params) {
+    traceEyePaths(device_, dscene_, lights_, params, rays_, hits_);
+}
 
 void DeviceRenderStages::gatherHistograms(const PclGatherParams& params) {
     if (!maps_->histogram)
