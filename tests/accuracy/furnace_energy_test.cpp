@@ -36,13 +36,10 @@
 #include <vector>
 
 #include "accuracy/accuracy_common.h"
+#include "common/prepared_render.h"
 #include "common/test_scenes.h"
-#include "prep/prepared_scene.h"
 #include "reference/camera.h"
-#include "reference/path_tracer.h"
-#include "render/photon_renderer.h"
 #include "scene/validate.h"
-#include "stages/device_fixture.h"
 
 using namespace pcl;
 using namespace pcl::accuracy;
@@ -158,30 +155,17 @@ PixelErrors pixelErrors(const Image& fullImg, const Image& fullExpected) {
 // Every method against the expected image, in kBlock × kBlock blocks: the mean within 1 % and the
 // 99th percentile of the blocks' relative errors (per channel) under `bound`.
 void checkEveryMethod(const std::string& what, const Scene& scene, const Image& expected, double bound) {
-    PreparedScene p = prepareScene(scene);
+    const auto p = test::prepare(scene);
     for (RenderMethod m : {RenderMethod::FinalGather, RenderMethod::DirectVisualisation, RenderMethod::Progressive,
                            RenderMethod::PathTracing}) {
-        Image img;
-        if (m == RenderMethod::PathTracing) {
-            PathTracerSettings pt;
-            pt.samplesPerPixel = 256;
-            pt.seed = 2;
-            pt.threads = 2;
-            img = PathTracer(scene, p.geometry, pt).render().resolve();
-        } else {
-            PhotonRenderSettings s;
-            s.method = m;
-            s.passes = m == RenderMethod::Progressive ? 16 : 4;
-            s.gatherRays = 32;
-            s.globalPhotons = 100000;
-            s.causticPhotons = 100000;
-            s.seed = 9;
-            PhotonRenderResult r = renderPhotonMapped(test::testDevice(), scene, p.geometry, p.buffers, p.plan, s);
-            EXPECT_EQ(r.nonFiniteSamples, 0u) << what << " " << renderMethodName(m);
-            img = r.film.resolve();
-        }
-        size_t bad = 0;
-        ASSERT_TRUE(allFinite(img, &bad)) << what << " " << renderMethodName(m) << ": pixel " << bad;
+        PhotonRenderSettings s;
+        s.passes = m == RenderMethod::Progressive ? 16 : 4;
+        s.gatherRays = 32;
+        s.globalPhotons = 100000;
+        s.causticPhotons = 100000;
+        s.seed = 9;
+        const Image img = test::renderImage(*p, m, s, 256, 2, what);
+        ASSERT_TRUE(allFinite(img)) << what << " " << renderMethodName(m);
         const PixelErrors e = pixelErrors(img, expected);
         std::printf("[figure] %s, %s: mean ratio %.4f, %dx%d blocks, 99th percentile %.2f %% (bound %.0f %%), "
                     "worst %.2f %%\n",

@@ -15,13 +15,9 @@
 #include <memory>
 
 #include "accuracy/accuracy_common.h"
+#include "common/prepared_render.h"
 #include "geometry/scene_geometry.h"
-#include "prep/plan.h"
-#include "prep/projection_map.h"
-#include "prep/scene_buffers.h"
 #include "reference/path_tracer.h"
-#include "render/photon_renderer.h"
-#include "stages/device_fixture.h"
 
 using namespace pcl;
 using namespace pcl::accuracy;
@@ -100,26 +96,6 @@ BlockErrors blockErrors(const Image& img, const Image& ref, int block, double wi
     }
     b.fractionWithin = counted ? double(inside) / counted : 0;
     return b;
-}
-
-// A scene with everything the photon renderer needs (as photon_render_test.cpp).
-struct Prepared {
-    Scene scene;
-    std::unique_ptr<SceneGeometry> geometry;
-    SceneBuffers buffers;
-    LightPaths paths;
-    RenderPlan plan;
-};
-
-std::unique_ptr<Prepared> prepare(const std::string& name, int width, int height) {
-    auto p = std::make_unique<Prepared>();
-    p->scene = loadSceneAt(name, width, height);
-    p->geometry = std::make_unique<SceneGeometry>(SceneGeometry::build(p->scene));
-    p->buffers = buildSceneBuffers(p->scene, *p->geometry);
-    buildProjectionMaps(p->scene, *p->geometry, p->buffers);
-    p->paths = classifyLightPaths(p->scene, *p->geometry, p->buffers);
-    p->plan = makePlan(p->scene, p->paths);
-    return p;
 }
 
 // Samples per pixel of each Mitsuba reference (scripts/make_mitsuba_references.py).
@@ -305,7 +281,7 @@ TEST(MitsubaReferences, PhotonMethodsAgree) {
          {"cornell-box.json", "cornell-spheres.json", "furnace-0.5.json", "furnace-0.8.json"}) {
         const bool furnace = name.rfind("furnace", 0) == 0;
         MitsubaReference m = readMitsuba(name);
-        auto p = prepare(name, m.mean.width, m.mean.height);
+        auto p = test::prepareFile(name, m.mean.width, m.mean.height);
         for (RenderMethod method :
              {RenderMethod::FinalGather, RenderMethod::DirectVisualisation, RenderMethod::Progressive}) {
             PhotonRenderSettings s;
@@ -317,17 +293,15 @@ TEST(MitsubaReferences, PhotonMethodsAgree) {
             s.globalPhotons = method == RenderMethod::DirectVisualisation ? 100000 : 50000;
             s.causticPhotons = s.globalPhotons;
             s.seed = 3;
-            PhotonRenderResult r =
-                renderPhotonMapped(test::testDevice(), p->scene, *p->geometry, p->buffers, p->plan, s);
-            Image img = r.film.resolve();
+            const PhotonRenderResult r = test::render(*p, s);
+            const Image img = r.film.resolve();
             ImageErrors e = compare(img, m.mean);
             BlockErrors b = blockErrors(img, m.mean, 8, 0.05);
             const std::string what = name + " " + renderMethodName(method);
             std::printf("[figure] %s / Mitsuba (%.1f s): %s; 8x8 blocks: worst %.2f%% (block %d), %.0f%% within 5%%\n",
                         what.c_str(), r.times.total, formatErrors(e).c_str(), 100 * b.worst, b.worstIndex,
                         100 * b.fractionWithin);
-            EXPECT_EQ(r.nonFiniteSamples, 0u) << what;
-            EXPECT_TRUE(allFinite(img)) << what;
+            test::expectFinite(r, img, what);
             if (furnace) {
                 EXPECT_NEAR(e.meanRatio, 1.0, 0.01) << what;
                 EXPECT_LT(b.worst, 0.05) << what;

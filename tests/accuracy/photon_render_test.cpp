@@ -11,54 +11,20 @@
 #include <memory>
 
 #include "accuracy/accuracy_common.h"
+#include "common/prepared_render.h"
 #include "common/test_scenes.h"
 #include "core/math.h"
 #include "geometry/scene_geometry.h"
-#include "prep/plan.h"
-#include "prep/projection_map.h"
-#include "prep/scene_buffers.h"
-#include "reference/path_tracer.h"
-#include "render/photon_renderer.h"
-#include "stages/device_fixture.h"
 
 using namespace pcl;
 using namespace pcl::accuracy;
 
 namespace {
 
-// A scene with everything the renderer needs, at the given size.
-struct Prepared {
-    Scene scene;
-    std::unique_ptr<SceneGeometry> geometry;
-    SceneBuffers buffers;
-    LightPaths paths;
-    RenderPlan plan;
-};
-
-std::unique_ptr<Prepared> prepareScene(Scene scene) {
-    auto p = std::make_unique<Prepared>();
-    p->scene = std::move(scene);
-    p->geometry = std::make_unique<SceneGeometry>(SceneGeometry::build(p->scene));
-    p->buffers = buildSceneBuffers(p->scene, *p->geometry);
-    buildProjectionMaps(p->scene, *p->geometry, p->buffers);
-    p->paths = classifyLightPaths(p->scene, *p->geometry, p->buffers);
-    p->plan = makePlan(p->scene, p->paths);
-    return p;
-}
-
-std::unique_ptr<Prepared> prepare(const std::string& name, int width, int height) {
-    return prepareScene(loadSceneAt(name, width, height));
-}
-
-PhotonRenderResult render(const Prepared& p, PhotonRenderSettings s) {
-    return renderPhotonMapped(test::testDevice(), p.scene, *p.geometry, p.buffers, p.plan, s);
-}
-
-void expectFinite(const PhotonRenderResult& r, const Image& img, const std::string& what) {
-    size_t bad = 0;
-    EXPECT_EQ(r.nonFiniteSamples, 0u) << what;
-    EXPECT_TRUE(allFinite(img, &bad)) << what << ": pixel " << bad;
-}
+using test::expectFinite;
+using test::prepareFile;
+using test::render;
+using test::renderImage;
 
 }  // namespace
 
@@ -76,7 +42,7 @@ TEST(PhotonRenderAccuracy, FinalGatherMatchesEachShippedSceneReference) {
     for (const std::string name :
          {"cornell-box.json", "cornell-spheres.json", "cornell-glossy.json", "motion-dof.json", "gltf-room.gltf"}) {
         Image ref = readImage(referencePath(name));
-        auto p = prepare(name, ref.width, ref.height);
+        auto p = prepareFile(name, ref.width, ref.height);
         PhotonRenderSettings s;
         s.method = RenderMethod::FinalGather;
         s.passes = 2;
@@ -103,7 +69,7 @@ TEST(PhotonRenderAccuracy, FinalGatherMatchesEachShippedSceneReference) {
 TEST(PhotonRenderAccuracy, FinalGatherWithImportanceHistograms) {
     ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
     Image ref = readImage(referencePath("cornell-box.json"));
-    auto p = prepare("cornell-box.json", ref.width, ref.height);
+    auto p = prepareFile("cornell-box.json", ref.width, ref.height);
     PhotonRenderSettings s;
     s.passes = 2;
     s.strata = 2;
@@ -125,30 +91,17 @@ TEST(PhotonRenderAccuracy, FurnaceInEveryMethod) {
     for (double rho : {0.5, 0.8}) {
         const std::string name = rho < 0.7 ? "furnace-0.5.json" : "furnace-0.8.json";
         const double expected = furnaceRadiance(rho);
-        auto p = prepare(name, 32, 32);
+        auto p = prepareFile(name, 32, 32);
         // One sphere seen from inside lights itself: the plan must build the global map.
         ASSERT_TRUE(p->plan.globalMap && p->plan.finalGather) << name;
         for (RenderMethod m : {RenderMethod::FinalGather, RenderMethod::DirectVisualisation, RenderMethod::Progressive,
                                RenderMethod::PathTracing}) {
-            Image img;
-            if (m == RenderMethod::PathTracing) {
-                PathTracerSettings pt;
-                pt.samplesPerPixel = 256;
-                pt.seed = 2;
-                pt.threads = 2;
-                img = PathTracer(p->scene, *p->geometry, pt).render().resolve();
-                EXPECT_TRUE(allFinite(img));
-            } else {
-                PhotonRenderSettings s;
-                s.method = m;
-                s.passes = m == RenderMethod::Progressive ? 8 : 2;
-                s.gatherRays = 16;
-                s.globalPhotons = 100000;
-                s.seed = 5;
-                PhotonRenderResult r = render(*p, s);
-                img = r.film.resolve();
-                expectFinite(r, img, name + " " + renderMethodName(m));
-            }
+            PhotonRenderSettings s;
+            s.passes = m == RenderMethod::Progressive ? 8 : 2;
+            s.gatherRays = 16;
+            s.globalPhotons = 100000;
+            s.seed = 5;
+            const Image img = renderImage(*p, m, s, 256, 2, name);
             double mean = meanValue(img);
             std::printf("[figure] furnace rho %.1f, %s: mean %.5f expected %.5f (%+.3f%%)\n", rho, renderMethodName(m),
                         mean, expected, 100.0 * (mean / expected - 1.0));
@@ -176,7 +129,7 @@ TEST(PhotonRenderAccuracy, ProgressiveZTestOverSixteenSeeds) {
     ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
     const std::string name = "cornell-box.json";
     Image ref = boxDownsample(readImage(referencePath(name)), 2);
-    auto p = prepare(name, ref.width, ref.height);
+    auto p = prepareFile(name, ref.width, ref.height);
     std::vector<Image> runs;
     double seconds = 0.0;
     const uint32_t kPasses = 12;
@@ -225,7 +178,7 @@ TEST(PhotonRenderAccuracy, ProgressiveZTestOverSixteenSeeds) {
 // sums every photon in its disc (up to PCL_KNN_MAX_K) in an order that follows the structure's
 // traversal. Bound: 1e-6 relative.
 TEST(PhotonRenderAccuracy, HashGridAndKdTreeRenderTheSameImage) {
-    auto p = prepare("cornell-spheres.json", 24, 24);
+    auto p = prepareFile("cornell-spheres.json", 24, 24);
     for (RenderMethod m : {RenderMethod::DirectVisualisation, RenderMethod::FinalGather, RenderMethod::Progressive}) {
         PhotonRenderSettings s;
         s.method = m;
@@ -282,34 +235,21 @@ TEST(PhotonRenderAccuracy, RadianceSeenFromInsideGlassScalesByEtaSquared) {
     scene.camera.lookAt = Vec3(0.0f, 0.0f, -1.0f);
     scene.camera.vfovDegrees = 20.0f;
     scene.camera.width = scene.camera.height = 16;
-    auto p = prepareScene(scene);
+    auto p = test::prepare(scene);
 
     const double F = std::pow((eta - 1.0) / (eta + 1.0), 2.0);
     const double expected = double(eta) * eta * rho / (1.0 + F);
     for (RenderMethod m : {RenderMethod::PathTracing, RenderMethod::FinalGather, RenderMethod::DirectVisualisation,
                            RenderMethod::Progressive}) {
-        Image img;
-        if (m == RenderMethod::PathTracing) {
-            PathTracerSettings pt;
-            pt.samplesPerPixel = 256;
-            pt.seed = 7;
-            pt.threads = 2;
-            img = PathTracer(p->scene, *p->geometry, pt).render().resolve();
-            EXPECT_TRUE(allFinite(img));
-        } else {
-            PhotonRenderSettings s;
-            s.method = m;
-            s.strata = m == RenderMethod::Progressive ? 4 : 8;  // 128 samples per pixel in each method
-            s.passes = m == RenderMethod::Progressive ? 8 : 2;
-            s.gatherRays = 16;
-            s.globalPhotons = 200000;
-            s.causticPhotons = 50000;
-            s.globalK = 200;
-            s.seed = 7;
-            PhotonRenderResult r = render(*p, s);
-            img = r.film.resolve();
-            expectFinite(r, img, renderMethodName(m));
-        }
+        PhotonRenderSettings s;
+        s.strata = m == RenderMethod::Progressive ? 4 : 8;  // 128 samples per pixel in each method
+        s.passes = m == RenderMethod::Progressive ? 8 : 2;
+        s.gatherRays = 16;
+        s.globalPhotons = 200000;
+        s.causticPhotons = 50000;
+        s.globalK = 200;
+        s.seed = 7;
+        const Image img = renderImage(*p, m, s, 256, 7, "inside glass");
         double worst = 0.0;
         for (float v : img.rgb) worst = std::max(worst, std::abs(v / expected - 1.0));
         const double mean = meanValue(img);
