@@ -23,6 +23,7 @@
 #include "pipeline/memory_plan.h"
 #include "pipeline/photon_pass.h"
 #include "prep/prepared_scene.h"
+#include "render/auto_method.h"
 #include "render/path_render.h"
 #include "render/photon_renderer.h"
 #include "render/render_settings.h"
@@ -118,8 +119,9 @@ std::string kernelProfileTable(const std::vector<Device::KernelTime>& profile, u
     return out + line;
 }
 
+// `device`: already opened (method auto's pilot ran on it), else opened here.
 int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedScene& prepared,
-                    const std::string& output, Clock::time_point start) {
+                    const std::string& output, Clock::time_point start, std::unique_ptr<Device> device = nullptr) {
     const RenderRequest& q = o.request;
     // --device ref: the whole render on the CPU twin's stages (host/reference), no OpenCL.
     const bool twin = o.device == "ref";
@@ -137,10 +139,9 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
     s.aovs = !aovs.empty();
     s.stop = gStop;
 
-    std::unique_ptr<Device> device;
     std::string deviceName = "ref", platform = "CPU twin (host/reference)";
     if (!twin) {
-        device = std::make_unique<Device>(Device::open(o.device));
+        if (!device) device = std::make_unique<Device>(Device::open(o.device));
         applyBufferCap(*device, o.maxBufferMib);
         device->setProfiling(o.profile);
         // The memory plan for one pass's photon maps, before any work (fails early with advice).
@@ -224,6 +225,25 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
     return kExitOk;
 }
 
+// --method auto: the pilot (render/auto_method.h) picks fg or the path tracer; a time budget
+// pays for the pilot.
+int runAutoMethod(const RenderOptions& o, const Scene& scene, const PreparedScene& prepared, const std::string& output,
+                  Clock::time_point start) {
+    if (o.device == "ref")
+        throw InputError("render: --method auto pilots fg on an OpenCL device; with --device ref give --method");
+    auto device = std::make_unique<Device>(Device::open(o.device));
+    const AutoMethodChoice choice = chooseRenderMethod(*device, scene, prepared, o.request);
+    std::fprintf(stderr, "%s", choice.log().c_str());
+    RenderOptions chosen = o;
+    chosen.request.method = renderMethodName(choice.method);
+    if (o.request.seconds > 0) chosen.request.seconds = std::max(0.1, o.request.seconds - choice.pilotSeconds);
+    if (choice.method == RenderMethod::PathTracing) {
+        if (!o.quiet) std::fprintf(stderr, "%s", formatPlan(scene, prepared.paths, prepared.plan).c_str());
+        return runPathTracer(chosen, scene, prepared.geometry, output, start);
+    }
+    return runPhotonRender(chosen, scene, prepared, output, start, std::move(device));
+}
+
 int runRender(const RenderOptions& o) {
     const RenderRequest& q = o.request;
     const bool path = q.method == "path";
@@ -254,6 +274,7 @@ int runRender(const RenderOptions& o) {
         std::fprintf(stderr, "scene %s: %zu triangles, %zu spheres, %zu lights; BVH %zu nodes in %.2fs\n",
                      o.scene.c_str(), scene.triangleCount(), scene.spheres.size(), scene.lights.size(),
                      prepared.geometry.stats().nodes, prepared.geometry.stats().buildSeconds);
+    if (q.method == "auto") return runAutoMethod(o, scene, prepared, output, start);
     if (!path) return runPhotonRender(o, scene, prepared, output, start);
     if (!o.quiet)
         std::fprintf(stderr, "%smethod %s: reference path tracer, no photon maps\n",
@@ -277,8 +298,9 @@ Run addRenderCommand(CLI::App& app) {
                     "map, indirect light by gather rays into the global map); direct: the global map read at the "
                     "first diffuse hit (fast preview); progressive: fresh photons every pass, fixed-radius estimates "
                     "whose radius shrinks as r²_{i+1} = r²_i (i+α)/(i+1), converging to the reference; path: the CPU "
-                    "reference path tracer")
-        ->check(CLI::IsMember({"fg", "direct", "progressive", "path"}))
+                    "reference path tracer; auto: fg or path, whichever a pilot of each at a quarter of the size "
+                    "(about 2-5 s, paid from --time) says reaches a lower error in the same time")
+        ->check(CLI::IsMember({"fg", "direct", "progressive", "path", "auto"}))
         ->capture_default_str();
     sub->add_option("--device", o->device,
                     "OpenCL device for the photon methods: cpu (PoCL), gpu, auto, <index> or <name substring> "

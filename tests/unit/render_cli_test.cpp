@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <regex>
 #include <string>
 
 #include <unistd.h>
@@ -234,4 +235,31 @@ TEST_F(RenderCliTest, BufferCapKeepsTheImageBits) {
               0);
     Result same = run("compare " + (dir / "b.exr").string() + " " + (dir / "a.exr").string() + " --max-rmse 0");
     EXPECT_EQ(same.status, 0) << same.output;
+}
+
+// --method auto: the pilot logs its figures and its choice (the method with the lower relMSE ×
+// seconds), the render then uses it (the metadata names it) within the time budget; with
+// --device ref it is refused, since the pilot times fg on an OpenCL device.
+TEST_F(RenderCliTest, AutoMethodRendersWithThePilotsChoice) {
+    const fs::path out = dir / "auto.exr";
+    Result r =
+        run("render " + scene("cornell-box.json") + " --method auto --width 32 --time 4 --seed 3 -o " + out.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::smatch m;
+    const std::regex line(R"(method auto: (\w+) \(pilot [0-9.]+ s: relMSE x seconds at full size fg ([0-9.e+-]+) )"
+                          R"(\([0-9.]+ s a pass\), path ([0-9.e+-]+) )");
+    ASSERT_TRUE(std::regex_search(r.output, m, line)) << r.output;
+    const double fg = std::stod(m[2]), path = std::stod(m[3]);
+    EXPECT_TRUE(std::isfinite(fg) && fg > 0 && std::isfinite(path) && path > 0) << r.output;
+    EXPECT_EQ(m[1].str(), fg <= path ? "fg" : "path") << r.output;
+    pcl::ImageMetadata meta;
+    const pcl::Image img = pcl::readImage(out.string(), &meta);
+    EXPECT_EQ(meta.method, m[1].str());
+    EXPECT_LT(meta.seconds, 4.0 + 3.0) << "the pilot is paid from --time; a last pass may overrun";
+    for (float v : img.rgb) ASSERT_TRUE(std::isfinite(v));
+
+    Result ref = run("render " + scene("cornell-box.json") + " --method auto --device ref --width 16 -q -o " +
+                     (dir / "ref.exr").string());
+    EXPECT_EQ(ref.status, pcl::kExitBadInput) << ref.output;
+    EXPECT_NE(ref.output.find("--method auto pilots fg on an OpenCL device"), std::string::npos) << ref.output;
 }
