@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "check/on_device.h"
 #include "check/render.h"
@@ -194,54 +195,51 @@ struct GlossyFloor {
         const double c = dot(r, wi);
         return wi.y > 0 && c > 0 ? rhoS * (e + 2) / (2 * M_PI) * std::pow(c, double(e)) : 0.0;
     }
+    // Device eye paths (n × n strata); visit(x, d, emitted red) for every camera ray that meets
+    // the floor at x. Returns the number of samples.
+    size_t eyePaths(uint32_t strata, uint64_t seed, const std::function<void(Vec3, Vec3, double)>& visit) const {
+        test::BuiltScene b = test::build(scene);
+        const PclCameraParams cp = cameraParams(b.scene.camera, true, true, seed, strata);
+        const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
+        const PclEyeParams ep =
+            eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
+        const std::vector<PclEyeHit> hits = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
+        for (size_t i = 0; i < hits.size(); ++i) {
+            const Vec3 o(rays[i].ox, rays[i].oy, rays[i].oz), d(rays[i].dx, rays[i].dy, rays[i].dz);
+            if (!(d.y < 0)) continue;
+            const Vec3 x = o + d * (-o.y / d.y);
+            if (std::fabs(x.x) <= 3 && std::fabs(x.z) <= 3) visit(x, d, hits[i].emitted[0]);
+        }
+        return hits.size();
+    }
 };
 
 }  // namespace
 
 TEST(EyePaths, GlossyHitsTakeAPointLightsHighlightExactly) {
-    GlossyFloor g(0);
-    test::BuiltScene b = test::build(g.scene);
-    const PclCameraParams cp = cameraParams(b.scene.camera, true, true, 7, 1);
-    const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
-    const PclEyeParams ep =
-        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
-    const std::vector<PclEyeHit> hits = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
+    const GlossyFloor g(0);
     const Vec3 light(0, 1, -1.2f);
     double worst = 0, peak = 0;
     size_t lit = 0;
-    for (size_t i = 0; i < hits.size(); ++i) {
-        const Vec3 o(rays[i].ox, rays[i].oy, rays[i].oz), d(rays[i].dx, rays[i].dy, rays[i].dz);
-        if (!(d.y < 0)) continue;
-        const Vec3 x = o + d * (-o.y / d.y);
-        if (std::fabs(x.x) > 3 || std::fabs(x.z) > 3) continue;
+    const size_t samples = g.eyePaths(1, 7, [&](Vec3 x, Vec3 d, double emitted) {
         const Vec3 toL = light - x;
         const double d2 = dot(toL, toL);
         const Vec3 wi = toL / std::sqrt(float(d2));
         const double expected = g.brdf(d, wi) * 2.0 * wi.y / d2;  // I = 2 W/sr
         peak = std::max(peak, expected);
         lit += expected > 0;
-        worst = std::max(worst, std::fabs(hits[i].emitted[0] - expected) / std::max(expected, 1e-3));
-    }
+        worst = std::max(worst, std::fabs(emitted - expected) / std::max(expected, 1e-3));
+    });
     std::printf("[figure] glossy floor under a point light: %zu lit samples, peak %.4g, worst relative error %.3g\n",
                 lit, peak, worst);
-    EXPECT_GT(lit, hits.size() / 4);
+    EXPECT_GT(lit, samples / 4);
     EXPECT_LT(worst, 5e-5);
 }
 
 TEST(EyePaths, GlossyHitsUnderAnAreaLightAverageToTheIntegral) {
-    GlossyFloor g(1);
-    test::BuiltScene b = test::build(g.scene);
-    const PclCameraParams cp = cameraParams(b.scene.camera, true, true, 9, 2);
-    const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
-    const PclEyeParams ep =
-        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
-    const std::vector<PclEyeHit> hits = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
+    const GlossyFloor g(1);
     double sum = 0, expected = 0;
-    for (size_t i = 0; i < hits.size(); ++i) {
-        const Vec3 o(rays[i].ox, rays[i].oy, rays[i].oz), d(rays[i].dx, rays[i].dy, rays[i].dz);
-        if (!(d.y < 0)) continue;
-        const Vec3 x = o + d * (-o.y / d.y);
-        if (std::fabs(x.x) > 3 || std::fabs(x.z) > 3) continue;
+    const size_t samples = g.eyePaths(2, 9, [&](Vec3 x, Vec3 d, double emitted) {
         // ∫ f Le cosθ cosθ_L / r² dA over the lamp (area 0.04, normal −y), 32 × 32 midpoints.
         double integral = 0;
         for (int v = 0; v < 32; ++v)
@@ -253,10 +251,10 @@ TEST(EyePaths, GlossyHitsUnderAnAreaLightAverageToTheIntegral) {
                 integral += g.brdf(d, wi) * 5.0 * wi.y * wi.y / r2 * (0.04 / 1024);
             }
         expected += integral;
-        sum += hits[i].emitted[0];
-    }
+        sum += emitted;
+    });
     std::printf("[figure] glossy floor under a square lamp: mean of %zu samples %.5g, integral %.5g (ratio %.4f)\n",
-                hits.size(), sum / hits.size(), expected / hits.size(), sum / expected);
+                samples, sum / samples, expected / samples, sum / expected);
     EXPECT_GT(expected, 0.0);
     EXPECT_NEAR(sum / expected, 1.0, 0.02);
 }
