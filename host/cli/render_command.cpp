@@ -235,9 +235,9 @@ int runAutoMethod(const RenderOptions& o, const Scene& scene, const PreparedScen
     const AutoMethodChoice choice = chooseRenderMethod(*device, scene, prepared, o.request);
     std::fprintf(stderr, "%s", choice.log().c_str());
     RenderOptions chosen = o;
-    chosen.request.method = renderMethodName(choice.method);
+    chosen.request = choice.best().request;
     if (o.request.seconds > 0) chosen.request.seconds = std::max(0.1, o.request.seconds - choice.pilotSeconds);
-    if (choice.method == RenderMethod::PathTracing) {
+    if (chosen.request.method == "path") {
         if (!o.quiet) std::fprintf(stderr, "%s", formatPlan(scene, prepared.paths, prepared.plan).c_str());
         return runPathTracer(chosen, scene, prepared.geometry, output, start);
     }

@@ -20,13 +20,18 @@ double renderVariance(const Image& a, const Image& b) { return 0.5 * compare(a, 
 }  // namespace
 
 std::string AutoMethodChoice::log() const {
-    char line[320];
-    std::snprintf(line, sizeof line,
-                  "method auto: %s (pilot %.1f s: relMSE x seconds at full size fg %.3g (%.2f s a pass), path %.3g "
-                  "(%.3f s a sample per pixel); fg's bias is not counted)\n",
-                  renderMethodName(method), pilotSeconds, fgErrorSeconds, fgPassSeconds, pathErrorSeconds,
-                  pathSampleSeconds);
-    return line;
+    char head[96];
+    std::snprintf(head, sizeof head, "method auto: %s (pilot %.1f s: relMSE x seconds at full size",
+                  best().name.c_str(), pilotSeconds);
+    std::string out = head;
+    for (const AutoCandidate& c : candidates) {
+        char item[128];
+        std::snprintf(item, sizeof item, "%s %s %.3g (%.3f s a %s)", &c == &candidates.front() ? "" : ",",
+                      c.name.c_str(), c.errorSeconds, c.unitSeconds,
+                      c.request.method == "path" ? "sample per pixel" : "pass");
+        out += item;
+    }
+    return out + "; fg's bias is not counted)\n";
 }
 
 AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const PreparedScene& prepared,
@@ -39,41 +44,60 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
     const double pixelRatio = double(width) * height / (double(pilot.camera.width) * double(pilot.camera.height));
     AutoMethodChoice c;
 
-    // fg: the full render's settings, one pass per seed.
+    // fg: the full render's settings, one pass per seed; with a caustic map also the 6×6 split
+    // (unless the request fixes the split itself).
     RenderRequest fgRequest = request;
     fgRequest.method = "fg";
-    fgRequest.seconds = 0.0;
-    fgRequest.passes = 1;
-    PhotonRenderSettings s = resolveRenderSettings(fgRequest, prepared.plan, width, height).settings;
-    s.photonBatch = planRenderMemory(device.info(), prepared.geometry, prepared.buffers, s, prepared.plan).photonBatch;
-    Image fg[2];
-    double fixed = 0, scaled = 0;
-    for (int i = 0; i < 2; ++i) {
-        s.seed = request.seed + 1000003 * (i + 1);
-        const PhotonRenderResult r =
-            renderPhotonMapped(device, pilot, prepared.geometry, prepared.buffers, prepared.plan, s);
-        fg[i] = r.film.resolve();
-        fixed += 0.5 * (r.times.photons + r.times.maps);
-        scaled += 0.5 * (r.times.total - r.times.photons - r.times.maps);
+    c.candidates.push_back({"fg", fgRequest});
+    const PhotonRenderSettings fgDefaults = resolveRenderSettings(fgRequest, prepared.plan, width, height).settings;
+    if (fgEyeSamplesReadCaustics(fgDefaults, prepared.plan) && !request.strata && !request.gatherRays &&
+        !request.lightSamples) {
+        RenderRequest wide = fgRequest;
+        wide.strata = 6;
+        wide.gatherRays = 2;
+        wide.lightSamples = 2;
+        c.candidates.push_back({"fg 6x6x2", wide});
     }
-    c.fgPassSeconds = fixed + scaled * pixelRatio;
-    c.fgErrorSeconds = renderVariance(fg[0], fg[1]) * c.fgPassSeconds;
+    for (AutoCandidate& candidate : c.candidates) {
+        RenderRequest one = candidate.request;
+        one.seconds = 0.0;
+        one.passes = 1;
+        PhotonRenderSettings s = resolveRenderSettings(one, prepared.plan, width, height).settings;
+        s.photonBatch =
+            planRenderMemory(device.info(), prepared.geometry, prepared.buffers, s, prepared.plan).photonBatch;
+        Image img[2];
+        double fixed = 0, scaled = 0;
+        for (int i = 0; i < 2; ++i) {
+            s.seed = request.seed + 1000003 * (i + 1);
+            const PhotonRenderResult r =
+                renderPhotonMapped(device, pilot, prepared.geometry, prepared.buffers, prepared.plan, s);
+            img[i] = r.film.resolve();
+            fixed += 0.5 * (r.times.photons + r.times.maps);
+            scaled += 0.5 * (r.times.total - r.times.photons - r.times.maps);
+        }
+        candidate.unitSeconds = fixed + scaled * pixelRatio;
+        candidate.errorSeconds = renderVariance(img[0], img[1]) * candidate.unitSeconds;
+    }
 
     // The path tracer: kPilotSamples per pixel per seed.
-    Image path[2];
+    AutoCandidate path{"path", request};
+    path.request.method = "path";
+    Image img[2];
     double pathSeconds = 0;
     for (int i = 0; i < 2; ++i) {
         PathRenderSettings p;
         p.seed = request.seed + 1000003 * (i + 1);
         p.samples = kPilotSamples;
         const PathRenderResult r = renderPathTraced(pilot, prepared.geometry, p);
-        path[i] = r.film.resolve();
+        img[i] = r.film.resolve();
         pathSeconds += 0.5 * r.seconds;
     }
-    c.pathSampleSeconds = pathSeconds / kPilotSamples * pixelRatio;
-    c.pathErrorSeconds = renderVariance(path[0], path[1]) * pathSeconds * pixelRatio;
+    path.unitSeconds = pathSeconds / kPilotSamples * pixelRatio;
+    path.errorSeconds = renderVariance(img[0], img[1]) * pathSeconds * pixelRatio;
+    c.candidates.push_back(path);
 
-    c.method = c.fgErrorSeconds <= c.pathErrorSeconds ? RenderMethod::FinalGather : RenderMethod::PathTracing;
+    for (size_t i = 1; i < c.candidates.size(); ++i)
+        if (c.candidates[i].errorSeconds < c.candidates[c.chosen].errorSeconds) c.chosen = i;
     c.pilotSeconds = since(start);
     return c;
 }
