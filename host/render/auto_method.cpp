@@ -1,6 +1,7 @@
 #include "render/auto_method.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "core/clock.h"
@@ -11,7 +12,8 @@
 namespace pcl {
 namespace {
 
-constexpr int kPilotShrink = 4;         // the pilot renders width/4 × height/4
+constexpr int kPilotShrink = 4;         // the pilot renders width/4 × height/4 …
+constexpr int kPilotMinWidth = 64;      // … and at least this wide (the whole image if narrower)
 constexpr uint32_t kPilotSamples = 16;  // path tracer samples per pixel per pilot render
 
 // The variance of one render: half the relMSE between two independent ones.
@@ -38,9 +40,11 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
                                     const RenderRequest& request) {
     const Clock::time_point start = Clock::now();
     const int width = scene.camera.width, height = scene.camera.height;
+    // A quarter of the size, but at least kPilotMinWidth wide (the whole image if narrower): the
+    // variance of a few hundred pixels swings with single fireflies.
     Scene pilot = scene;
-    pilot.camera.width = std::max(8, width / kPilotShrink);
-    pilot.camera.height = std::max(8, height / kPilotShrink);
+    pilot.camera.width = std::min(width, std::max(kPilotMinWidth, width / kPilotShrink));
+    pilot.camera.height = std::max(1, int(std::lround(double(height) * pilot.camera.width / width)));
     const double pixelRatio = double(width) * height / (double(pilot.camera.width) * double(pilot.camera.height));
     AutoMethodChoice c;
 
