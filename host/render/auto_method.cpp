@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 #include "core/clock.h"
 #include "image/metrics.h"
@@ -15,9 +16,23 @@ namespace {
 constexpr int kPilotShrink = 4;         // the pilot renders width/4 × height/4 …
 constexpr int kPilotMinWidth = 64;      // … and at least this wide (the whole image if narrower)
 constexpr uint32_t kPilotSamples = 16;  // path tracer samples per pixel per pilot render
+constexpr int kPathPilotRenders = 6;    // the path tracer's pilot renders: its fireflies need more than
+                                        // two for a steady variance (fg's passes are dearer: two)
 
-// The variance of one render: half the relMSE between two independent ones.
-double renderVariance(const Image& a, const Image& b) { return 0.5 * compare(a, b).relMse; }
+// The relative variance of one render from K ≥ 2 independent ones: per pixel and channel the
+// sample variance over the K over (mean² + ε) (relMSE's ε), averaged.
+double renderVariance(const std::vector<Image>& runs) {
+    const size_t K = runs.size(), n = runs.front().rgb.size();
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        double mean = 0.0, sq = 0.0;
+        for (const Image& r : runs) mean += r.rgb[i];
+        mean /= double(K);
+        for (const Image& r : runs) sq += (r.rgb[i] - mean) * (r.rgb[i] - mean);
+        sum += sq / double(K - 1) / (mean * mean + kRelMseEpsilon);
+    }
+    return sum / double(n);
+}
 
 }  // namespace
 
@@ -69,35 +84,35 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
         PhotonRenderSettings s = resolveRenderSettings(one, prepared.plan, width, height).settings;
         s.photonBatch =
             planRenderMemory(device.info(), prepared.geometry, prepared.buffers, s, prepared.plan).photonBatch;
-        Image img[2];
+        std::vector<Image> img;
         double fixed = 0, scaled = 0;
         for (int i = 0; i < 2; ++i) {
             s.seed = request.seed + 1000003 * (i + 1);
             const PhotonRenderResult r =
                 renderPhotonMapped(device, pilot, prepared.geometry, prepared.buffers, prepared.plan, s);
-            img[i] = r.film.resolve();
+            img.push_back(r.film.resolve());
             fixed += 0.5 * (r.times.photons + r.times.maps);
             scaled += 0.5 * (r.times.total - r.times.photons - r.times.maps);
         }
         candidate.unitSeconds = fixed + scaled * pixelRatio;
-        candidate.errorSeconds = renderVariance(img[0], img[1]) * candidate.unitSeconds;
+        candidate.errorSeconds = renderVariance(img) * candidate.unitSeconds;
     }
 
     // The path tracer: kPilotSamples per pixel per seed.
     AutoCandidate path{"path", request};
     path.request.method = "path";
-    Image img[2];
+    std::vector<Image> img;
     double pathSeconds = 0;
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < kPathPilotRenders; ++i) {
         PathRenderSettings p;
         p.seed = request.seed + 1000003 * (i + 1);
         p.samples = kPilotSamples;
         const PathRenderResult r = renderPathTraced(pilot, prepared.geometry, p);
-        img[i] = r.film.resolve();
-        pathSeconds += 0.5 * r.seconds;
+        img.push_back(r.film.resolve());
+        pathSeconds += r.seconds / kPathPilotRenders;
     }
     path.unitSeconds = pathSeconds / kPilotSamples * pixelRatio;
-    path.errorSeconds = renderVariance(img[0], img[1]) * pathSeconds * pixelRatio;
+    path.errorSeconds = renderVariance(img) * pathSeconds * pixelRatio;
     c.candidates.push_back(path);
 
     for (size_t i = 1; i < c.candidates.size(); ++i)
