@@ -51,7 +51,7 @@ TEST(CheckMaps, ComparisonsFailOnWrongAnswers) {
 
     std::vector<PclPhoton> map;
     for (uint32_t i = 0; i < 100; ++i)
-        map.push_back(PclPhoton{float(i % 10), float(i / 10), 0.5f * float(i % 3), i, i});
+        map.push_back(PclPhoton{float(i % 10), float(i / 10), 0.5f * float(i % 3), i, i, 0u});
     ReferenceKdTree t = referenceBuildKdTree(map);
     MapCheckRow same;
     compareKdTrees(map, t.photons, t.index, t.photons, t.index, same);

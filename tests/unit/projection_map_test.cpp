@@ -184,7 +184,9 @@ void expectConservative(const std::string& name, const Prepared& p, uint64_t see
     for (size_t i = 0; i < results.size(); ++i) {
         EXPECT_EQ(results[i].misses, 0u) << name << " light " << i << " (" << typeName(results[i].type)
                                          << "): specular first hits in unmarked cells";
-        if (hitsExpected) EXPECT_GT(results[i].specularHits, 100u) << name << " light " << i;
+        if (hitsExpected) {
+            EXPECT_GT(results[i].specularHits, 100u) << name << " light " << i;
+        }
     }
 }
 

@@ -918,7 +918,8 @@ TEST_F(SceneLoaderTest, FuzzCorpusGivesSceneOrInputError) {
 #ifndef PHOTONCL_HAVE_GLTF
         if (std::string(kind) == "gltf") continue;
 #endif
-        for (const fs::path dir : {root / "corpus" / kind}) {
+        {
+            const fs::path dir = root / "corpus" / kind;
             ASSERT_TRUE(fs::is_directory(dir)) << dir << " is missing";
             for (const auto& entry : fs::directory_iterator(dir)) {
                 std::ifstream in(entry.path(), std::ios::binary);
