@@ -272,7 +272,12 @@ Image readImage(const std::string& path, ImageMetadata* metadata) {
         m.method = spec.get_string_attribute("photoncl:method");
         m.device = spec.get_string_attribute("photoncl:device");
         m.version = spec.get_string_attribute("photoncl:version");
-        m.samples = std::strtoll(spec.get_string_attribute("photoncl:samples", "0").c_str(), nullptr, 10);
+        // A string as photoncl writes it, or an integer as `oiiotool --attrib` writes a number.
+        const OIIO::ParamValue* samples = spec.find_attribute("photoncl:samples");
+        m.samples = !samples ? 0
+                    : samples->type() == OIIO::TypeString
+                        ? std::strtoll(spec.get_string_attribute("photoncl:samples").c_str(), nullptr, 10)
+                        : spec.get_int_attribute("photoncl:samples", 0);
         m.seed = std::strtoull(spec.get_string_attribute("photoncl:seed", "0").c_str(), nullptr, 10);
         m.seconds = spec.get_float_attribute("photoncl:seconds", 0.0f);
         // The other photoncl: string attributes (settings, photons, stage times...) come back as extras.

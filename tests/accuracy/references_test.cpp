@@ -37,9 +37,13 @@ TEST(References, EveryShippedSceneHasAFiniteReference) {
     for (const std::string& name : referencedScenes()) {
         ASSERT_TRUE(std::filesystem::exists(referencePath(name)))
             << referencePath(name) << " missing: run scripts/make_references.py";
-        Image ref = readImage(referencePath(name));
+        ImageMetadata meta;
+        Image ref = readImage(referencePath(name), &meta);
         size_t bad = 0;
         EXPECT_TRUE(allFinite(ref, &bad)) << name << ": pixel " << bad << " is not finite";
+        // make_references.py records the samples per pixel (an integer attribute, by oiiotool).
+        EXPECT_GE(meta.samples, 4096) << name;
+        EXPECT_EQ(meta.method, "path") << name;
         Scene scene = loadScene(scenePath(name));
         // The reference keeps the camera's aspect ratio (render --width W).
         EXPECT_EQ(ref.height, std::max(1, ref.width * scene.camera.height / scene.camera.width)) << name;
