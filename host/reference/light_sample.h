@@ -15,12 +15,6 @@
 
 namespace pcl {
 
-inline float lightSmoothstep(float e0, float e1, float x) {
-    if (e1 <= e0) return x >= e1 ? 1.0f : 0.0f;
-    const float t = std::min(1.0f, std::max(0.0f, (x - e0) / (e1 - e0)));
-    return t * t * (3.0f - 2.0f * t);
-}
-
 // A point, spot or directional light seen from p (facing normal nf, o = p lifted): wi and the
 // factor g with contribution Φ g (times the BRDF); 0 when unlit or occluded.
 inline float lightDelta(const SceneGeometry& geometry, const PclLight& L, Vec3 p, Vec3 nf, Vec3 o, float tau,
@@ -43,7 +37,7 @@ inline float lightDelta(const SceneGeometry& geometry, const PclLight& L, Vec3 p
     if (L.type == PCL_LIGHT_POINT) {
         scale = 1.0f / (4.0f * kPi);
     } else {
-        const float falloff = lightSmoothstep(L.cosOuter, L.cosInner, -dot(eyeVec(L.axis), wi));
+        const float falloff = smoothstep(L.cosOuter, L.cosInner, -dot(eyeVec(L.axis), wi));
         if (!(falloff > 0.0f)) return 0.0f;
         scale = falloff / (2.0f * kPi * ((1.0f - L.cosInner) + 0.5f * (L.cosInner - L.cosOuter)));
     }

@@ -6,16 +6,6 @@
 #include "reference/sampling.h"
 
 namespace pcl {
-namespace {
-
-float smoothstep(float e0, float e1, float x) {
-    if (e1 <= e0) return x >= e1 ? 1.0f : 0.0f;
-    float t = std::min(1.0f, std::max(0.0f, (x - e0) / (e1 - e0)));
-    return t * t * (3.0f - 2.0f * t);
-}
-
-}  // namespace
-
 LightSampler::LightSampler(const Scene& scene, const SceneGeometry& geometry) : scene_(scene) {
     emitterOfPrim_.assign(geometry.primitiveCount(), -1);
     std::vector<double> power;

@@ -2,6 +2,7 @@
 // the MIS weight. References: pbrt-v4 ch. A.5 (sampling functions), Shirley & Chiu 1997
 // (concentric disk), Veach 1997 §9.2 (power heuristic).
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "core/math.h"
@@ -12,6 +13,13 @@ namespace pcl {
 constexpr float kInvPi = 1.0f / kPi;
 
 // Shirley–Chiu concentric map of the square onto the unit disk (area-preserving, low distortion).
+// smoothstep(e0, e1, x): 0 below e0, 1 above e1, t²(3 − 2t) between (a step when e1 ≤ e0).
+inline float smoothstep(float e0, float e1, float x) {
+    if (e1 <= e0) return x >= e1 ? 1.0f : 0.0f;
+    const float t = std::min(1.0f, std::max(0.0f, (x - e0) / (e1 - e0)));
+    return t * t * (3.0f - 2.0f * t);
+}
+
 inline void sampleConcentricDisk(float u1, float u2, float& x, float& y) {
     float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
     if (a == 0.0f && b == 0.0f) {

@@ -15,9 +15,9 @@
 #include <vector>
 
 #include "check/render.h"
+#include "common/prepared_render.h"
 #include "device/device.h"
 #include "image/metrics.h"
-#include "stability/stability_common.h"
 
 using namespace pcl;
 
@@ -66,7 +66,7 @@ void compareDevices(const char* method, const PhotonRenderSettings& settings) {
 
     // cornell-spheres: diffuse walls, a mirror and a glass ball, an area lamp: every map and
     // both kinds of specular path. 32 × 24 keeps PoCL's render to seconds.
-    auto p = stability::prepareFile("cornell-spheres.json", 32, 24);
+    auto p = test::prepareFile("cornell-spheres.json", 32, 24);
     auto render = [&](Device& device) {
         PhotonRenderResult r = renderPhotonMapped(device, p->scene, *p->geometry, p->buffers, p->plan, settings);
         EXPECT_EQ(r.nonFiniteSamples, 0u) << device.info().name;

@@ -22,10 +22,9 @@ void twinMatch(const char* name) {
     test::BuiltScene b = test::shippedScene(name, 48, 36);
     const PclCameraParams cp = cameraParams(b.scene.camera, true, true, eyePassSeed(5, 2), 2);
     const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
-    const PclEyeParams ep =
-        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
-    const std::vector<PclEyeHit> hits = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
     const AreaLightTable table = buildAreaLightTable(b.buffers, b.geometry.primitiveCount());
+    const PclEyeParams ep = eyeParams(cp, b.geometry, b.buffers, table);
+    const std::vector<PclEyeHit> hits = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
     for (uint32_t N : {0u, 16u}) {
         const PclDirectParams dp = directParams(ep, b.geometry, b.buffers, table, 4, N);
         const std::vector<PclRadiance> d = directLightOnDevice(test::testDevice(), b.geometry, b.buffers, hits, dp);

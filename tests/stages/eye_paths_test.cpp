@@ -23,8 +23,7 @@ std::vector<PclEyeHit> deviceEyeHitsLocal(const test::BuiltScene& b, uint32_t st
                                           PclEyeParams* out = nullptr) {
     const PclCameraParams cp = cameraParams(b.scene.camera, true, true, seed, strata);
     const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
-    const PclEyeParams ep =
-        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
+    const PclEyeParams ep = test::eyeParamsFor(cp, b);
     if (out) *out = ep;
     return eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
 }
@@ -33,8 +32,7 @@ void twinMatch(const char* name) {
     test::BuiltScene b = test::shippedScene(name, 48, 36);
     const PclCameraParams cp = cameraParams(b.scene.camera, true, true, eyePassSeed(3, 1), 2);
     const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
-    const PclEyeParams ep =
-        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
+    const PclEyeParams ep = test::eyeParamsFor(cp, b);
     const std::vector<PclEyeHit> d = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
     const std::vector<PclEyeHit> t = referenceEyePaths(b.geometry, b.buffers, rays, ep);
     const StageComparison c = compareEyeHits(d, t, 1e-3, 3);
@@ -201,8 +199,7 @@ struct GlossyFloor {
         test::BuiltScene b = test::build(scene);
         const PclCameraParams cp = cameraParams(b.scene.camera, true, true, seed, strata);
         const std::vector<PclRay> rays = cameraRaysOnDevice(test::testDevice(), cp);
-        const PclEyeParams ep =
-            eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
+        const PclEyeParams ep = test::eyeParamsFor(cp, b);
         const std::vector<PclEyeHit> hits = eyePathsOnDevice(test::testDevice(), b.geometry, b.buffers, rays, ep);
         for (size_t i = 0; i < hits.size(); ++i) {
             const Vec3 o(rays[i].ox, rays[i].oy, rays[i].oz), d(rays[i].dx, rays[i].dy, rays[i].dz);

@@ -72,14 +72,18 @@ inline double meanLuminance(const std::vector<PclRadiance>& r) {
     return r.empty() ? 0.0 : s / double(r.size());
 }
 
+// The eye-path parameters of camera parameters cp on a built scene (its area-light table).
+inline PclEyeParams eyeParamsFor(const PclCameraParams& cp, const BuiltScene& b) {
+    return eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
+}
+
 // Device camera rays and eye paths of a built scene (n × n strata, lens and time as the camera
 // allows); the eye parameters in *params.
 inline std::vector<PclEyeHit> deviceEyeHits(const BuiltScene& b, uint32_t strata, uint64_t passSeed,
                                             PclEyeParams* params = nullptr) {
     const PclCameraParams cp = cameraParams(b.scene.camera, true, true, passSeed, strata);
     const std::vector<PclRay> rays = cameraRaysOnDevice(testDevice(), cp);
-    const PclEyeParams ep =
-        eyeParams(cp, b.geometry, b.buffers, buildAreaLightTable(b.buffers, b.geometry.primitiveCount()));
+    const PclEyeParams ep = eyeParamsFor(cp, b);
     if (params) *params = ep;
     return eyePathsOnDevice(testDevice(), b.geometry, b.buffers, rays, ep);
 }
