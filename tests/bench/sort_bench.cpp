@@ -101,7 +101,7 @@ std::vector<PclPhoton> randomPhotons(size_t n) {
     std::uniform_real_distribution<float> u(-1.0f, 1.0f);
     std::vector<PclPhoton> p(n);
     for (size_t i = 0; i < n; ++i)
-        p[i] = PclPhoton{2.0f * u(rng), u(rng), 0.5f * u(rng), uint32_t(i), uint32_t(i) & 0xFFFFFFu};
+        p[i] = PclPhoton{2.0f * u(rng), u(rng), 0.5f * u(rng), uint32_t(i), uint32_t(i) & 0xFFFFFFu, 0u};
     return p;
 }
 

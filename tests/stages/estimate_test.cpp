@@ -501,8 +501,9 @@ TEST(Estimate, NoLightLeaksThroughAThinWallWithVisibility) {
             EXPECT_GT(foundB, roomB.size() / 4) << "the test needs B points that find A's photons";
             EXPECT_GT(aMean, 0.0);
             EXPECT_LT(aZero, roomA.size() / 20);
-            if (visibility) EXPECT_EQ(leaking, 0u) << "light leaked into room B with the visibility test on";
-            else EXPECT_GT(leaking, 0u) << "expected leaks through the coplanar floor/ceiling without visibility";
+            if (visibility) {
+                EXPECT_EQ(leaking, 0u) << "light leaked into room B with the visibility test on";
+            } else EXPECT_GT(leaking, 0u) << "expected leaks through the coplanar floor/ceiling without visibility";
         }
     }
 }

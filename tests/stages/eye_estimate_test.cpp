@@ -66,7 +66,9 @@ TEST(EyeEstimate, ConstantIrradianceGivesThroughputAlbedoEOverPi) {
         const PclEyeHit& h = hits[i];
         const double expect = (h.flags & PCL_EYE_DIFFUSE) ? h.throughput[1] * h.albedo[1] * 2.5 / M_PI : 0.0;
         worst = std::max(worst, std::fabs(d.radiance[i].g - expect) / std::max(expect, 1e-30));
-        if (!(h.flags & PCL_EYE_DIFFUSE)) EXPECT_EQ(d.queries[i].maxRadius2, 0.0f);
+        if (!(h.flags & PCL_EYE_DIFFUSE)) {
+            EXPECT_EQ(d.queries[i].maxRadius2, 0.0f);
+        }
     }
     std::printf("[figure] constant E at the eye hits: L = T ρ E/π within %.2e relative\n", worst);
     EXPECT_LT(worst, 1e-6);

@@ -138,8 +138,9 @@ TEST(Knn, TestTreeIsLeftBalancedAndSplitsCorrectly) {
         for (size_t c : {2 * i + 1, 2 * i + 2})
             if (c < t.nodes.size()) {
                 const float v = (&t.nodes[c].x)[axis];
-                if (c == 2 * i + 1) EXPECT_LE(v, split[axis]);
-                else EXPECT_GE(v, split[axis]);
+                if (c == 2 * i + 1) {
+                    EXPECT_LE(v, split[axis]);
+                } else EXPECT_GE(v, split[axis]);
             }
     }
     // The same tree as the device build that knnOnDevice searches (pipeline/kdtree).

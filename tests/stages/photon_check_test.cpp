@@ -91,7 +91,9 @@ TEST_P(PhotonCheck, TraceMatchesTheTwin) {
     // specular surfaces (cornell-glossy's mixed floor included) send LS+D photons somewhere.
     ASSERT_EQ(r.rows.size(), 2u);
     EXPECT_EQ(r.rows[1].pass, "caustic");
-    if (r.rows[1].items > 0) EXPECT_GT(r.rows[1].hostDeposits, 0u) << "an empty caustic map checks nothing";
+    if (r.rows[1].items > 0) {
+        EXPECT_GT(r.rows[1].hostDeposits, 0u) << "an empty caustic map checks nothing";
+    }
 }
 
 TEST_P(PhotonCheck, DepositMatchesTheTwinByteForByte) {

@@ -107,8 +107,9 @@ void checkScene(const std::string& path) {
         uint32_t bounce = (p.packed >> PCL_PHOTON_BOUNCE_SHIFT) & 0xFFu, flags = p.packed & 0xFF000000u;
         ASSERT_LT(bounce, o.maxDepth);
         ASSERT_EQ(flags & PCL_PHOTON_CAUSTIC, 0u);
-        if (bounce == 0) ASSERT_EQ(flags, 0u);
-        else ASSERT_NE(flags, 0u);
+        if (bounce == 0) {
+            ASSERT_EQ(flags, 0u);
+        } else ASSERT_NE(flags, 0u);
         ASSERT_LE(maxDecoded(p), maxPerPhoton * growth);
     }
     for (const PclPhoton& p : maps.caustic) {
