@@ -230,18 +230,24 @@ PCL_INLINE PclV3 sampling_refract(PclV3 d, PclV3 nf, pcl_f32 cosI, pcl_f32 eta) 
 
 /* ---- Photon record encodings (kernels/README.md, "Photon record") ---------------------- */
 
-/* Ward's RGBE: the largest channel sets a shared exponent, each channel keeps 8 bits. */
+/* min(255, max(0, ⌊x⌋)) as a byte, NaN to 0, by a conversion instead of floor (PoCL's floor is a
+ * branchy software routine): for 1 <= x < 256 truncation is the floor, and every other x lands
+ * on 0 or 255 either way. */
+PCL_INLINE pcl_u32 photon_floor_to_byte(pcl_f32 x) {
+    return x >= 256.0f ? 255u : (x >= 1.0f ? (pcl_u32)x : 0u);
+}
+
+/* Ward's RGBE: the largest channel sets a shared exponent, each channel keeps 8 bits (the
+ * channel byte min(255, max(0, ⌊c·scale + 0.5⌋))). */
 PCL_INLINE pcl_u32 photon_rgbe_encode(pcl_f32 r, pcl_f32 g, pcl_f32 b) {
     pcl_f32 v = sampling_max3(r, g, b);
     if (!(v >= 1e-32f)) return 0u;
     int e;
     pcl_f32 m = PCL_FREXPF(v, &e);
     pcl_f32 scale = m * 256.0f / v;
-    pcl_f32 fr = PCL_FLOORF(r * scale + 0.5f), fg = PCL_FLOORF(g * scale + 0.5f),
-            fb = PCL_FLOORF(b * scale + 0.5f);
-    pcl_u32 br = fr > 255.0f ? 255u : (fr > 0.0f ? (pcl_u32)fr : 0u);
-    pcl_u32 bg = fg > 255.0f ? 255u : (fg > 0.0f ? (pcl_u32)fg : 0u);
-    pcl_u32 bb = fb > 255.0f ? 255u : (fb > 0.0f ? (pcl_u32)fb : 0u);
+    pcl_u32 br = photon_floor_to_byte(r * scale + 0.5f);
+    pcl_u32 bg = photon_floor_to_byte(g * scale + 0.5f);
+    pcl_u32 bb = photon_floor_to_byte(b * scale + 0.5f);
     pcl_u32 be = (pcl_u32)(e + 128);
     return br | (bg << 8) | (bb << 16) | (be << 24);
 }

@@ -19,6 +19,12 @@ PclV3 randomUnit(std::mt19937& rng) {
     return sampling_uniform_sphere(u(rng), u(rng));
 }
 
+float floatFromBits(uint32_t b) {
+    float f;
+    std::memcpy(&f, &b, sizeof f);
+    return f;
+}
+
 TEST(SharedSampling, BasisIsOrthonormalEverywhereIncludingTheSouthPole) {
     std::mt19937 rng(1);
     for (int i = 0; i < 10000; ++i) {
@@ -141,6 +147,25 @@ TEST(SharedSampling, RgbeKeepsEightBitsOfTheLargestChannel) {
     }
 }
 
+TEST(SharedSampling, FloorToByteIsTheClampedFloorForEveryFloat) {
+    // Against min(255, max(0, ⌊x⌋)) (NaN to 0), the channel byte as the README defines it:
+    // every 997th float of either sign, and every float in [0, 257] beside an integer.
+    auto want = [](float x) {
+        float f = std::floor(x);
+        return f > 255.0f ? 255u : (f > 0.0f ? uint32_t(f) : 0u);
+    };
+    for (uint64_t b = 0; b <= 0xFFFFFFFFull; b += 997) {
+        float x = floatFromBits(uint32_t(b));
+        ASSERT_EQ(photon_floor_to_byte(x), want(x)) << x;
+    }
+    for (int k = 0; k <= 257; ++k)
+        for (float toward : {-1.0f, 300.0f}) {
+            float x = float(k);
+            for (int s = 0; s < 64; ++s, x = std::nextafter(x, toward))
+                ASSERT_EQ(photon_floor_to_byte(x), want(x)) << x;
+        }
+}
+
 TEST(SharedSampling, DirectionBytesRoundTripWithinABin) {
     std::mt19937 rng(4);
     for (int i = 0; i < 100000; ++i) {
@@ -168,12 +193,6 @@ uint32_t thetaByteByLibrary(float wz) {
 }
 uint32_t phiByteByLibrary(float wx, float wy) {
     return uint32_t(int32_t(std::floor(std::atan2(wy, wx) * 128.0f / PCL_PI_F))) & 255u;
-}
-
-float floatFromBits(uint32_t b) {
-    float f;
-    std::memcpy(&f, &b, sizeof f);
-    return f;
 }
 
 TEST(SharedSampling, ApproximateAcosAndAtan2StayWellInsideTheByteMargin) {
