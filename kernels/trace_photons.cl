@@ -86,7 +86,8 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
             else
                 stored = params.storeGlobal != 0u;
             if (stored)
-                slot[(size_t)(count++) * params.batchSize] = trace_make_photon(p, nf, phi, d, b - 1u, flags | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
+                slot[(size_t)(count++) * params.batchSize] =
+                    trace_make_photon(p, nf, phi, d, b - 1u, flags | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
         }
         /* A caustic path that ends at this hit is STORED when it deposited here. */
         const uint endHere = (caustic && stored) ? PCL_END_STORED : PCL_END_ABSORBED;
