@@ -7,8 +7,9 @@
  *                   out: exclusive[i] += groupOffsets[i / PCL_SCAN_GROUP]
  *   Together (the host recurses over the group sums) an exclusive prefix sum of the per-path
  *   counts: integer sums, so the result is exact and independent of scheduling.
- * deposit_scatter   in:  counts[n], offsets[n] (exclusive prefix sum), slots[n*S], base
- *                   out: map[base + offsets[i] + k] = slots[i*S + k] for k < counts[i]
+ * deposit_scatter   in:  counts[n], offsets[n] (exclusive prefix sum), slots[S*n] slot-major
+ *                   (record k of path i at k*n + i, as trace_photons writes them), base
+ *                   out: map[base + offsets[i] + k] = slots[k*n + i] for k < counts[i]
  *   The host has grown the map to hold base + Σ counts before this runs. */
 #include "shared/types.h"
 
@@ -41,12 +42,12 @@ __kernel void deposit_scan_add(__global uint* exclusive, __global const uint* gr
 }
 
 __kernel void deposit_scatter(__global const uint* counts, __global const uint* offsets,
-                              __global const PclPhoton* slots, uint slotsPerPath, uint n,
+                              __global const PclPhoton* slots, uint n,
                               __global PclPhoton* map, uint base) {
     const uint i = (uint)get_global_id(0);
     if (i >= n) return;
     const uint c = counts[i];
-    __global const PclPhoton* src = slots + (size_t)i * slotsPerPath;
+    __global const PclPhoton* src = slots + i;
     __global PclPhoton* dst = map + (size_t)base + offsets[i];
-    for (uint k = 0u; k < c; ++k) dst[k] = src[k];
+    for (uint k = 0u; k < c; ++k) dst[k] = src[(size_t)k * n];
 }

@@ -7,9 +7,11 @@
  *      nodes, packets, spheres the flat 8-wide BVH (shared/bvh.h)
  *      primInfo[prim]          normal or sphere centre/radius, material, motion
  *      materials[]             PclMaterial: ρd, ρs, specular kind, exponent, ior
- * out: slots[i*S .. i*S+S)     PclPhoton records of path i in hit order (S = maxDepth in both
- *                              passes: at most one record per hit); only the first counts[i]
- *                              are written
+ * out: slots[k*batchSize + i]  record k < S of path i, in hit order (S = maxDepth in both
+ *                              passes: at most one record per hit); only k < counts[i] are
+ *                              written. Slot-major, so the first records of neighbouring paths
+ *                              share cache lines and pages: path-major (i*S + k) wrote one line
+ *                              per path across a 100 MB buffer (TLB and write-allocate misses).
  *      counts[i]               records deposited by path i
  *      ends[i]                 b | cause << 8: the bounce the path ended at and PCL_END_*
  *
@@ -44,7 +46,7 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
     const uint j = params.firstPhoton + i;
     const ulong seed = (ulong)params.seedLo | ((ulong)params.seedHi << 32);
     const uint stream = caustic ? PCL_RNG_STREAM_CAUSTIC : PCL_RNG_STREAM_PHOTON;
-    __global PclPhoton* slot = slots + (size_t)i * params.maxDepth;
+    __global PclPhoton* slot = slots + i;  /* record k at slot[k * batchSize] */
 
     const PclPhotonRay start = rays[i];
     PclV3 o = sampling_v3(start.ox, start.oy, start.oz);
@@ -84,7 +86,8 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
             else
                 stored = params.storeGlobal != 0u;
             if (stored)
-                slot[count++] = trace_make_photon(p, nf, phi, d, b - 1u, flags | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
+                slot[(size_t)(count++) * params.batchSize] =
+                    trace_make_photon(p, nf, phi, d, b - 1u, flags | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
         }
         /* A caustic path that ends at this hit is STORED when it deposited here. */
         const uint endHere = (caustic && stored) ? PCL_END_STORED : PCL_END_ABSORBED;

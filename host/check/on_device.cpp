@@ -63,11 +63,14 @@ PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geom
         p.firstPhoton = params.firstPhoton + uint32_t(first);
         p.batchSize = uint32_t(m);
         tracePhotons(device, scene, p, rayBuf, slots, counts, ends);
+        std::vector<PclPhoton> chunkSlots(m * S);  // slot-major: record k of path p at k*m + p
         Device::guard("download", [&] {
-            device.queue().enqueueReadBuffer(slots, CL_TRUE, 0, m * S * sizeof(PclPhoton), r.slots.data() + first * S);
+            device.queue().enqueueReadBuffer(slots, CL_TRUE, 0, m * S * sizeof(PclPhoton), chunkSlots.data());
             device.queue().enqueueReadBuffer(counts, CL_TRUE, 0, m * sizeof(uint32_t), r.counts.data() + first);
             device.queue().enqueueReadBuffer(ends, CL_TRUE, 0, m * sizeof(uint32_t), r.ends.data() + first);
         });
+        const std::vector<PclPhoton> chunkPathMajor = pathMajor(chunkSlots, m, uint32_t(S));
+        std::copy(chunkPathMajor.begin(), chunkPathMajor.end(), r.slots.begin() + first * S);
     }
     for (size_t i = 0; i < n; ++i)
         for (uint32_t k = r.counts[i]; k < S; ++k) r.slots[i * S + k] = PclPhoton{};
@@ -99,9 +102,10 @@ std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_
         cl::Buffer countBuf = device.upload(std::vector<uint32_t>(counts.begin() + first, counts.begin() + first + m),
                                             CL_MEM_READ_ONLY, "photon pass: counts");
         cl::Buffer slotBuf =
-            device.upload(std::vector<PclPhoton>(slots.begin() + first * S, slots.begin() + (first + m) * S),
+            device.upload(slotMajor(std::vector<PclPhoton>(slots.begin() + first * S, slots.begin() + (first + m) * S),
+                                    m, uint32_t(S)),
                           CL_MEM_READ_ONLY, "photon pass: slots");
-        depositPhotons(device, countBuf, slotBuf, uint32_t(m), slotsPerPath, map);
+        depositPhotons(device, countBuf, slotBuf, uint32_t(m), map);
     }
     if (growths) *growths = map.growths;
     return device.download<PclPhoton>(map.photons, map.count);

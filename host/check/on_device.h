@@ -36,7 +36,8 @@ std::vector<PclPhotonRay> emitOnDevice(Device& device, const SceneGeometry& geom
 
 struct PhotonTraceResult {
     uint32_t slotsPerPath = 0;
-    std::vector<PclPhoton> slots;  // paths × slotsPerPath; slot k of path i valid for k < counts[i]
+    std::vector<PclPhoton> slots;  // path-major (the twin's layout: slot k of path i at i*S + k, valid for
+                                   // k < counts[i]), whatever the device's layout
     std::vector<uint32_t> counts;  // records deposited per path
     std::vector<uint32_t> ends;    // bounce | PCL_END_* << 8 per path
 };
@@ -48,7 +49,8 @@ PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geom
 
 // ---- deposit (pipeline/deposit.h) ----------------------------------------------------------
 
-// Deposit alone, for checks and tests: counts.size() paths, slots.size() == paths × slotsPerPath.
+// Deposit alone, for checks and tests: counts.size() paths, slots.size() == paths × slotsPerPath,
+// path-major as the twin writes them (uploaded slot-major, as the device keeps them).
 // The map starts with `initialCapacity` records (0: exactly the total) and is downloaded.
 std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_t>& counts,
                                        const std::vector<PclPhoton>& slots, uint32_t slotsPerPath,

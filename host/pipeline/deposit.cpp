@@ -44,8 +44,30 @@ uint64_t exclusiveScan(Device& device, const cl::Buffer& values, cl::Buffer& exc
     return total;
 }
 
+namespace {
+
+std::vector<PclPhoton> transposeSlots(const std::vector<PclPhoton>& in, size_t rows, size_t cols) {
+    if (in.size() != rows * cols)
+        throw InternalError("photon slots: " + std::to_string(in.size()) + " records, expected " +
+                            std::to_string(rows) + " x " + std::to_string(cols));
+    std::vector<PclPhoton> out(in.size());
+    for (size_t r = 0; r < rows; ++r)
+        for (size_t c = 0; c < cols; ++c) out[c * rows + r] = in[r * cols + c];
+    return out;
+}
+
+}  // namespace
+
+std::vector<PclPhoton> slotMajor(const std::vector<PclPhoton>& pathMajor, size_t paths, uint32_t slotsPerPath) {
+    return transposeSlots(pathMajor, paths, slotsPerPath);
+}
+
+std::vector<PclPhoton> pathMajor(const std::vector<PclPhoton>& slotMajor, size_t paths, uint32_t slotsPerPath) {
+    return transposeSlots(slotMajor, slotsPerPath, paths);
+}
+
 size_t depositPhotons(Device& device, const cl::Buffer& counts, const cl::Buffer& slots, uint32_t paths,
-                      uint32_t slotsPerPath, DevicePhotonMap& map, DepositTiming* timing) {
+                      DevicePhotonMap& map, DepositTiming* timing) {
     if (paths == 0) return 0;
     DepositTiming local;
     DepositTiming& t = timing ? *timing : local;
@@ -82,11 +104,10 @@ size_t depositPhotons(Device& device, const cl::Buffer& counts, const cl::Buffer
         map.capacity = capacity;
         ++map.growths;
     }
-    auto scatter = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl_uint>(
-        "deposit", "deposit_scatter");
+    auto scatter =
+        device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl_uint>("deposit", "deposit_scatter");
     cl::Event e = device.launchLocal("deposit", scatter, photonGlobalRange(paths), cl::NDRange(kPhotonGroup), counts,
-                                     offsets, slots, cl_uint(slotsPerPath), cl_uint(paths), map.photons,
-                                     cl_uint(map.count));
+                                     offsets, slots, cl_uint(paths), map.photons, cl_uint(map.count));
     e.wait();
     t.scatterSeconds += Device::elapsedSeconds(e);
     map.count += total;

@@ -39,9 +39,16 @@ struct DepositTiming {
 uint64_t exclusiveScan(Device& device, const cl::Buffer& values, cl::Buffer& exclusive, size_t n,
                        double* seconds = nullptr);
 
-// Appends the records of `paths` paths (counts[i] valid records in slots[i*S .. i*S+S)) to map:
-// scan, grow the map if base + total exceeds its capacity, scatter. Returns the records added.
+// Appends the records of `paths` paths (counts[i] valid records, record k of path i in
+// slots[k*paths + i]: the device's slot-major layout) to map: scan, grow the map if base + total
+// exceeds its capacity, scatter. Returns the records added.
 size_t depositPhotons(Device& device, const cl::Buffer& counts, const cl::Buffer& slots, uint32_t paths,
-                      uint32_t slotsPerPath, DevicePhotonMap& map, DepositTiming* timing = nullptr);
+                      DevicePhotonMap& map, DepositTiming* timing = nullptr);
+
+// The device's slot-major slots of `paths` paths (record k of path i at k*paths + i) from the
+// twin's path-major ones (at i*S + k), and back: for checks and tests that move slots between
+// the two.
+std::vector<PclPhoton> slotMajor(const std::vector<PclPhoton>& pathMajor, size_t paths, uint32_t slotsPerPath);
+std::vector<PclPhoton> pathMajor(const std::vector<PclPhoton>& slotMajor, size_t paths, uint32_t slotsPerPath);
 
 }  // namespace pcl

@@ -62,7 +62,7 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
         cl::Event emitted = emitPhotons(device, scene, lightFirst, params, rays);
         cl::Event traced = tracePhotons(device, scene, params, rays, slots, counts, ends);
         DepositTiming timing;
-        depositPhotons(device, counts, slots, params.batchSize, slotsPerPath, map, &timing);
+        depositPhotons(device, counts, slots, params.batchSize, map, &timing);
         tallyEnds(device.download<uint32_t>(ends, params.batchSize), s);
         const double emitS = Device::elapsedSeconds(emitted), traceS = Device::elapsedSeconds(traced);
         const double depositS = timing.scanSeconds + timing.growSeconds + timing.scatterSeconds;

@@ -23,8 +23,8 @@ uint32_t defaultPhotonBatch(size_t maxAlloc, bool gpu, uint32_t slotsPerPath);
 uint32_t photonSlotsPerPath(const PclPhotonParams& params);
 
 // Enqueues trace_photons_global or trace_photons_caustic (by params.pass) over
-// params.batchSize paths: rays in, slots (batchSize × photonSlotsPerPath), counts and ends
-// (batchSize each) out.
+// params.batchSize paths: rays in, slots (photonSlotsPerPath × batchSize, slot-major: record k of
+// path i at k*batchSize + i), counts and ends (batchSize each) out.
 cl::Event tracePhotons(Device& device, const DeviceScene& scene, const PclPhotonParams& params, const cl::Buffer& rays,
                        cl::Buffer& slots, cl::Buffer& counts, cl::Buffer& ends);
 

@@ -230,18 +230,24 @@ PCL_INLINE PclV3 sampling_refract(PclV3 d, PclV3 nf, pcl_f32 cosI, pcl_f32 eta) 
 
 /* ---- Photon record encodings (kernels/README.md, "Photon record") ---------------------- */
 
-/* Ward's RGBE: the largest channel sets a shared exponent, each channel keeps 8 bits. */
+/* min(255, max(0, ⌊x⌋)) as a byte, NaN to 0, by a conversion instead of floor (PoCL's floor is a
+ * branchy software routine): for 1 <= x < 256 truncation is the floor, and every other x lands
+ * on 0 or 255 either way. */
+PCL_INLINE pcl_u32 photon_floor_to_byte(pcl_f32 x) {
+    return x >= 256.0f ? 255u : (x >= 1.0f ? (pcl_u32)x : 0u);
+}
+
+/* Ward's RGBE: the largest channel sets a shared exponent, each channel keeps 8 bits (the
+ * channel byte min(255, max(0, ⌊c·scale + 0.5⌋))). */
 PCL_INLINE pcl_u32 photon_rgbe_encode(pcl_f32 r, pcl_f32 g, pcl_f32 b) {
     pcl_f32 v = sampling_max3(r, g, b);
     if (!(v >= 1e-32f)) return 0u;
     int e;
     pcl_f32 m = PCL_FREXPF(v, &e);
     pcl_f32 scale = m * 256.0f / v;
-    pcl_f32 fr = PCL_FLOORF(r * scale + 0.5f), fg = PCL_FLOORF(g * scale + 0.5f),
-            fb = PCL_FLOORF(b * scale + 0.5f);
-    pcl_u32 br = fr > 255.0f ? 255u : (fr > 0.0f ? (pcl_u32)fr : 0u);
-    pcl_u32 bg = fg > 255.0f ? 255u : (fg > 0.0f ? (pcl_u32)fg : 0u);
-    pcl_u32 bb = fb > 255.0f ? 255u : (fb > 0.0f ? (pcl_u32)fb : 0u);
+    pcl_u32 br = photon_floor_to_byte(r * scale + 0.5f);
+    pcl_u32 bg = photon_floor_to_byte(g * scale + 0.5f);
+    pcl_u32 bb = photon_floor_to_byte(b * scale + 0.5f);
     pcl_u32 be = (pcl_u32)(e + 128);
     return br | (bg << 8) | (bb << 16) | (be << 24);
 }
@@ -259,14 +265,69 @@ PCL_INLINE void photon_rgbe_decode(pcl_u32 rgbe, pcl_f32* r, pcl_f32* g, pcl_f32
     *b = PCL_LDEXPF((pcl_f32)((rgbe >> 16) & 255u), e);
 }
 
+/* acos and atan2 to within 1e-6 radians, for photon_dir_encode's fast path (PoCL's scalar acos
+ * and atan2 were a seventh of trace_photons' CPU samples under perf). acos: Abramowitz & Stegun 4.4.46,
+ * acos(a) = √(1 - a) (a0 + ... + a7 a⁷) + ε, |ε| ≤ 2e-8 on [0, 1], with acos(-a) = π - acos(a).
+ * atan: t Q(t²) on [0, 1], a degree-6 Q fitted by iteratively reweighted least squares (Lawson),
+ * |error| ≤ 2.6e-7 in float coefficients, with the octant folded in afterwards. */
+PCL_INLINE pcl_f32 sampling_acos_approx(pcl_f32 z) {
+    pcl_f32 a = PCL_FABSF(z);
+    pcl_f32 p = -0.0012624911f;
+    p = p * a + 0.0066700901f;
+    p = p * a - 0.0170881256f;
+    p = p * a + 0.0308918810f;
+    p = p * a - 0.0501743046f;
+    p = p * a + 0.0889789874f;
+    p = p * a - 0.2145988016f;
+    p = p * a + 1.5707963050f;
+    pcl_f32 r = PCL_SQRTF(1.0f - a) * p;
+    return z < 0.0f ? PCL_PI_F - r : r;
+}
+PCL_INLINE pcl_f32 sampling_atan2_approx(pcl_f32 y, pcl_f32 x) {
+    pcl_f32 ax = PCL_FABSF(x), ay = PCL_FABSF(y);
+    pcl_f32 t = ay > ax ? ax / ay : ay / ax;
+    pcl_f32 s = t * t;
+    pcl_f32 q = 0.00681179296f;
+    q = q * s - 0.0336042196f;
+    q = q * s + 0.0796236694f;
+    q = q * s - 0.132333428f;
+    q = q * s + 0.198078156f;
+    q = q * s - 0.333173692f;
+    q = q * s + 0.999996126f;
+    pcl_f32 a = t * q;
+    if (ay > ax) a = PCL_PI_F / 2.0f - a;
+    if (x < 0.0f) a = PCL_PI_F - a;
+    return y < 0.0f ? -a : a;
+}
+
+/* Whether ⌊V⌋ can be read off v, an approximation of V with |v - V| well below
+ * PCL_DIR_BYTE_MARGIN: true, with *f = ⌊v⌋ = ⌊V⌋, when v is more than the margin away from an
+ * integer; false near a bin edge, at an exact edge (φ = ±π, w_z = ±1), and for NaN, where the
+ * caller computes V with the library. The margin covers the approximation (≤ 1e-6 rad, ≤ 1e-4
+ * in bytes) and the library's own rounding (acos and atan2 within a few ulp), 10× over:
+ * tests/unit/shared_sampling_test.cpp checks every float w_z for θ, and directions beside every
+ * φ edge, against the library. */
+#define PCL_DIR_BYTE_MARGIN 2e-3f
+PCL_INLINE int sampling_floor_if_clear(pcl_f32 v, pcl_f32* f) {
+    *f = PCL_FLOORF(v);
+    pcl_f32 frac = v - *f;
+    return frac > PCL_DIR_BYTE_MARGIN && frac < 1.0f - PCL_DIR_BYTE_MARGIN;
+}
+
 /* θ byte = min(255, ⌊acos(w_z)·256/π⌋), φ byte = ⌊atan2(w_y, w_x)·128/π⌋ & 255; returns
- * θ | φ << 8 (the low half of PclPhoton::packed). */
+ * θ | φ << 8 (the low half of PclPhoton::packed). The bytes are those of the library acos and
+ * atan2, which are called only where the approximations are too close to a bin edge to tell
+ * (about 0.4 % of calls each for uniform directions). The fast path scales by 256/π and 128/π
+ * as constants, a multiply instead of a division: one more rounding, inside the margin. */
 PCL_INLINE pcl_u32 photon_dir_encode(pcl_f32 wx, pcl_f32 wy, pcl_f32 wz) {
     pcl_f32 z = wz > 1.0f ? 1.0f : (wz < -1.0f ? -1.0f : wz);
-    pcl_f32 th = PCL_FLOORF(PCL_ACOSF(z) * 256.0f / PCL_PI_F);
+    pcl_f32 th, pf;
+    if (!sampling_floor_if_clear(sampling_acos_approx(z) * (256.0f / PCL_PI_F), &th))
+        th = PCL_FLOORF(PCL_ACOSF(z) * 256.0f / PCL_PI_F);
     pcl_u32 theta = th > 255.0f ? 255u : (th > 0.0f ? (pcl_u32)th : 0u);
-    pcl_i32 ph = (pcl_i32)PCL_FLOORF(PCL_ATAN2F(wy, wx) * 128.0f / PCL_PI_F);
-    pcl_u32 phi = ((pcl_u32)ph) & 255u;
+    if (!sampling_floor_if_clear(sampling_atan2_approx(wy, wx) * (128.0f / PCL_PI_F), &pf))
+        pf = PCL_FLOORF(PCL_ATAN2F(wy, wx) * 128.0f / PCL_PI_F);
+    pcl_u32 phi = ((pcl_u32)(pcl_i32)pf) & 255u;
     return theta | (phi << 8);
 }
 

@@ -82,11 +82,11 @@ TEST(Deposit, AMapThatWouldOverflowGrowsAndKeepsEveryRecord) {
     Device& dev = test::testDevice();
     RandomBatch a = randomBatch(5000, 2), b = randomBatch(7000, 3);
     DevicePhotonMap map = makeDevicePhotonMap(dev, 100);
-    cl::Buffer ca = dev.upload(a.counts), sa = dev.upload(a.slots);
-    cl::Buffer cb = dev.upload(b.counts), sb = dev.upload(b.slots);
-    size_t na = depositPhotons(dev, ca, sa, 5000, a.slotsPerPath, map);
+    cl::Buffer ca = dev.upload(a.counts), sa = dev.upload(slotMajor(a.slots, 5000, a.slotsPerPath));
+    cl::Buffer cb = dev.upload(b.counts), sb = dev.upload(slotMajor(b.slots, 7000, b.slotsPerPath));
+    size_t na = depositPhotons(dev, ca, sa, 5000, map);
     EXPECT_EQ(map.growths, 1u);
-    size_t nb = depositPhotons(dev, cb, sb, 7000, b.slotsPerPath, map);
+    size_t nb = depositPhotons(dev, cb, sb, 7000, map);
     EXPECT_GE(map.growths, 2u);
     std::vector<PclPhoton> want = expectedOrder(a), wantB = expectedOrder(b);
     ASSERT_EQ(na, want.size());

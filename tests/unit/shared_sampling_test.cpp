@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "shared/sampling.h"
@@ -16,6 +17,12 @@ double len(PclV3 v) { return std::sqrt(double(v.x) * v.x + double(v.y) * v.y + d
 PclV3 randomUnit(std::mt19937& rng) {
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     return sampling_uniform_sphere(u(rng), u(rng));
+}
+
+float floatFromBits(uint32_t b) {
+    float f;
+    std::memcpy(&f, &b, sizeof f);
+    return f;
 }
 
 TEST(SharedSampling, BasisIsOrthonormalEverywhereIncludingTheSouthPole) {
@@ -140,6 +147,25 @@ TEST(SharedSampling, RgbeKeepsEightBitsOfTheLargestChannel) {
     }
 }
 
+TEST(SharedSampling, FloorToByteIsTheClampedFloorForEveryFloat) {
+    // Against min(255, max(0, ⌊x⌋)) (NaN to 0), the channel byte as the README defines it:
+    // every 997th float of either sign, and every float in [0, 257] beside an integer.
+    auto want = [](float x) {
+        float f = std::floor(x);
+        return f > 255.0f ? 255u : (f > 0.0f ? uint32_t(f) : 0u);
+    };
+    for (uint64_t b = 0; b <= 0xFFFFFFFFull; b += 997) {
+        float x = floatFromBits(uint32_t(b));
+        ASSERT_EQ(photon_floor_to_byte(x), want(x)) << x;
+    }
+    for (int k = 0; k <= 257; ++k)
+        for (float toward : {-1.0f, 300.0f}) {
+            float x = float(k);
+            for (int s = 0; s < 64; ++s, x = std::nextafter(x, toward))
+                ASSERT_EQ(photon_floor_to_byte(x), want(x)) << x;
+        }
+}
+
 TEST(SharedSampling, DirectionBytesRoundTripWithinABin) {
     std::mt19937 rng(4);
     for (int i = 0; i < 100000; ++i) {
@@ -156,6 +182,78 @@ TEST(SharedSampling, DirectionBytesRoundTripWithinABin) {
     // φ wraps two's-complement: atan2 just below 0 lands in byte 255.
     EXPECT_EQ((photon_dir_encode(1.0f, -1e-3f, 0.0f) >> 8) & 255u, 255u);
     EXPECT_EQ((photon_dir_encode(1.0f, 1e-3f, 0.0f) >> 8) & 255u, 0u);
+}
+
+// photon_dir_encode's bytes as the README defines them, straight from the library (the
+// encoding before its fast path, and the twin's).
+uint32_t thetaByteByLibrary(float wz) {
+    float z = wz > 1.0f ? 1.0f : (wz < -1.0f ? -1.0f : wz);
+    float th = std::floor(std::acos(z) * 256.0f / PCL_PI_F);
+    return th > 255.0f ? 255u : (th > 0.0f ? uint32_t(th) : 0u);
+}
+uint32_t phiByteByLibrary(float wx, float wy) {
+    return uint32_t(int32_t(std::floor(std::atan2(wy, wx) * 128.0f / PCL_PI_F))) & 255u;
+}
+
+TEST(SharedSampling, ApproximateAcosAndAtan2StayWellInsideTheByteMargin) {
+    // The fast path is safe when its error, in byte units, is far below PCL_DIR_BYTE_MARGIN.
+    double worstTheta = 0, worstPhi = 0;
+    for (int i = 0; i <= 200000; ++i) {
+        float z = -1.0f + 2.0f * float(i) / 200000.0f;
+        worstTheta = std::max(worstTheta, std::abs(double(sampling_acos_approx(z)) - std::acos(double(z))));
+    }
+    std::mt19937 rng(11);
+    for (int i = 0; i < 200000; ++i) {
+        PclV3 w = randomUnit(rng);
+        worstPhi = std::max(worstPhi,
+                            std::abs(double(sampling_atan2_approx(w.y, w.x)) - std::atan2(double(w.y), double(w.x))));
+    }
+    EXPECT_LT(worstTheta * 256.0 / kPi, PCL_DIR_BYTE_MARGIN / 10.0) << worstTheta;
+    EXPECT_LT(worstPhi * 128.0 / kPi, PCL_DIR_BYTE_MARGIN / 10.0) << worstPhi;
+}
+
+TEST(SharedSampling, DirectionBytesAreTheLibrarysAtEveryThetaAndBesideEveryEdge) {
+    // θ depends on w_z alone: every 1021st float in [-1, 1] (all 2.1e9 were checked
+    // once, with no difference), and every float within 256 ulps of each bin edge.
+    auto checkZ = [](float z) { ASSERT_EQ(photon_dir_encode(0.6f, 0.8f, z) & 255u, thetaByteByLibrary(z)) << z; };
+    for (uint32_t b = 0; b <= 0x3F800000u; b += 1021) {
+        checkZ(floatFromBits(b));
+        checkZ(-floatFromBits(b));
+    }
+    for (int k = 0; k <= 256; ++k) {
+        float edge = float(std::cos(k * kPi / 256.0));
+        for (float toward : {-2.0f, 2.0f}) {
+            float z = edge;
+            for (int s = 0; s <= 256; ++s, z = std::nextafter(z, toward)) checkZ(z);
+        }
+    }
+    // φ: directions beside every bin edge (angles kπ/128 nudged by 0..64 ulps in x and y, at
+    // several lengths and elevations) and random unit vectors.
+    int checked = 0;
+    for (int k = -128; k <= 128; ++k)
+        for (float r : {1.0f, 0.3f, 1e-3f})
+            for (int d = -64; d <= 64; d += 4) {
+                float x = float(r * std::cos(k * kPi / 128.0)), y = float(r * std::sin(k * kPi / 128.0));
+                for (int s = 0; s < std::abs(d); ++s) {
+                    x = std::nextafter(x, d < 0 ? -2.0f : 2.0f);
+                    y = std::nextafter(y, d < 0 ? 2.0f : -2.0f);
+                }
+                for (float yy : {y, d == 0 && y == 0.0f ? -0.0f : y}) {
+                    ASSERT_EQ((photon_dir_encode(x, yy, 0.1f) >> 8) & 255u, phiByteByLibrary(x, yy))
+                        << k << " " << x << " " << yy;
+                    ++checked;
+                }
+            }
+    std::mt19937 rng(12);
+    for (int i = 0; i < 1000000; ++i) {
+        PclV3 w = randomUnit(rng);
+        ASSERT_EQ(photon_dir_encode(w.x, w.y, w.z), thetaByteByLibrary(w.z) | (phiByteByLibrary(w.x, w.y) << 8));
+    }
+    EXPECT_GT(checked, 20000);
+    // Signed zeros and the ±π edge: atan2(±0, -1) = ±π, bytes 128 both ways.
+    EXPECT_EQ((photon_dir_encode(-1.0f, 0.0f, 0.0f) >> 8) & 255u, 128u);
+    EXPECT_EQ((photon_dir_encode(-1.0f, -0.0f, 0.0f) >> 8) & 255u, 128u);
+    EXPECT_EQ((photon_dir_encode(1.0f, -0.0f, 0.0f) >> 8) & 255u, 0u);
 }
 
 }  // namespace
