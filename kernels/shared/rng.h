@@ -33,6 +33,7 @@
 #define PCL_RNG_STREAM_GATHER 2u
 #define PCL_RNG_STREAM_LIGHT 3u
 #define PCL_RNG_STREAM_CAUSTIC 4u
+#define PCL_RNG_STREAM_LIGHT_PATH 5u /* the host reference's light tracer (light path, pass) */
 #define PCL_RNG_STREAM_TEST 0xFFFFFFFFu
 
 PCL_INLINE pcl_u32 rng_mulhi32(pcl_u32 a, pcl_u32 b) {
