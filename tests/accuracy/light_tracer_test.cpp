@@ -18,6 +18,7 @@
 #include "reference/light_tracer.h"
 #include "reference/path_tracer.h"
 #include "reference/sampling.h"
+#include "render/path_render.h"
 
 using namespace pcl;
 using namespace pcl::test_scenes;
@@ -313,4 +314,42 @@ TEST(LightTracerAccuracy, DeterministicAcrossThreadsAndPasses) {
     EXPECT_EQ(split.sums(), one.sums());  // splats are added pass by pass, in path order, either way
     lightTraced(scene, geometry, 4, 4, LightTracerPaths::ThroughSpecular, 64, 2, &other);
     EXPECT_NE(other.sums(), one.sums());
+}
+
+// render --method path's loop (render/path_render.h) adds the light tracer where the scene needs
+// it, one pass of width × height light paths per sample per pixel, and keeps its promises: all
+// samples in one call and one sample at a time give the same bits; fixed-point sums (batch
+// shards) agree to rounding; without light tracing it is the path tracer alone, and darker.
+TEST(LightTracerAccuracy, PathRenderAddsTheLightTracerWhereTheSceneNeedsIt) {
+    Scene scene = accuracy::loadSceneAt("cornell-spheres-point.json", 24, 24);
+    SceneGeometry geometry = SceneGeometry::build(scene);
+    PathRenderSettings s;
+    s.seed = 3;
+    s.samples = 3;
+    s.threads = 2;
+    PathRenderResult once = renderPathTraced(scene, geometry, s);
+    EXPECT_NE(once.lightTracing.find("point light 'ceiling-point'"), std::string::npos) << once.lightTracing;
+    EXPECT_EQ(once.lightPaths, 3u * 24u * 24u);
+    EXPECT_GT(once.lightSplats, 0u);
+    EXPECT_EQ(once.discarded, 0u);
+
+    PathRenderSettings oneAtATime = s;
+    oneAtATime.seconds = 1e6;  // a budget: one sample per pixel per call
+    EXPECT_EQ(renderPathTraced(scene, geometry, oneAtATime).film.sums(), once.film.sums());
+
+    PathRenderSettings fixed = s;
+    fixed.fixedPoint = true;
+    const Image a = once.film.resolve(), b = renderPathTraced(scene, geometry, fixed).sums.resolve();
+    for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_NEAR(b.rgb[i], a.rgb[i], 1e-6 * (1.0 + a.rgb[i])) << i;
+
+    PathRenderSettings alone = s;
+    alone.lightTracing = false;
+    PathRenderResult pathOnly = renderPathTraced(scene, geometry, alone);
+    EXPECT_EQ(pathOnly.lightTracing, "");
+    EXPECT_EQ(pathOnly.lightPaths, 0u);
+    PathTracerSettings pt;
+    pt.seed = 3;
+    pt.samplesPerPixel = 3;
+    EXPECT_EQ(pathOnly.film.sums(), PathTracer(scene, geometry, pt).render().sums());
+    EXPECT_GT(accuracy::meanValue(a), accuracy::meanValue(pathOnly.film.resolve()));
 }

@@ -11,23 +11,24 @@
 
 #include "accuracy/accuracy_common.h"
 #include "geometry/scene_geometry.h"
-#include "reference/path_tracer.h"
+#include "render/path_render.h"
 
 using namespace pcl;
 using namespace pcl::accuracy;
 
 namespace {
 
+// What the references are made with (`render --method path`): the path tracer, plus the light
+// tracer where a delta light shines through mirrors or glass (render/path_render.h).
 Image pathTraced(const Scene& scene, int spp, uint64_t seed) {
     SceneGeometry geometry = SceneGeometry::build(scene);
-    PathTracerSettings settings;
-    settings.samplesPerPixel = spp;
+    PathRenderSettings settings;
+    settings.samples = static_cast<uint32_t>(spp);
     settings.seed = seed;
     settings.threads = 2;
-    PathTracerStats stats;
-    Image img = PathTracer(scene, geometry, settings).render(&stats).resolve();
-    EXPECT_EQ(stats.discardedSamples, 0u);
-    return img;
+    PathRenderResult r = renderPathTraced(scene, geometry, settings);
+    EXPECT_EQ(r.discarded, 0u);
+    return r.film.resolve();
 }
 
 }  // namespace
