@@ -1,4 +1,4 @@
-// Ground truth itself: every shipped scene has a path-traced reference in
+// Ground truth itself: every shipped scene has a reference (render --method path) in
 // tests/data/, finite, at the size the accuracy tests render; the furnace scenes' references
 // and fresh path-traced renders give L = ρ/(1−ρ) within 1 %; a short fresh render agrees with
 // each stored reference per pixel (a stale reference after a scene edit fails here, not in a
@@ -76,7 +76,8 @@ TEST(References, FurnaceMatchesTheClosedForm) {
     }
 }
 
-// A fresh path-traced render at the reference's size, per pixel: 16 independent runs of 8
+// A fresh render by the references' own method (path tracer, plus the light tracer where the
+// scene needs it) at the reference's size, per pixel: 16 independent runs of 8
 // samples (seeds 101-116) against the stored reference by a Z-test on 2×2 pixel blocks, |z| < 4
 // (Student's t with 15 degrees of freedom passes 99.88 % of pure noise; the reference's own noise
 // is a thirtieth of the runs' and left out); at least 98.5 % of the blocks must pass (measured
@@ -144,5 +145,5 @@ TEST(References, EqualTimeReferencesAgreeWithTheSmallOnes) {
         EXPECT_NEAR(e.meanRatio, 1.0, 0.005) << big;
         EXPECT_LT(e.relMse, 2e-3) << big;
     }
-    EXPECT_EQ(found, 4u) << "tests/data/references-256.md lists four 256x256 references";
+    EXPECT_EQ(found, 7u) << "tests/data/references-256.md lists seven 256x256 references (every scene but the furnaces)";
 }
