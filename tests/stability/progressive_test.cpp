@@ -45,8 +45,9 @@ TEST(Progressive, ErrorFallsStrictlyOverFourSixteenSixtyFourPasses) {
             (passes == 4 ? firstRelMse : lastRelMse) = e.relMse;
         }
         const double slope = std::log(lastRelMse / firstRelMse) / std::log(16.0);
-        std::printf("[figure] progressive %s (vs reference): %s (strictly decreasing); relMSE slope %.3f (bound -0.4)\n",
-                    name.c_str(), line.c_str(), slope);
+        std::printf(
+            "[figure] progressive %s (vs reference): %s (strictly decreasing); relMSE slope %.3f (bound -0.4)\n",
+            name.c_str(), line.c_str(), slope);
         EXPECT_LT(slope, -0.4) << name;
     }
 }
