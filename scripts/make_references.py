@@ -57,6 +57,8 @@ a specular surface again (the caustic under the glass ball seen in the mirror ba
 glass, the light reflected by the mirror ball seen through the glass ball). No estimator that
 connects non-delta vertices finds those (bidirectional path tracing included); they lie only in
 the pixels whose camera ray first hits a mirror or glass, which the references hold without them.
+Its size on cornell-spheres-point, by progressive photon mapping (64 passes, 64 wide): +5.2 % on
+the 503 pixels that see a ball, −0.2 % elsewhere, so about 0.5 % of the image mean.
 The light tracer's share of the mean: cornell-spheres-point +3.8 %, motion-dof +0.2 %, gltf-room
 +0.2 %. Before it (references made before 2026-12-02) these scenes' references lacked it: photon
 mapping then read +4.5 % above cornell-spheres-point's.
