@@ -27,7 +27,7 @@ bool hasDeltaLobe(const Material& m) {
 // Numbers of a light path: the light, the shutter time and the emitted ray; each vertex then
 // uses PathVertexDims (kLightPoint: the lens point of its connection to the camera).
 struct LightPathDims {
-    static constexpr uint32_t kLightSelect = 0, kTime = 1, kDirection = 2, kPosition = 4;
+    static constexpr uint32_t kLightSelect = 0, kTime = 1, kDirection = 2, kPosition = 4, kTarget = 6;
 };
 
 // |ω_in·ns| |ω_out·ng| / (|ω_in·ng| |ω_out·ns|): the adjoint BSDF's shading-normal factor
@@ -71,8 +71,23 @@ LightTracer::LightTracer(const Scene& scene, const SceneGeometry& geometry, Ligh
         sceneCentre_ = Vec3(0.0f);
         sceneRadius_ = 1.0f;
     }
-    // Power of each delta light (any positive choice stays unbiased; power keeps variance low).
+    // The targets: bounding spheres of the mirror and dielectric primitives over the shutter.
+    for (const Sphere& sp : scene.spheres)
+        if (hasDeltaLobe(scene.materials[sp.material]))
+            targets_.push_back({sp.centre + sp.motion * 0.5f, (sp.radius + 0.5f * length(sp.motion)) * 1.0001f});
+    for (const TriangleMesh& mesh : scene.meshes) {
+        if (mesh.positions.empty() || !hasDeltaLobe(scene.materials[mesh.material])) continue;
+        Bounds3 mb;
+        for (Vec3 p : mesh.positions) {
+            mb.extend(p);
+            mb.extend(p + mesh.motion);
+        }
+        targets_.push_back({(mb.lo + mb.hi) * 0.5f, 0.5f * length(mb.extent()) * 1.0001f + 1e-6f});
+    }
+    // Each delta light's power (any positive choice stays unbiased; power keeps variance low),
+    // times the fraction of it aimed at the targets.
     std::vector<double> power;
+    double total = 0.0, aimed = 0.0;
     for (uint32_t i = 0; i < scene.lights.size(); ++i) {
         const Light& l = scene.lights[i];
         double p = 0.0;
@@ -83,65 +98,141 @@ LightTracer::LightTracer(const Scene& scene, const SceneGeometry& geometry, Ligh
             case LightType::Area: continue;  // the path tracer's own
         }
         if (!(p > 0.0)) continue;
-        lights_.push_back(i);
-        power.push_back(p);
+        double fraction = 1.0;
+        Emission e = emissionOf(i, fraction);
+        if (!(fraction > 0.0)) continue;  // aimed at nothing: no path of this light counts
+        total += p;
+        aimed += p * fraction;
+        lights_.push_back(std::move(e));
+        power.push_back(p * fraction);
     }
-    double total = 0.0;
-    for (double p : power) total += p;
+    if (lights_.empty()) return;
     double running = 0.0;
     for (double p : power) {
         running += p;
-        cdf_.push_back(running / total);
-        probability_.push_back(static_cast<float>(p / total));
+        cdf_.push_back(running / aimed);
+        probability_.push_back(static_cast<float>(p / aimed));
     }
-    if (!cdf_.empty()) cdf_.back() = 1.0;
+    cdf_.back() = 1.0;
+    const double pixels = double(scene.camera.width) * double(scene.camera.height);
+    pathsPerPass_ = static_cast<uint32_t>(std::max(1.0, std::ceil(pixels * aimed / total)));
+}
+
+LightTracer::Emission LightTracer::emissionOf(uint32_t index, double& aimedFraction) const {
+    const Light& light = scene_.lights[index];
+    Emission e;
+    e.light = index;
+    aimedFraction = 1.0;
+    if (settings_.paths == LightTracerPaths::All) return e;  // every path counts: emit uniformly
+    if (!settings_.aim) return e;
+    if (targets_.empty()) {
+        aimedFraction = 0.0;
+        return e;
+    }
+    if (light.type == LightType::Directional) {
+        // Discs on the plane the parallel rays start from (sceneRadius_ · 2 behind the centre).
+        const Vec3 d = normalize(light.direction), start = sceneCentre_ - d * (2.0f * sceneRadius_);
+        for (const Target& t : targets_) {
+            e.disc.push_back(t.centre - d * dot(t.centre - start, d));
+            e.radius.push_back(t.radius);
+            e.measure += kPi * double(t.radius) * t.radius;
+            e.cdf.push_back(e.measure);
+        }
+        aimedFraction = std::min(1.0, e.measure / (kPi * double(sceneRadius_) * sceneRadius_));
+    } else {
+        for (const Target& t : targets_) {
+            const Vec3 v = t.centre - light.position;
+            const float dist = length(v);
+            if (!(dist > t.radius)) return e;  // the light is inside a bound: emit uniformly
+            const float sin2 = (t.radius / dist) * (t.radius / dist);
+            e.axis.push_back(v / dist);
+            e.cosMax.push_back(std::sqrt(std::max(0.0f, 1.0f - sin2)));
+            e.measure += 2.0 * kPi * (1.0 - double(e.cosMax.back()));
+            e.cdf.push_back(e.measure);
+        }
+        const double emitted = light.type == LightType::Point ? 4.0 * kPi : 2.0 * kPi * (1.0 - double(light.cosOuter));
+        aimedFraction = std::min(1.0, e.measure / emitted);
+    }
+    if (!(e.measure > 0.0)) {
+        aimedFraction = 0.0;
+        return e;
+    }
+    for (double& c : e.cdf) c /= e.measure;
+    e.cdf.back() = 1.0;
+    e.aimed = true;
+    return e;
 }
 
 void LightTracer::tracePath(uint32_t pass, uint32_t path, std::vector<Splat>& splats, uint64_t& discarded) const {
     Sampler sampler(settings_.seed, path, pass, PCL_RNG_STREAM_LIGHT_PATH);
-    // The light, by power.
+    // The light, by the power it aims at the targets.
     float u = sampler.get(LightPathDims::kLightSelect);
     size_t k =
         std::min<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), double(u)) - cdf_.begin(), lights_.size() - 1);
     while (probability_[k] == 0.0f && k > 0) --k;
-    const Light& light = scene_.lights[lights_[k]];
+    const Emission& emission = lights_[k];
+    const Light& light = scene_.lights[emission.light];
     const float time = camera_.hasShutter() ? sampler.get(LightPathDims::kTime) : 0.0f;
     const float u1 = sampler.get(LightPathDims::kDirection), u2 = sampler.get(LightPathDims::kDirection + 1);
+    // The target, if aimed: by solid angle or area.
+    size_t target = 0;
+    if (emission.aimed) {
+        double ut = sampler.get(LightPathDims::kTarget);
+        target = std::min<size_t>(std::upper_bound(emission.cdf.begin(), emission.cdf.end(), ut) - emission.cdf.begin(),
+                                  emission.cdf.size() - 1);
+    }
 
     // The emitted ray and its flux weight β = (emitted intensity or irradiance) / (pdf · choice).
     Vec3 origin, dir, beta;
-    switch (light.type) {
-        case LightType::Point:
-            origin = light.position;
+    if (light.type == LightType::Directional) {
+        dir = normalize(light.direction);
+        float x, y;
+        sampleConcentricDisk(sampler.get(LightPathDims::kPosition), sampler.get(LightPathDims::kPosition + 1), x, y);
+        Vec3 t, b;
+        makeBasis(dir, t, b);
+        if (emission.aimed) {
+            // A point on a target's disc; the density counts every disc that holds it.
+            origin = emission.disc[target] + (t * x + b * y) * emission.radius[target];
+            int holding = 0;
+            for (size_t j = 0; j < emission.disc.size(); ++j) {
+                Vec3 o = origin - emission.disc[j];
+                holding += dot(o, o) <= emission.radius[j] * emission.radius[j];
+            }
+            beta = light.irradiance * float(emission.measure / std::max(1, holding));
+        } else {
+            // Parallel rays through a disc of the scene's bounding radius, from outside the scene.
+            origin = sceneCentre_ + (t * x + b * y) * sceneRadius_ - dir * (2.0f * sceneRadius_);
+            beta = light.irradiance * (kPi * sceneRadius_ * sceneRadius_);
+        }
+    } else {
+        origin = light.position;
+        if (emission.aimed) {
+            // Uniform in a target's cone; the density counts every cone that holds the direction.
+            const float cosMax = emission.cosMax[target];
+            const float cosTheta = 1.0f - u1 * (1.0f - cosMax);
+            const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+            Vec3 t, b;
+            makeBasis(emission.axis[target], t, b);
+            dir = fromLocal(t, b, emission.axis[target], sinTheta, cosTheta, 2.0f * kPi * u2);
+            int holding = 0;
+            for (size_t j = 0; j < emission.axis.size(); ++j)
+                holding += dot(dir, emission.axis[j]) >= emission.cosMax[j];
+            beta = light.intensity * float(emission.measure / std::max(1, holding));
+        } else if (light.type == LightType::Point) {
             dir = sampleUniformSphere(u1, u2);
             beta = light.intensity * (4.0f * kPi);
-            break;
-        case LightType::Spot: {
+        } else {
             // Uniform in the outer cone: pdf 1 / (2π (1 - cosOuter)).
             Vec3 axis = normalize(light.direction);
             float cosTheta = 1.0f - u1 * (1.0f - light.cosOuter);
             float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
             Vec3 t, b;
             makeBasis(axis, t, b);
-            origin = light.position;
             dir = fromLocal(t, b, axis, sinTheta, cosTheta, 2.0f * kPi * u2);
-            beta = light.intensity *
-                   (smoothstep(light.cosOuter, light.cosInner, cosTheta) * 2.0f * kPi * (1.0f - light.cosOuter));
-            break;
+            beta = light.intensity * (2.0f * kPi * (1.0f - light.cosOuter));
         }
-        case LightType::Directional: {
-            // Parallel rays through a disc of the scene's bounding radius, from outside the scene.
-            dir = normalize(light.direction);
-            float x, y;
-            sampleConcentricDisk(sampler.get(LightPathDims::kPosition), sampler.get(LightPathDims::kPosition + 1), x,
-                                 y);
-            Vec3 t, b;
-            makeBasis(dir, t, b);
-            origin = sceneCentre_ + (t * x + b * y) * sceneRadius_ - dir * (2.0f * sceneRadius_);
-            beta = light.irradiance * (kPi * sceneRadius_ * sceneRadius_);
-            break;
-        }
-        case LightType::Area: return;
+        if (light.type == LightType::Spot)
+            beta *= smoothstep(light.cosOuter, light.cosInner, dot(dir, normalize(light.direction)));
     }
     beta = beta / probability_[k];
     if (!(maxComponent(beta) > 0.0f)) return;
@@ -158,7 +249,7 @@ void LightTracer::tracePath(uint32_t pass, uint32_t path, std::vector<Splat>& sp
     ray.time = time;
 
     const bool all = settings_.paths == LightTracerPaths::All;
-    const float invPaths = 1.0f / float(scene_.camera.width * scene_.camera.height);
+    const float invPaths = 1.0f / float(pathsPerPass_);
     Vec3 throughput(1.0f);  // relative to β, for Russian roulette
     for (int depth = 0;; ++depth) {
         PclHit hit;
@@ -217,8 +308,8 @@ void LightTracer::render(Film& film, LightTracerStats* stats) const {
                          ", expected the camera's " + std::to_string(width) + "x" + std::to_string(height));
     const auto start = Clock::now();
     LightTracerStats st;
-    const uint32_t pathsPerPass = static_cast<uint32_t>(width) * static_cast<uint32_t>(height);
-    if (!lights_.empty() && settings_.passes > 0) {
+    const uint32_t pathsPerPass = pathsPerPass_;
+    if (pathsPerPass > 0 && settings_.passes > 0) {
         // Fixed chunks of paths, traced in parallel a batch at a time and splatted in chunk
         // order: the same sums for any thread count.
         constexpr uint32_t kChunk = 1024;

@@ -19,7 +19,16 @@
 // non-delta vertices (bidirectional path tracing included) finds L S D S E either. L S* E, the
 // delta light itself seen in a mirror, is an infinitely thin image that no method here renders.
 //
-// Units: pass s traces N = width × height light paths; each connection adds β f G We / N to its
+// Emission aims at the specular objects (Jensen's projection map, exact): in ThroughSpecular
+// mode a path counts only if its first hit scatters through a delta lobe, which lies inside the
+// bounding sphere of a mirror or dielectric primitive, so a point or spot light samples
+// directions in the cones of those spheres and a directional light points on their shadows
+// (discs) — the density is the mixture's, counting every cone or disc that holds the sample.
+// A light inside a bounding sphere emits uniformly. All mode always emits uniformly.
+//
+// Units: pass s traces N light paths, N = width × height times the fraction of the lights'
+// power aimed at the targets (All: width × height), so a pass finds about as many specular
+// first bounces as width × height uniform paths would. Each connection adds β f G We / N to its
 // pixel (β the path's flux weight), an unbiased estimate of the pixel's average radiance from
 // those paths, splatted into the film's sums (Film::splat) with weight 1 per pass, the weight a
 // path-traced sample gives a pixel. Refraction carries flux unscaled (no η², importance
@@ -51,6 +60,7 @@ struct LightTracerSettings {
     int maxDepth = 64;       // bounces after the light; Russian roulette ends paths long before
     int rouletteDepth = 3;   // Russian roulette from this bounce on
     LightTracerPaths paths = LightTracerPaths::ThroughSpecular;
+    bool aim = true;  // false: ThroughSpecular emits uniformly too (a check of the aimed densities)
 };
 
 struct LightTracerStats {
@@ -68,20 +78,42 @@ public:
     // camera's size (InputError otherwise).
     void render(Film& film, LightTracerStats* stats = nullptr) const;
 
+    // Light paths per pass (0: no delta light, nothing to trace).
+    uint32_t pathsPerPass() const { return pathsPerPass_; }
+
 private:
     struct Splat {
         uint32_t pixel;
         Vec3 value;
     };
+    // A bounding sphere of a mirror or dielectric primitive (over the shutter interval).
+    struct Target {
+        Vec3 centre;
+        float radius;
+    };
+    // How one delta light emits: uniformly, or aimed at the targets (cones or discs).
+    struct Emission {
+        uint32_t light = 0;  // index into scene.lights
+        bool aimed = false;
+        std::vector<Vec3> axis;     // point, spot: unit direction to each target
+        std::vector<float> cosMax;  //   and its cone's half-angle cosine
+        std::vector<Vec3> disc;     // directional: each target's disc centre on the start plane
+        std::vector<float> radius;  //   and its radius
+        std::vector<double> cdf;    // target choice, by solid angle or area
+        double measure = 0.0;       // total solid angle or area of the cones or discs
+    };
     void tracePath(uint32_t pass, uint32_t path, std::vector<Splat>& splats, uint64_t& discarded) const;
+    Emission emissionOf(uint32_t light, double& aimedFraction) const;
 
     const Scene& scene_;
     const SceneGeometry& geometry_;
     LightTracerSettings settings_;
     RayCamera camera_;
-    std::vector<uint32_t> lights_;  // the delta lights (indices into scene.lights)
-    std::vector<double> cdf_;       // chosen by power
+    std::vector<Target> targets_;
+    std::vector<Emission> lights_;  // the delta lights
+    std::vector<double> cdf_;       // chosen by the power they aim at the targets
     std::vector<float> probability_;
+    uint32_t pathsPerPass_ = 0;
     Vec3 sceneCentre_;
     float sceneRadius_ = 1.0f;  // directional lights: the disc their parallel rays start from
 };
