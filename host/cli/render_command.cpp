@@ -86,10 +86,11 @@ int runPathTracer(const RenderOptions& o, const Scene& scene, const SceneGeometr
                  png.empty() ? "" : " and ", png.c_str(), image.width, image.height, r.samples, seconds, sps);
     if (!r.lightTracing.empty() && !o.quiet)
         std::fprintf(stderr,
-                     "light tracer: %s, so every sample per pixel also traced %dx%d light paths from the delta "
-                     "lights through specular surfaces (%.3g paths, %.3g connections to the camera); "
+                     "light tracer: %s, so every sample per pixel also traced %.3g light paths aimed from the delta "
+                     "lights at the mirrors and glass (%.3g in all, %.3g connections to the camera); "
                      "--no-light-tracing: the path tracer alone\n",
-                     r.lightTracing.c_str(), image.width, image.height, double(r.lightPaths), double(r.lightSplats));
+                     r.lightTracing.c_str(), r.samples ? double(r.lightPaths) / r.samples : 0.0, double(r.lightPaths),
+                     double(r.lightSplats));
     if (r.discarded)
         std::fprintf(stderr, "warning: %llu non-finite path samples were discarded\n",
                      static_cast<unsigned long long>(r.discarded));

@@ -7,7 +7,7 @@
 //
 // Where the path tracer alone misses light (a delta light shining through a mirror or glass:
 // reference/light_tracer.h), each sample per pixel also runs one pass of the light tracer
-// (width × height light paths) and adds its splats: the sum is the reference. Its sums are
+// (up to width × height light paths) and adds its splats: the sum is the reference. Its sums are
 // kept apart and added at the end (doubles) or added as a pass of their own (fixed point), so
 // both ways still give the same bits.
 #pragma once
