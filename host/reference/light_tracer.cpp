@@ -47,12 +47,15 @@ std::string pathsThePathTracerMisses(const Scene& scene) {
             light = &l;
             break;
         }
+    // A mirror or dielectric some primitive wears.
     const Material* material = nullptr;
-    for (const Material& m : scene.materials)
-        if (hasDeltaLobe(m)) {
-            material = &m;
-            break;
-        }
+    auto consider = [&](int index) {
+        if (!material && index >= 0 && size_t(index) < scene.materials.size() && hasDeltaLobe(scene.materials[index]))
+            material = &scene.materials[index];
+    };
+    for (const Sphere& sp : scene.spheres) consider(sp.material);
+    for (const TriangleMesh& mesh : scene.meshes)
+        if (!mesh.positions.empty()) consider(mesh.material);
     if (!light || !material) return "";
     const char* kind = light->type == LightType::Point  ? "point"
                        : light->type == LightType::Spot ? "spot"
