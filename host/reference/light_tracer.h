@@ -38,6 +38,7 @@
 // LIGHT_PATH, path i, bounce word s), and splats are added in path order, whatever the thread count.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "geometry/scene_geometry.h"
