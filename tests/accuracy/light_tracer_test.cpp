@@ -311,8 +311,11 @@ TEST(LightTracerAccuracy, AimedEmissionAgreesWithUniformEmission) {
                 s.seed = testSeed((aim ? 300 : 400) + k);
                 s.aim = aim;
                 LightTracer tracer(scene, geometry, s);
-                if (!aim) EXPECT_EQ(tracer.pathsPerPass(), 16u * 12u);
-                if (aim) EXPECT_LT(tracer.pathsPerPass(), 16u * 12u / 10u);
+                if (aim) {
+                    EXPECT_LT(tracer.pathsPerPass(), 16u * 12u / 10u);  // a few % of directions hit a ball
+                } else {
+                    EXPECT_EQ(tracer.pathsPerPass(), 16u * 12u);
+                }
                 Film f(16, 12);
                 tracer.render(f);
                 for (int y = 0; y < 12; ++y)
