@@ -7,7 +7,7 @@
 
 #include "pipeline/memory_plan.h"
 #include "pipeline/photon_pass.h"
-#include "reference/path_tracer.h"
+#include "render/path_render.h"
 
 namespace pcl {
 namespace {
@@ -53,7 +53,7 @@ void planShards(const BatchJob& job, BatchPlanEstimate& e) {
 }
 
 // The path tracer: no device; the host holds the scene, the BVH and the films. Calibrated by
-// one sample per pixel at no more than 65 536 pixels, twice, the second timed, scaled by pixels.
+// one sample per pixel (and the light tracer's pass where the scene needs it) at no more than 65 536 pixels, twice, the second timed, scaled by pixels.
 BatchPlanEstimate estimatePathTracer(const BatchScene& bs, bool calibrate, int threads) {
     BatchPlanEstimate e;
     e.device = kPathTracerDevice;
@@ -66,14 +66,16 @@ BatchPlanEstimate estimatePathTracer(const BatchScene& bs, bool calibrate, int t
         small.camera.height = std::max(1, int(std::lround(bs.job.height * shrink)));
         e.calibrationWidth = small.camera.width;
         e.calibrationHeight = small.camera.height;
-        PathTracerSettings pt;
+        // The shards' own loop (render/path_render.h), so a scene that needs the light tracer
+        // pays for its pass too.
+        PathRenderSettings pt;
         pt.seed = bs.settings.seed;
-        pt.samplesPerPixel = 1;
+        pt.samples = 1;
         pt.threads = threads;
-        PathTracerStats stats;
-        for (int i = 0; i < 2; ++i) PathTracer(small, bs.geometry, pt).render(&stats);
+        double seconds = 0.0;
+        for (int i = 0; i < 2; ++i) seconds = renderPathTraced(small, bs.geometry, pt).seconds;
         const size_t smallPixels = size_t(small.camera.width) * small.camera.height;
-        e.eyeSecondsPerPass = stats.seconds * double(pixels) / double(smallPixels);
+        e.eyeSecondsPerPass = seconds * double(pixels) / double(smallPixels);
         e.secondsPerPass = e.eyeSecondsPerPass;
         e.calibrationRssBytes = hostMaxRssBytes();
         e.hostBytes = e.calibrationRssBytes +

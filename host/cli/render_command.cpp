@@ -38,7 +38,8 @@ struct RenderOptions {
     int width = 0, height = 0;
     int threads = 0;
     bool quiet = false, noPng = false;
-    uint64_t maxBufferMib = 0;  // --max-buffer-mib: applyBufferCap on the OpenCL device
+    bool noLightTracing = false;  // --no-light-tracing: the path tracer alone
+    uint64_t maxBufferMib = 0;    // --max-buffer-mib: applyBufferCap on the OpenCL device
     std::string aov;
     bool profile = false;
 };
@@ -59,6 +60,7 @@ int runPathTracer(const RenderOptions& o, const Scene& scene, const SceneGeometr
     settings.threads = o.threads;
     settings.seconds = q.seconds;
     settings.samples = q.passes ? q.passes : (q.seconds > 0 ? 0 : 64);
+    settings.lightTracing = !o.noLightTracing;
     Progress progress("render", !o.quiet);
     settings.progress = [&](uint32_t, double f) { progress.update(f); };
     PathRenderResult r = renderPathTraced(scene, geometry, settings);
@@ -82,6 +84,13 @@ int runPathTracer(const RenderOptions& o, const Scene& scene, const SceneGeometr
     double sps = r.seconds > 0 ? r.paths / r.seconds : 0.0;
     std::fprintf(stderr, "wrote %s%s%s: %dx%d, %u samples/pixel, %.2fs, %.3g samples/s\n", written.c_str(),
                  png.empty() ? "" : " and ", png.c_str(), image.width, image.height, r.samples, seconds, sps);
+    if (!r.lightTracing.empty() && !o.quiet)
+        std::fprintf(stderr,
+                     "light tracer: %s, so every sample per pixel also traced %.3g light paths aimed from the delta "
+                     "lights at the mirrors and glass (%.3g in all, %.3g connections to the camera); "
+                     "--no-light-tracing: the path tracer alone\n",
+                     r.lightTracing.c_str(), r.samples ? double(r.lightPaths) / r.samples : 0.0, double(r.lightPaths),
+                     double(r.lightSplats));
     if (r.discarded)
         std::fprintf(stderr, "warning: %llu non-finite path samples were discarded\n",
                      static_cast<unsigned long long>(r.discarded));
@@ -370,6 +379,9 @@ Run addRenderCommand(CLI::App& app) {
                     "(photon methods)");
     sub->add_option("--threads", o->threads, "CPU threads of --method path (default: all cores)");
     sub->add_flag("--no-png", o->noPng, "Write only the EXR");
+    sub->add_flag("--no-light-tracing", o->noLightTracing,
+                  "--method path: leave out the light tracer that adds light from point, spot and directional "
+                  "lights through mirrors and glass (the path tracer alone misses it, as other path tracers do)");
     addMaxBufferMibOption(sub, o->maxBufferMib,
                           "Cap every OpenCL buffer at this many MiB (photon methods; smaller batches, same image; "
                           "--method path allocates none)");

@@ -33,6 +33,13 @@ void Film::add(int x, int y, Vec3 radiance, double weight) {
     weight_[i] += weight;
 }
 
+void Film::splat(int x, int y, Vec3 value) {
+    size_t i = index(x, y);
+    sum_[3 * i + 0] += value.x;
+    sum_[3 * i + 1] += value.y;
+    sum_[3 * i + 2] += value.z;
+}
+
 void Film::merge(const Film& other) {
     if (other.width_ != width_ || other.height_ != height_)
         throw InputError("film merge: expected " + std::to_string(width_) + "x" + std::to_string(height_) + ", got " +

@@ -21,6 +21,11 @@ public:
 
     // Adds weight * radiance to pixel (x, y) and weight to its weight sum.
     void add(int x, int y, Vec3 radiance, double weight = 1.0);
+    // Adds `value` to pixel (x, y)'s sum and nothing to its weight: a light tracer's splat,
+    // whose pixel is where its light lands, not where a sample was taken (pbrt's AddSplat).
+    // With W the weight the film's samples give the pixel, the splats must sum to W times
+    // their estimate of the pixel.
+    void splat(int x, int y, Vec3 value);
     // Adds another film's sums pixel by pixel; a size mismatch is an InputError.
     void merge(const Film& other);
     // Estimate per pixel: sum / weight (black where no sample landed).

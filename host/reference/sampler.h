@@ -6,7 +6,8 @@
 // the pixel, stream = PCL_RNG_STREAM_CAMERA, dimension = a fixed slot:
 //   dimensions 0..4               camera: film x, film y, lens u, lens v, shutter time
 //   dimensions 8+8b .. 8+8b+6    path vertex b: see PathVertexDims
-// Fixed slots keep a vertex's numbers the same whatever the path did before it.
+// Fixed slots keep a vertex's numbers the same whatever the path did before it. The light tracer
+// (light_tracer.h) uses the same vertex slots on stream LIGHT_PATH, path = light path, bounce = pass.
 #pragma once
 #include <cstdint>
 
@@ -24,8 +25,8 @@ struct PathVertexDims {
 
 class Sampler {
 public:
-    Sampler(uint64_t seed, uint32_t pixel, uint32_t sample)
-        : rng_(rng_start(seed, pixel, sample, PCL_RNG_STREAM_CAMERA)) {}
+    Sampler(uint64_t seed, uint32_t pixel, uint32_t sample, uint32_t stream = PCL_RNG_STREAM_CAMERA)
+        : rng_(rng_start(seed, pixel, sample, stream)) {}
 
     // Uniform in [0, 1) at an absolute dimension.
     float get(uint32_t dim) {

@@ -4,6 +4,7 @@
 
 #include "core/clock.h"
 #include "core/error.h"
+#include "reference/light_tracer.h"
 #include "reference/path_tracer.h"
 
 namespace pcl {
@@ -17,12 +18,30 @@ PathRenderResult renderPathTraced(const Scene& scene, const SceneGeometry& geome
     pt.seed = s.seed;
     pt.threads = s.threads;
     PathTracerStats stats;
+    if (s.lightTracing) r.lightTracing = pathsThePathTracerMisses(scene);
+    LightTracerSettings lt;
+    lt.seed = s.seed;
+    lt.threads = s.threads;
+    auto lightTrace = [&](uint32_t firstPass, uint32_t passes, Film& film) {
+        lt.firstPass = firstPass;
+        lt.passes = passes;
+        LightTracerStats ls;
+        LightTracer(scene, geometry, lt).render(film, &ls);
+        r.lightPaths += ls.paths;
+        r.lightSplats += ls.splats;
+        r.discarded += ls.discarded;
+    };
     if (!(s.seconds > 0.0) && !s.fixedPoint) {
         // All samples in one call: progress per tile, no stop between samples.
         pt.firstSample = int(s.firstSample);
         pt.samplesPerPixel = int(s.samples);
         if (s.progress) pt.progress = [&](double f) { s.progress(0, f); };
         r.film = PathTracer(scene, geometry, pt).render(&stats);
+        if (!r.lightTracing.empty()) {
+            Film splats(width, height);
+            lightTrace(s.firstSample, s.samples, splats);
+            r.film.merge(splats);
+        }
         r.samples = s.samples;
         r.paths = stats.samples;
         r.discarded = stats.discardedSamples;
@@ -31,6 +50,7 @@ PathRenderResult renderPathTraced(const Scene& scene, const SceneGeometry& geome
     }
     if (s.fixedPoint) r.sums = FixedPointFilm(width, height);
     else r.film = Film(width, height);
+    Film splats(width, height);  // the light tracer's sums, added at the end (doubles)
     pt.samplesPerPixel = 1;
     const auto passesStart = Clock::now();
     for (uint32_t done = 0;; ++done) {
@@ -44,6 +64,11 @@ PathRenderResult renderPathTraced(const Scene& scene, const SceneGeometry& geome
         Film one = PathTracer(scene, geometry, pt).render(&stats);
         if (s.fixedPoint) r.sums.addPass(one);
         else r.film.merge(one);
+        if (!r.lightTracing.empty()) {
+            Film pass(width, height);
+            lightTrace(s.firstSample + done, 1, s.fixedPoint ? pass : splats);
+            if (s.fixedPoint) r.sums.addPass(pass);
+        }
         r.paths += stats.samples;
         r.discarded += stats.discardedSamples;
         r.samples = done + 1;
@@ -53,6 +78,7 @@ PathRenderResult renderPathTraced(const Scene& scene, const SceneGeometry& geome
             s.progress(r.samples, std::min(1.0, fraction));
         }
     }
+    if (!r.lightTracing.empty() && !s.fixedPoint) r.film.merge(splats);
     r.seconds = since(start);
     return r;
 }

@@ -17,6 +17,8 @@
 #include "accuracy/accuracy_common.h"
 #include "common/prepared_render.h"
 #include "geometry/scene_geometry.h"
+#include "image/film.h"
+#include "reference/light_tracer.h"
 #include "reference/path_tracer.h"
 
 using namespace pcl;
@@ -234,12 +236,44 @@ TEST(MitsubaReferences, PathTracerAgreesPerPixel) {
     }
 }
 
+namespace {
+
+// cornell-spheres-point's stored reference holds the light its point lamp sends through the mirror
+// and glass balls, found by the light tracer (reference/light_tracer.h); Mitsuba's path tracer
+// lacks it as photoncl's path tracer alone does. So the reference less the light tracer's own
+// share (256 passes of 64 × 64 light paths, rendered here) must match Mitsuba's mean within
+// 0.5 % (measured 0.99985 with uniform emission, 1.00029 aimed), and the reference itself must be brighter than Mitsuba by about that
+// share (measured +3.76 %; the share is 3.6 % of the reference).
+void expectLightTracedShareExplainsTheDifference(const std::string& name, const Image& ref, const MitsubaReference& m) {
+    Scene scene = loadSceneAt(name, ref.width, ref.height);
+    ASSERT_NE(pathsThePathTracerMisses(scene), "") << name;
+    SceneGeometry geometry = SceneGeometry::build(scene);
+    LightTracerSettings s;
+    s.seed = 5;
+    s.passes = 256;
+    s.threads = 2;
+    Film film(ref.width, ref.height);
+    LightTracer(scene, geometry, s).render(film);
+    double share = 0.0;
+    for (double v : film.sums()) share += v / s.passes;
+    share /= double(film.sums().size());
+    const double mitsuba = meanValue(m.mean), stored = meanValue(ref);
+    std::printf("[figure] %s: stored reference / Mitsuba: mean ratio %.5f; light-traced share %.5f (%.2f%% of the "
+                "reference); (reference - share) / Mitsuba %.5f\n",
+                name.c_str(), stored / mitsuba, share, 100.0 * share / stored, (stored - share) / mitsuba);
+    EXPECT_NEAR((stored - share) / mitsuba, 1.0, 0.005) << name;
+    EXPECT_GT(stored / mitsuba, 1.03) << name;
+}
+
+}  // namespace
+
 // The stored path-traced references (tests/data/ref-*.exr, 4096-32768 samples) against Mitsuba,
 // per pixel: the reference's variance is the path tracer's per-sample variance (pathTraced) over
 // its sample count. Bounds: |z| < 3.5 on at least 99 % of the pixels (cornell-spheres: 98 %;
 // both sides' variances come from samples that under-represent its rare caustic paths, and nearly all
 // of its 53 failing pixels are brighter in the file with twice the samples: scattered over the
 // walls, not at any edge); image means within 0.5 % (both standard errors ≤ 0.1 %).
+// cornell-spheres-point's reference adds the light tracer's share: held in the mean, above.
 TEST(MitsubaReferences, StoredReferencesAgree) {
     ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
     for (const std::string& name : mitsubaScenes()) {
@@ -249,6 +283,10 @@ TEST(MitsubaReferences, StoredReferencesAgree) {
         // photoncl:samples attribute was written by oiiotool as an int, which readImage (string
         // attributes only) reads back as 0, so the counts are stated here.
         const double refSpp = name.rfind("furnace", 0) == 0 ? 4096 : name == "cornell-spheres.json" ? 32768 : 16384;
+        if (name == "cornell-spheres-point.json") {
+            expectLightTracedShareExplainsTheDifference(name, ref, m);
+            continue;
+        }
         std::vector<double> varRef;
         for (double v : pathTraced(name, m).sampleVariance) varRef.push_back(v / refSpp);
         PixelZ z = pixelZ(ref, varRef, m.mean, m.semSum, 3.5);
@@ -274,7 +312,7 @@ TEST(MitsubaReferences, StoredReferencesAgree) {
 // every 8×8 block within 5 % (measured up to 3.7 %).
 // Not here: cornell-spheres-point, whose light reflected or refracted from a point light
 // (LS+D…) no path tracer finds (Mitsuba's neither), so photon mapping is brighter by design
-// (+4.5 %; tests/data/references.md).
+// (+4.5 %); photon_render_test.cpp holds it to the light-traced reference instead.
 TEST(MitsubaReferences, PhotonMethodsAgree) {
     ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
     for (const std::string name :

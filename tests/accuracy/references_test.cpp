@@ -1,4 +1,4 @@
-// Ground truth itself: every shipped scene has a path-traced reference in
+// Ground truth itself: every shipped scene has a reference (render --method path) in
 // tests/data/, finite, at the size the accuracy tests render; the furnace scenes' references
 // and fresh path-traced renders give L = ρ/(1−ρ) within 1 %; a short fresh render agrees with
 // each stored reference per pixel (a stale reference after a scene edit fails here, not in a
@@ -11,23 +11,24 @@
 
 #include "accuracy/accuracy_common.h"
 #include "geometry/scene_geometry.h"
-#include "reference/path_tracer.h"
+#include "render/path_render.h"
 
 using namespace pcl;
 using namespace pcl::accuracy;
 
 namespace {
 
+// What the references are made with (`render --method path`): the path tracer, plus the light
+// tracer where a delta light shines through mirrors or glass (render/path_render.h).
 Image pathTraced(const Scene& scene, int spp, uint64_t seed) {
     SceneGeometry geometry = SceneGeometry::build(scene);
-    PathTracerSettings settings;
-    settings.samplesPerPixel = spp;
+    PathRenderSettings settings;
+    settings.samples = static_cast<uint32_t>(spp);
     settings.seed = seed;
     settings.threads = 2;
-    PathTracerStats stats;
-    Image img = PathTracer(scene, geometry, settings).render(&stats).resolve();
-    EXPECT_EQ(stats.discardedSamples, 0u);
-    return img;
+    PathRenderResult r = renderPathTraced(scene, geometry, settings);
+    EXPECT_EQ(r.discarded, 0u);
+    return r.film.resolve();
 }
 
 }  // namespace
@@ -75,7 +76,8 @@ TEST(References, FurnaceMatchesTheClosedForm) {
     }
 }
 
-// A fresh path-traced render at the reference's size, per pixel: 16 independent runs of 8
+// A fresh render by the references' own method (path tracer, plus the light tracer where the
+// scene needs it) at the reference's size, per pixel: 16 independent runs of 8
 // samples (seeds 101-116) against the stored reference by a Z-test on 2×2 pixel blocks, |z| < 4
 // (Student's t with 15 degrees of freedom passes 99.88 % of pure noise; the reference's own noise
 // is a thirtieth of the runs' and left out); at least 98.5 % of the blocks must pass (measured
@@ -143,5 +145,5 @@ TEST(References, EqualTimeReferencesAgreeWithTheSmallOnes) {
         EXPECT_NEAR(e.meanRatio, 1.0, 0.005) << big;
         EXPECT_LT(e.relMse, 2e-3) << big;
     }
-    EXPECT_EQ(found, 4u) << "tests/data/references-256.md lists four 256x256 references";
+    EXPECT_EQ(found, 6u) << "tests/data/references-256.md lists six 256x256 references (all but the furnaces)";
 }
