@@ -40,8 +40,9 @@ void expectWellFormed(const std::vector<PclPhoton>& map, const ReferenceHashGrid
         seen[g.order[i]] = true;
         const PclPhoton& p = map[g.order[i]];
         ASSERT_EQ(g.keys[i], referenceGridHash(g.params, p.x, p.y, p.z));
-        if (i > 0)
+        if (i > 0) {
             ASSERT_TRUE(g.keys[i - 1] < g.keys[i] || (g.keys[i - 1] == g.keys[i] && g.order[i - 1] < g.order[i]));
+        }
     }
     size_t covered = 0;
     for (uint32_t h = 0; h < g.params.tableSize; ++h) {

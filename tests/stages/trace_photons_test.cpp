@@ -313,7 +313,9 @@ TEST(TracePhotons, GlassNeverAbsorbsAndCausticsLandOnTheFloor) {
     const uint32_t emittedRgbe = photon_rgbe_encode(rays[0].power[0], rays[0].power[1], rays[0].power[2]);
     for (size_t i = 0; i < t.ends.size(); ++i) {
         uint32_t bounce = t.ends[i] & 0xFFu, cause = t.ends[i] >> 8;
-        if (cause == PCL_END_ABSORBED) EXPECT_EQ(bounce, 1u) << "path " << i;
+        if (cause == PCL_END_ABSORBED) {
+            EXPECT_EQ(bounce, 1u) << "path " << i;
+        }
         if (cause == PCL_END_STORED) {
             ASSERT_EQ(t.counts[i], 1u);  // the floor is purely diffuse: the path ends there
             const PclPhoton& ph = t.slots[i * t.slotsPerPath];
