@@ -5,8 +5,13 @@
 // Counter layout: path = pixel index (y * width + x), the "bounce" word = sample index within
 // the pixel, stream = PCL_RNG_STREAM_CAMERA, dimension = a fixed slot:
 //   dimensions 0..4               camera: film x, film y, lens u, lens v, shutter time
-//   dimensions 8+8b .. 8+8b+6    path vertex b: see PathVertexDims
-// Fixed slots keep a vertex's numbers the same whatever the path did before it.
+//   dimensions 8+8b .. 8+8b+7    path vertex b: see PathVertexDims
+// Fixed slots keep a vertex's numbers the same whatever the path did before it. A vertex is any
+// event on the path: a surface hit, a scattering event in a medium, or the crossing of an
+// invisible medium boundary. A scattering event in a medium uses the surface slots it needs
+// (light choice and point, direction, roulette); kFreeFlight is the free-flight distance drawn on
+// the segment that ends at the vertex (only in a medium), so it never meets the slots the vertex
+// itself uses once it knows what it is.
 #pragma once
 #include <cstdint>
 
@@ -19,7 +24,8 @@ struct CameraDims {
 };
 struct PathVertexDims {
     static constexpr uint32_t kFirst = 8, kPerVertex = 8;
-    static constexpr uint32_t kLightSelect = 0, kLightPoint = 1, kLobe = 3, kDirection = 4, kRoulette = 6;
+    static constexpr uint32_t kLightSelect = 0, kLightPoint = 1, kLobe = 3, kDirection = 4, kRoulette = 6,
+                              kFreeFlight = 7;
 };
 
 class Sampler {
