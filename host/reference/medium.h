@@ -1,11 +1,14 @@
 // Homogeneous participating media for the reference path tracer: transmittance, free-flight
 // distance sampling and the Henyey–Greenstein phase function (pbrt-v4 ch. 11; pbrt-v3 §15.2).
 //
-// Distances are sampled per colour channel: one channel c is picked uniformly and t drawn from
-// σt[c] e^{−σt[c] t}; the density used in the weights is the average over the three channels
-// (the one-sample balance heuristic over channels, "spectral MIS"), so a medium whose σt differs
-// per channel stays unbiased in every channel with bounded weights. Homogeneous media need no
-// delta tracking: transmittance is analytic, exp(−σt d).
+// Distances are sampled per colour channel: one channel c is picked with probability P(c)
+// proportional to the path's throughput β in it, and t drawn from σt[c] e^{−σt[c] t}; the
+// density in the weights is the mixture Σ_c P(c) σt[c] e^{−σt[c] t} (the one-sample balance
+// heuristic over channels, "spectral MIS"), so a medium whose σt differs per channel stays
+// unbiased in every channel. Choosing by throughput keeps the weights bounded along the whole
+// path: the new throughputs β[c] σs[c] Tr[c] Σβ / Σ_i β[i] σt[i] Tr[i] never sum to more than
+// Σβ (with uniform choice, products of per-event weights up to 3 gave heavy-tailed pixels in a
+// chromatic furnace). Homogeneous media need no delta tracking: transmittance is analytic.
 #pragma once
 #include <limits>
 
@@ -20,16 +23,17 @@ Vec3 transmittance(Vec3 sigmaT, float distance);
 struct FreeFlight {
     bool scattered = false;  // true: a scattering event at distance t; false: the segment's end reached
     float t = std::numeric_limits<float>::infinity();
-    // The path throughput factor: σs Tr(t) / p(t) for a scattering event, Tr(tMax) / P(t ≥ tMax)
-    // for the end of the segment. Zero when the sample cannot carry weight (escape to infinity).
+    // The factor on the path throughput: σs Tr(t) / p(t) for a scattering event, Tr(tMax) /
+    // P(t ≥ tMax) for the end of the segment. Zero when the sample cannot carry weight (escape to
+    // infinity, or a throughput of zero).
     Vec3 weight{0.0f};
 };
 
 // Samples the distance to the next scattering event along a segment of length tMax (infinite
-// when the ray leaves the scene) inside `medium`, from one uniform number u in [0, 1): its
-// leading third picks the channel, the rest (rescaled to [0, 1)) the distance
-// t = −ln(1 − u′)/σt[c].
-FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float u);
+// when the ray leaves the scene) inside `medium`, for a path of throughput `beta`, from one
+// uniform number u in [0, 1): where it falls among the channels' probabilities picks the
+// channel, its place within that share (rescaled to [0, 1)) the distance t = −ln(1 − u′)/σt[c].
+FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float u, Vec3 beta);
 
 // Henyey–Greenstein phase function (Henyey & Greenstein 1941) of the scattering angle's cosine
 // μ (between the direction of travel before and after; g > 0 scatters forward):
@@ -42,7 +46,7 @@ float henyeyGreenstein(float cosScatter, float g);
 Vec3 sampleHenyeyGreenstein(Vec3 wo, float g, float u1, float u2);
 
 // The cosine μ of the scattering angle sampled from u by inverting the HG distribution
-// (pbrt-v3 eq. 15.7); μ = 1 − 2u for |g| < 1e-3, where the formula loses precision.
+// (pbrt-v3 eq. 15.7), increasing in u; μ = 2u − 1 for |g| < 1e-3, where the formula loses precision.
 float sampleHenyeyGreensteinCosine(float g, float u);
 
 }  // namespace pcl

@@ -37,17 +37,19 @@ Vec3 PathTracer::shadowTransmittance(PclRay shadow, int32_t medium) const {
     if (!hasMedia_) return geometry_.occluded(shadow) ? Vec3(0.0f) : Vec3(1.0f);
     const float length = pcl::length(rayDirection(shadow));
     Vec3 tr(1.0f);
+    float start = shadow.tmin;  // where the current medium began along the ray
     for (int crossing = 0; crossing < kMaxBoundaryCrossings; ++crossing) {
         PclHit hit;
         const bool found = geometry_.intersect(shadow, hit);
         const float end = found ? hit.t : shadow.tmax;
-        if (medium >= 0) tr *= pcl::transmittance(scene_.media[size_t(medium)].sigmaT(), (end - shadow.tmin) * length);
+        if (medium >= 0) tr *= pcl::transmittance(scene_.media[size_t(medium)].sigmaT(), (end - start) * length);
         if (!found) return tr;
         const SurfacePoint s = surfaceAt(scene_, geometry_, shadow, hit);
         if (!s.material->interface) return Vec3(0.0f);
-        // Through the boundary: the medium beyond it, and on past the hit by the offset spawnRay
-        // uses (the ~1e-4 gap's transmittance is left out).
+        // Through the boundary into the medium beyond: the search goes on past the hit by the
+        // offset spawnRay uses, the medium's length is counted from the hit itself.
         medium = boundaries_.beyond(s.prim, dot(s.ng, rayDirection(shadow)));
+        start = hit.t;
         shadow.tmin = hit.t + 1e-4f * std::max(1.0f, maxComponent(vmax(s.p, -s.p))) / length;
         if (!(shadow.tmin < shadow.tmax)) return tr;
     }
@@ -111,7 +113,10 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
     float prevPdf = 0.0f;
     Vec3 prevP;
     int32_t medium = hasMedia_ ? boundaries_.cameraMedium : -1;  // the medium the ray travels in
-    int depth = 0;                                               // scattering events so far (surfaces and media)
+    int depth = 0;  // scattering events so far (surfaces and media)
+    // Where the current medium began along the ray (its parameter): past an invisible boundary the
+    // ray goes on from the boundary, and the search for the next hit from just beyond it.
+    float segmentStart = 0.0f;
     for (uint32_t vertex = 0; vertex < kMaxVertices; ++vertex) {
         PclHit hit;
         const bool found = geometry_.intersect(ray, hit);
@@ -119,15 +124,15 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
             const Medium& m = scene_.media[size_t(medium)];
             const Vec3 d = rayDirection(ray);
             const float length = pcl::length(d);
-            const FreeFlight flight = sampleFreeFlight(m,
-                                                       found ? hit.t * length : std::numeric_limits<float>::infinity(),
-                                                       sampler.vertex(vertex, PathVertexDims::kFreeFlight));
+            const FreeFlight flight =
+                sampleFreeFlight(m, found ? (hit.t - segmentStart) * length : std::numeric_limits<float>::infinity(),
+                                 sampler.vertex(vertex, PathVertexDims::kFreeFlight), beta);
             beta *= flight.weight;
             if (!(maxComponent(beta) > 0.0f)) break;
             if (flight.scattered) {
                 if (depth >= settings_.maxDepth) break;
                 const Vec3 wo = -d / length;
-                const Vec3 p = rayOrigin(ray) - wo * flight.t;
+                const Vec3 p = rayOrigin(ray) + d * segmentStart - wo * flight.t;
                 if (settings_.lightSampling) L += beta * sampleDirectInMedium(p, wo, ray.time, medium, sampler, vertex);
                 // The phase function is sampled exactly: the weight p/pdf is 1.
                 const Vec3 wi = sampleHenyeyGreenstein(wo, m.g, sampler.vertex(vertex, PathVertexDims::kDirection),
@@ -136,6 +141,7 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
                 prevPdf = henyeyGreenstein(dot(-wo, wi), m.g);
                 prevP = p;
                 ray = spawnRay(p, Vec3(0.0f), wi, ray.time, std::numeric_limits<float>::infinity());
+                segmentStart = 0.0f;
                 if (depth + 1 >= settings_.rouletteDepth) {
                     float q = std::max(0.05f, 1.0f - maxComponent(beta) * rouletteScale);
                     if (sampler.vertex(vertex, PathVertexDims::kRoulette) < q) break;
@@ -151,7 +157,8 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
         if (s.material->interface) {
             // An invisible medium boundary: on in the same direction, in the medium beyond.
             medium = boundaries_.beyond(s.prim, -dot(s.ng, wo));
-            ray = spawnRay(s.p, s.ng, -wo, ray.time, std::numeric_limits<float>::infinity());
+            segmentStart = hit.t;
+            ray.tmin = hit.t + 1e-4f * std::max(1.0f, maxComponent(vmax(s.p, -s.p))) / pcl::length(rayDirection(ray));
             continue;
         }
 
@@ -180,6 +187,7 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
         prevPdf = bs.pdf;
         prevP = s.p;
         ray = spawnRay(s.p, s.ng, bs.wi, s.time, std::numeric_limits<float>::infinity());
+        segmentStart = 0.0f;
         // Through the surface (refraction): the medium on the other side.
         if (hasMedia_ && dot(s.ng, wo) * dot(s.ng, bs.wi) < 0.0f) medium = boundaries_.beyond(s.prim, dot(s.ng, bs.wi));
 
