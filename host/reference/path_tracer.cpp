@@ -113,7 +113,7 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
     float prevPdf = 0.0f;
     Vec3 prevP;
     int32_t medium = hasMedia_ ? boundaries_.cameraMedium : -1;  // the medium the ray travels in
-    int depth = 0;  // scattering events so far (surfaces and media)
+    int depth = 0;                                               // scattering events so far (surfaces and media)
     // Where the current medium began along the ray (its parameter): past an invisible boundary the
     // ray goes on from the boundary, and the search for the next hit from just beyond it.
     float segmentStart = 0.0f;

@@ -61,7 +61,8 @@ int addMedium(Scene& scene, Vec3 sigmaA, Vec3 sigmaS, float g) {
 void addBox(Scene& scene, Vec3 lo, Vec3 hi, int material, int medium, bool inward = false) {
     TriangleMesh m;
     m.name = "box" + std::to_string(scene.meshes.size());
-    for (int i = 0; i < 8; ++i) m.positions.push_back(Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z));
+    for (int i = 0; i < 8; ++i)
+        m.positions.push_back(Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z));
     // Outward, counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
     m.indices = {0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4,
                  2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
@@ -144,8 +145,7 @@ double adaptiveSimpson(const std::function<double(double)>& f, double a, double 
     const double m = 0.5 * (a + b), lm = 0.5 * (a + m), rm = 0.5 * (m + b);
     const double flm = f(lm), frm = f(rm);
     const double left = (m - a) / 6.0 * (fa + 4.0 * flm + fm), right = (b - m) / 6.0 * (fm + 4.0 * frm + fb);
-    if (depth <= 0 || std::abs(left + right - whole) <= 15.0 * eps)
-        return left + right + (left + right - whole) / 15.0;
+    if (depth <= 0 || std::abs(left + right - whole) <= 15.0 * eps) return left + right + (left + right - whole) / 15.0;
     return adaptiveSimpson(f, a, m, eps / 2, fa, flm, fm, left, depth - 1) +
            adaptiveSimpson(f, m, b, eps / 2, fm, frm, fb, right, depth - 1);
 }
@@ -214,8 +214,8 @@ TEST(MediumAccuracy, TransmittanceThroughSlabAndSphere) {
     // Through the milk sphere's centre: 2r of milk.
     expectTr(tracer.transmittance(Vec3(20, 0, -3), Vec3(20, 0, -1), 0.0f), Vec3(1.0f), "beside the sphere");
     expectTr(tracer.transmittance(Vec3(17, 0, -3), Vec3(23, 0, -3), 0.0f), Vec3(1.0f), "vacuum");
-    expectTr(tracer.transmittance(Vec3(18, 0, 0), Vec3(22, 0, 0), 0.0f), expTr(scene.media[size_t(milk)].sigmaT(), 1.0f),
-             "sphere");
+    expectTr(tracer.transmittance(Vec3(18, 0, 0), Vec3(22, 0, 0), 0.0f),
+             expTr(scene.media[size_t(milk)].sigmaT(), 1.0f), "sphere");
     // Blocked: the dielectric ball and the opaque box.
     expectTr(tracer.transmittance(Vec3(-22, 0, 0), Vec3(-18, 0, 0), 0.0f), Vec3(0.0f), "through glass");
     expectTr(tracer.transmittance(Vec3(39, 0, 0), Vec3(42, 0, 0), 0.0f), Vec3(0.0f), "through an opaque box");
@@ -310,8 +310,8 @@ TEST(MediumAccuracy, SingleScatteringFromPointLightMatchesAirlight) {
                         const PclRay r = camera.generateRay(x, y, cs);
                         const Vec3 d = normalize(Vec3(r.dx, r.dy, r.dz));
                         for (int c = 0; c < 3; ++c)
-                            expected[c] += float(airlight(Vec3(r.ox, r.oy, r.oz), d, light.position,
-                                                          light.intensity[c], sigmaS[c], sigmaS[c] + sigmaA[c], g) /
+                            expected[c] += float(airlight(Vec3(r.ox, r.oy, r.oz), d, light.position, light.intensity[c],
+                                                          sigmaS[c], sigmaS[c] + sigmaA[c], g) /
                                                  (n * n));
                     }
                 const size_t p = size_t(y * 12 + x);

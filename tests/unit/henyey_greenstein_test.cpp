@@ -39,7 +39,8 @@ double simpson(F f, int n) {
 TEST(HenyeyGreenstein, DensityIntegratesToOneWithMeanCosineG) {
     for (float g : kGs) {
         const double norm = simpson([&](double mu) { return 2.0 * kPiD * henyeyGreenstein(float(mu), g); }, 200000);
-        const double mean = simpson([&](double mu) { return 2.0 * kPiD * mu * henyeyGreenstein(float(mu), g); }, 200000);
+        const double mean =
+            simpson([&](double mu) { return 2.0 * kPiD * mu * henyeyGreenstein(float(mu), g); }, 200000);
         std::printf("g %+.1f: integral %.7f, mean cosine %+.7f\n", g, norm, mean);
         EXPECT_NEAR(norm, 1.0, 1e-5) << "g " << g;  // Simpson's error at g = ±0.9 is ~1e-9
         EXPECT_NEAR(mean, g, 1e-5) << "g " << g;
@@ -65,8 +66,7 @@ TEST(HenyeyGreenstein, SamplesFollowTheDensity) {
         }
         double chi2 = 0.0;
         for (int b = 0; b < bins; ++b) {
-            const double expected =
-                n * (hgCdf(-1.0 + 2.0 * (b + 1) / bins, g) - hgCdf(-1.0 + 2.0 * b / bins, g));
+            const double expected = n * (hgCdf(-1.0 + 2.0 * (b + 1) / bins, g) - hgCdf(-1.0 + 2.0 * b / bins, g));
             chi2 += (counts[b] - expected) * (counts[b] - expected) / expected;
         }
         const double mean = sumMu / n;
