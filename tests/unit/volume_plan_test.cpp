@@ -92,6 +92,12 @@ TEST(VolumePlan, PhotonMethodsRefuseMediaAndThePathTracerRendersThem) {
         EXPECT_NE(r.output.find("media are rendered only by --method path for now"), std::string::npos) << r.output;
         EXPECT_FALSE(fs::exists(out)) << method;
     }
+    // sweep runs photon-method curves: refused before any curve renders.
+    const std::string src = PHOTONCL_SOURCE_DIR;
+    photoncl_cli::Result sweep = photoncl_cli::run("sweep " + src + "/scenes/media/cornell-fog.json --reference " +
+                                                   src + "/tests/data/ref-cornell-fog.exr --quick");
+    EXPECT_EQ(sweep.status, 2) << sweep.output;
+    EXPECT_NE(sweep.output.find("without participating media for sweep"), std::string::npos) << sweep.output;
     photoncl_cli::Result path4 = photoncl_cli::run("render " + path + " -o " + out + " --method path --passes 2 -q");
     EXPECT_EQ(path4.status, 0) << path4.output;
     EXPECT_TRUE(fs::exists(out));
