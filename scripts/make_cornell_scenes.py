@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Writes the shipped Cornell-box scenes (scenes/cornell-*.json) from one description, so the box,
-its materials and its light stay identical across them.
+"""Writes the shipped Cornell-box scenes (scenes/cornell-*.json, and the ones with participating
+media in scenes/media/) from one description, so the box, its materials and its light stay
+identical across them.
 
 Geometry follows the Cornell box measurements (https://www.graphics.cornell.edu/online/box/data.html),
 in metres, axis-aligned: x 0..0.556 (red wall at x = 0.556, seen on the left), y 0..0.5488 up,
@@ -99,9 +100,26 @@ SPHERES = [
 ]
 
 
-def scene(comment, materials, shapes, lights):
-    return {"comment": comment, "camera": CAMERA, "materials": [MATERIALS[m] for m in materials],
-            "shapes": shapes, "lights": lights}
+def scene(comment, materials, shapes, lights, media=None):
+    s = {"comment": comment, "camera": CAMERA, "materials": [MATERIALS[m] for m in materials]}
+    if media:
+        s["media"] = media
+        s["medium"] = media[0]["name"]  # the first one fills the scene
+    s.update({"shapes": shapes, "lights": lights})
+    return s
+
+
+# Thin grey fog filling the scene (also outside the open box): optical depth ~0.35 across the
+# box, slightly forward scattering; enough to show the lamp's light and the volume caustic the
+# glass ball focuses below itself.
+FOG = {"name": "fog", "sigma_a": [0.05, 0.05, 0.05], "sigma_s": [0.6, 0.6, 0.6], "g": 0.2}
+# Haze for light shafts: more forward scattering, so the spot's cone glows toward the camera.
+HAZE = {"name": "haze", "sigma_a": [0.02, 0.02, 0.02], "sigma_s": [0.8, 0.8, 0.8], "g": 0.5}
+
+# A spot light high in the left-front corner aimed at the floor between the blocks: the cone
+# shows in the haze, cut by the blocks' shadows. Power chosen to light the floor about as the lamp does.
+SPOT_LIGHT = {"type": "spot", "name": "corner-spot", "position": [0.50, H - 0.03, 0.05],
+              "direction": [-0.45, -0.80, 0.40], "power": [1.6, 1.45, 1.2], "inner_angle": 12, "outer_angle": 18}
 
 
 SCENES = {
@@ -117,6 +135,16 @@ SCENES = {
     "cornell-glossy.json": scene(
         "The Cornell box with a glossy floor (normalised Phong, exponent 60) reflecting the blocks.",
         ["white", "red", "green", "glossy-floor"], walls(floor="glossy-floor") + BLOCKS, [AREA_LIGHT]),
+    # Participating media: rendered only by --method path until the volume photon map lands, so
+    # kept in scenes/media/, where the tests over every shipped scene (photon methods) do not look.
+    "media/cornell-fog.json": scene(
+        "cornell-spheres in thin fog (global medium): the lamp's light in the air and the volume caustic "
+        "under the glass ball (which holds no fog).",
+        ["white", "red", "green", "mirror", "glass"], walls() + SPHERES, [AREA_LIGHT_BY_POWER], media=[FOG]),
+    "media/hazy-room.json": scene(
+        "The Cornell box with its blocks in haze, lit by a spot light from a high corner: light shafts "
+        "cut by the blocks' shadows.",
+        ["white", "red", "green"], walls() + BLOCKS, [SPOT_LIGHT], media=[HAZE]),
 }
 
 
@@ -147,6 +175,7 @@ def dumps(value, indent=0):
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "scenes")
     for name, content in SCENES.items():
+        os.makedirs(os.path.dirname(os.path.join(out, name)), exist_ok=True)
         with open(os.path.join(out, name), "w") as f:
             f.write(dumps(content) + "\n")
 

@@ -41,6 +41,9 @@ SCENES = [
     ("cornell-glossy.json", 0),
     ("motion-dof.json", 0),
     ("gltf-room.gltf", 0),
+    # Participating media (scenes/media/; integrator volpath). Fewer samples: a media path costs more.
+    ("media/cornell-fog.json", 4096),
+    ("media/hazy-room.json", 0),
 ]
 
 
@@ -111,7 +114,7 @@ def main():
         if args.only and name != args.only:
             continue
         scene_path = os.path.join(ROOT, "scenes", name)
-        stem = os.path.splitext(name)[0]
+        stem = os.path.splitext(os.path.basename(name))[0]
         try:
             mitsuba_scene_dict(scene_path)
         except Unexpressible as e:
@@ -140,8 +143,8 @@ def main():
         "# Independent references: Mitsuba 3 (made by scripts/make_mitsuba_references.py)",
         "",
         f"Mitsuba {mi.__version__} (variant scalar_rgb), Dr.Jit {dr.__version__}; made "
-        f"{datetime.date.today().isoformat()} on one thread. Integrator `path`, max_depth 65 (photoncl's 64 bounces "
-        "after the camera ray), Russian roulette from depth 5 (Mitsuba's default; unbiased), `independent` "
+        f"{datetime.date.today().isoformat()} on one thread. Integrator `path` (`volpath` for scenes with media), "
+        "max_depth 65 (photoncl's 64 bounces after the camera ray), Russian roulette from depth 5 (Mitsuba's default; unbiased), `independent` "
         "sampler, box pixel filter, scenes converted by scripts/mitsuba_scene.py.",
         "",
         f"Each EXR (half float) is the mean of {CHUNKS} independent renders (seeds 1..{CHUNKS}); layer `sem` holds "

@@ -41,6 +41,9 @@ SCENES = [
     # Closed-form answers (L = rho / (1 - rho) everywhere): the references double as a check.
     ("furnace-0.5.json", 32, 4096),
     ("furnace-0.8.json", 32, 4096),
+    # Participating media (scenes/media/): only the path tracer renders them for now.
+    ("media/cornell-fog.json", 64, 8192),
+    ("media/hazy-room.json", 64, 8192),
 ]
 
 
@@ -74,7 +77,7 @@ def run(cmd):
 
 
 def reference_name(scene):
-    return "ref-" + os.path.splitext(scene)[0] + ".exr"
+    return "ref-" + os.path.splitext(os.path.basename(scene))[0] + ".exr"
 
 
 def main():

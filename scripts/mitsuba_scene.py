@@ -21,11 +21,19 @@ from host/reference/{camera,bsdf,light_sampling,path_tracer}.cpp and host/scene/
   photoncl), radiance or power / (pi A); the lamp's surface is black, as in photoncl.
 - shapes: sphere -> `sphere`; quad -> the two triangles photoncl makes (c, c+u, c+u+v, c+v);
   inline mesh -> a Mitsuba mesh with the same triangles and winding.
+- media: `homogeneous` with sigma_t = sigma_a + sigma_s (an RGB in [0, 1] times `scale` = its
+  largest channel, so chromatic media stay exact), albedo sigma_s / sigma_t and an `hg` phase
+  function with photoncl's g (both: g > 0 scatters forward). The global medium is the sensor's
+  medium and every shape's exterior; a shape's medium is its interior (its surface a `null` BSDF
+  when the shape has no material: photoncl's invisible boundary); a glass sphere without a medium
+  has a vacuum interior, as in photoncl. Shapes holding media must not be nested in each other
+  and must not hold the camera (refused).
 - integrator: `path` with max_depth 65 (photoncl's path tracer follows 64 bounces after the
-  camera ray; Mitsuba's max_depth 1 is emitters seen directly). Russian roulette in either does
-  not bias.
+  camera ray; Mitsuba's max_depth 1 is emitters seen directly), `volpath` when the scene has
+  media (its depth counts scattering in media too, as photoncl's maxDepth does). Russian roulette
+  in either does not bias.
 
-Refused: glossy (normalised Phong: no Mitsuba BSDF is that lobe), spot lights (photoncl's
+Refused: nested media, a camera or light inside a shape with a medium, glossy (normalised Phong: no Mitsuba BSDF is that lobe), spot lights (photoncl's
 smoothstep in cos theta is not Mitsuba's linear fall-off in angle), motion, glTF (includes and
 mesh files), shading normals (the two renderers treat them differently below the geometric
 surface), mesh transforms (not implemented here; no shipped scene needs one), dielectric with a
@@ -81,6 +89,9 @@ class _Converter:
         self.materials = {}
         self.emission = {}  # material name -> radiance
         self.dielectric_spheres = []
+        self.media = {}  # medium name -> Mitsuba medium object
+        self.global_medium = None
+        self.medium_spheres = []  # (centre, radius, field) of spheres holding a medium
 
     def refuse(self, field, why):
         raise Unexpressible(self.name, field, why)
@@ -124,22 +135,58 @@ class _Converter:
         if max(emission) > 0:
             self.emission[m["name"]] = emission
 
-    # ---- shapes ----------------------------------------------------------------------
+    # ---- media -----------------------------------------------------------------------
 
-    def mesh(self, name, positions, faces, material, field):
+    def medium(self, i, m):
         import mitsuba as mi
 
+        field = f"media[{i}]"
+        for key in m:
+            if key not in ("name", "sigma_a", "sigma_s", "g"):
+                self.refuse(f"{field}.{key}", "unknown key")
+        sigma_a, sigma_s = _vec(m.get("sigma_a", [0, 0, 0])), _vec(m.get("sigma_s", [0, 0, 0]))
+        sigma_t = [a + s for a, s in zip(sigma_a, sigma_s)]
+        scale = max(sigma_t)
+        if not scale > 0:
+            self.refuse(field, "sigma_a + sigma_s is zero in every channel")
+        albedo = [s / t if t > 0 else 0.0 for s, t in zip(sigma_s, sigma_t)]
+        self.media[m["name"]] = mi.load_dict({
+            "type": "homogeneous", "scale": scale,
+            "sigma_t": {"type": "rgb", "value": [t / scale for t in sigma_t]},
+            "albedo": {"type": "rgb", "value": albedo},
+            "phase": {"type": "hg", "g": float(m.get("g", 0.0))}})
+
+    def media_of(self, s, field):
+        """(interior, exterior) Mitsuba media of shape s (None: vacuum)."""
+        if "medium" not in s:
+            return None, self.global_medium
+        if s["medium"] not in self.media:
+            self.refuse(field + ".medium", f"unknown medium {s['medium']!r}")
+        return self.media[s["medium"]], self.global_medium
+
+    # ---- shapes ----------------------------------------------------------------------
+
+    def mesh(self, name, positions, faces, material, field, interior=None, exterior=None):
+        import mitsuba as mi
+
+        if material is None:  # an invisible medium boundary
+            return self.mesh_with(name, positions, faces, mi.load_dict({"type": "null"}), None, interior, exterior)
         bsdf, kind = self.materials[material]
         if kind == "dielectric":
             self.refuse(field + ".material", "dielectric on triangles: exact only on closed bodies (spheres here)")
-        return self.mesh_with(name, positions, faces, mi.load_dict(bsdf), self.emission.get(material))
+        return self.mesh_with(name, positions, faces, mi.load_dict(bsdf), self.emission.get(material), interior,
+                              exterior)
 
     @staticmethod
-    def mesh_with(name, positions, faces, bsdf, radiance):
+    def mesh_with(name, positions, faces, bsdf, radiance, interior=None, exterior=None):
         import mitsuba as mi
 
         props = mi.Properties()
         props["bsdf"] = bsdf
+        if interior is not None:
+            props["interior"] = interior
+        if exterior is not None:
+            props["exterior"] = exterior
         if radiance is not None:
             props["emitter"] = mi.load_dict({"type": "area", "radiance": {"type": "rgb", "value": radiance}})
         mesh = mi.Mesh(name, len(positions), len(faces), has_vertex_normals=False, has_vertex_texcoords=False,
@@ -155,17 +202,33 @@ class _Converter:
         if "motion" in s and any(float(x) != 0 for x in s["motion"]):
             self.refuse(field + ".motion", "motion blur is not converted")
         t = s["type"]
+        interior, exterior = self.media_of(s, field)
         if t == "sphere":
-            bsdf, kind = self.materials[s["material"]]
-            if s["material"] in self.emission:
-                self.refuse(field, "emissive sphere")
+            centre, radius = _vec(s["centre"]), float(s["radius"])
+            if "material" in s:
+                bsdf, kind = self.materials[s["material"]]
+                if s["material"] in self.emission:
+                    self.refuse(field, "emissive sphere")
+            else:
+                bsdf, kind = {"type": "null"}, None
+            if kind == "dielectric" or interior is not None:
+                for c2, r2, other in self.dielectric_spheres + self.medium_spheres:
+                    if _norm(_sub(centre, c2)) < radius + r2:
+                        self.refuse(field, f"overlaps or nests in {other}: nested media are not converted")
             if kind == "dielectric":
-                self.dielectric_spheres.append((_vec(s["centre"]), float(s["radius"]), field))
-            return {"type": "sphere", "center": _vec(s["centre"]), "radius": float(s["radius"]), "bsdf": bsdf}
+                self.dielectric_spheres.append((centre, radius, field))
+            elif interior is not None:
+                self.medium_spheres.append((centre, radius, field))
+            d = {"type": "sphere", "center": centre, "radius": radius, "bsdf": bsdf}
+            if interior is not None:
+                d["interior"] = interior
+            if exterior is not None:
+                d["exterior"] = exterior
+            return d
         if t == "quad":
             c, u, v = _vec(s["corner"]), _vec(s["edge_u"]), _vec(s["edge_v"])
             return self.mesh(s.get("name", field), [c, _add(c, u), _add(_add(c, u), v), _add(c, v)],
-                             [[0, 1, 2], [0, 2, 3]], s["material"], field)
+                             [[0, 1, 2], [0, 2, 3]], s.get("material"), field, interior, exterior)
         if t == "mesh":
             for key, why in (("gltf", "glTF meshes are not converted"),
                              ("normals", "shading normals: photoncl and Mitsuba differ below the geometric surface"),
@@ -180,7 +243,7 @@ class _Converter:
                 a, b, c = (positions[j] for j in f)
                 if not _norm(_cross(_sub(b, a), _sub(c, a))) > 0:
                     self.refuse(field + ".indices", f"degenerate triangle {f}")
-            return self.mesh(s.get("name", field), positions, faces, s["material"], field)
+            return self.mesh(s.get("name", field), positions, faces, s.get("material"), field, interior, exterior)
         self.refuse(field + ".type", f"unknown shape type {t!r}")
 
     # ---- lights ----------------------------------------------------------------------
@@ -213,13 +276,16 @@ class _Converter:
             import mitsuba as mi
 
             black = mi.load_dict({"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0, 0, 0]}}})
-            return self.mesh_with(l.get("name", field), positions, faces, black, radiance)
+            return self.mesh_with(l.get("name", field), positions, faces, black, radiance, None, self.global_medium)
         self.refuse(field + ".type", f"unknown light type {t!r}")
 
     def check_outside_dielectrics(self, p, field):
         for centre, radius, sphere in self.dielectric_spheres:
             if _norm(_sub(p, centre)) <= radius:
                 self.refuse(field, f"inside the dielectric {sphere}: the eta^2 radiance scaling would not cancel")
+        for centre, radius, sphere in self.medium_spheres:
+            if _norm(_sub(p, centre)) <= radius:
+                self.refuse(field, f"inside {sphere}, which holds a medium (only the global medium is converted there)")
 
     # ---- camera ----------------------------------------------------------------------
 
@@ -245,6 +311,8 @@ class _Converter:
                      "pixel_format": "rgb", "component_format": "float32"},
             "sampler": {"type": "independent", "sample_count": 1},
         }
+        if self.global_medium is not None:
+            sensor["medium"] = self.global_medium
         if c.get("type", "pinhole") == "thin_lens":
             sensor["type"] = "thinlens"
             sensor["aperture_radius"] = float(c["aperture_radius"])
@@ -259,7 +327,14 @@ class _Converter:
             self.refuse("include", "glTF includes are not converted")
         for i, m in enumerate(d.get("materials", [])):
             self.material(i, m)
-        scene = {"type": "scene", "integrator": {"type": "path", "max_depth": 65, "hide_emitters": False}}
+        for i, m in enumerate(d.get("media", [])):
+            self.medium(i, m)
+        if "medium" in d:
+            if d["medium"] not in self.media:
+                self.refuse("medium", f"unknown medium {d['medium']!r}")
+            self.global_medium = self.media[d["medium"]]
+        integrator = "volpath" if self.media else "path"
+        scene = {"type": "scene", "integrator": {"type": integrator, "max_depth": 65, "hide_emitters": False}}
         # Spheres first, so that the dielectric list is complete before lights and camera are checked.
         shapes = list(enumerate(d["shapes"]))
         shapes.sort(key=lambda s: s[1]["type"] != "sphere")

@@ -10,6 +10,7 @@
 #include "cli/memory_option.h"
 #include "core/error.h"
 #include "device/device.h"
+#include "prep/media_support.h"
 #include "prep/prepared_scene.h"
 #include "scene/load_scene.h"
 
@@ -45,6 +46,7 @@ Run addCheckCommand(CLI::App& app) {
     return [o] {
         if (o->device == "ref") throw InputError("check: --device ref has no kernels to check; pick an OpenCL device");
         const Scene scene = loadScene(o->scene);
+        refuseMediaWithoutPathTracer(scene, "check (the device stages)");
         Device device = Device::open(o->device);
         applyBufferCap(device, o->maxBufferMib);
         std::printf("check %s on %s (%s)\n", o->scene.c_str(), device.info().name.c_str(),

@@ -12,6 +12,7 @@
 #include "pipeline/memory_plan.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/photon_ply.h"
+#include "prep/media_support.h"
 #include "prep/prepared_scene.h"
 #include "scene/load_scene.h"
 
@@ -34,6 +35,7 @@ int runPhotons(const PhotonsOptions& o) {
         throw InputError(o.output + ": output folder " + outDir.string() + " does not exist");
 
     Scene scene = loadScene(o.scene);
+    refuseMediaWithoutPathTracer(scene, "photons (the photon pass)");
     const PreparedScene prepared = prepareScene(scene, o.settings);
     const SceneGeometry& geometry = prepared.geometry;
     const SceneBuffers& buffers = prepared.buffers;

@@ -180,6 +180,30 @@ LightPaths classifyLightPaths(const Scene& scene, const SceneGeometry& geometry,
     else if (lp.diffusePrims == 1) why = "a single diffuse primitive and no specular surface to return its light";
     else why = "all diffuse primitives lie in one plane and no specular surface returns their light";
     lp.list.push_back({"LD(S|D)*DE", "indirect diffuse", lp.indirectDiffuse, why});
+
+    // L(S|D|V)*V(S|D|V)*E: a medium in use that scatters.
+    std::vector<int> used;
+    if (scene.globalMedium >= 0) used.push_back(scene.globalMedium);
+    for (const auto& m : scene.meshes)
+        if (m.medium >= 0) used.push_back(m.medium);
+    for (const auto& s : scene.spheres)
+        if (s.medium >= 0) used.push_back(s.medium);
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    std::string scattering, absorbing;
+    for (int i : used) {
+        const Medium& m = scene.media[size_t(i)];
+        const bool scatters = maxComponent(m.sigmaS) > 0.0f;
+        lp.scatteringMedia += scatters;
+        std::string& list = scatters ? scattering : absorbing;
+        list += (list.empty() ? "" : ", ") + m.name + (i == scene.globalMedium ? " (global)" : "");
+    }
+    lp.media = used.size();
+    lp.volume = lit && lp.scatteringMedia > 0;
+    why = lp.media == 0             ? "no participating media"
+          : lp.scatteringMedia == 0 ? "media absorb only (" + absorbing + "): no scattering events"
+                                    : "scattering media: " + scattering;
+    lp.list.push_back({"L(S|D|V)*V(S|D|V)*E", "volume scattering (V: in a medium)", lp.volume, why});
     return lp;
 }
 
@@ -249,6 +273,13 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
     plan.reasons.push_back(plan.glossySampling
                                ? plural(lp.glossyPrims, "glossy primitive") + ": glossy lobes are sampled"
                                : "no glossy surfaces");
+
+    plan.volumeMap = lp.volume;
+    plan.volumePhotons = plan.volumeMap ? settings.volumePhotons : 0;
+    plan.reasons.push_back(plan.volumeMap  ? "light scatters in media (L(S|D|V)*V(S|D|V)*E): volume photons at "
+                                             "scattering events (not built yet: only --method path renders media)"
+                           : lp.media == 0 ? "no participating media"
+                                           : "media absorb only: no scattering events to store photons at");
     return plan;
 }
 
@@ -261,9 +292,9 @@ std::string formatPlan(const Scene& scene, const LightPaths& lp, const RenderPla
                   scene.path.c_str(), lp.lights, lp.lights == 1 ? "y" : "ies", lp.areaTriangles, lp.diffusePrims,
                   lp.specularPrims, lp.pureSpecularPrims, lp.glossyPrims);
     out += buf;
-    out += "light paths (L light, D diffuse, S specular, E eye):\n";
+    out += "light paths (L light, D diffuse, S specular, V scattering in a medium, E eye):\n";
     for (const LightPath& p : lp.list) {
-        std::snprintf(buf, sizeof buf, "  %-11s %-3s %-40s %s\n", p.notation.c_str(), p.present ? "yes" : "no",
+        std::snprintf(buf, sizeof buf, "  %-19s %-3s %-40s %s\n", p.notation.c_str(), p.present ? "yes" : "no",
                       p.name.c_str(), p.why.c_str());
         out += buf;
     }
@@ -279,7 +310,8 @@ std::string formatPlan(const Scene& scene, const LightPaths& lp, const RenderPla
                         {"lens sampling", plan.lensSampling, 0},
                         {"time sampling", plan.timeSampling, 0},
                         {"area-light sampling", plan.areaLightSampling, 0},
-                        {"glossy sampling", plan.glossySampling, 0}};
+                        {"glossy sampling", plan.glossySampling, 0},
+                        {"volume map", plan.volumeMap, plan.volumePhotons}};
     for (size_t i = 0; i < sizeof rows / sizeof rows[0]; ++i) {
         std::string state = rows[i].on ? "yes" : "no";
         if (rows[i].on && rows[i].photons) state += ", " + std::to_string(rows[i].photons) + " photons";

@@ -13,6 +13,9 @@
 //    however many triangles), cannot interreflect; anything else is assumed to
 //    (back-to-back or occluded surfaces are not detected);
 //  * visible emitters: an emitting triangle whose lit side faces the camera position.
+// Participating media add V, a scattering event in a medium: volume paths L(S|D|V)*V(S|D|V)*E are
+// present when a medium in use scatters (σs > 0 in some channel) and the scene is lit; where the
+// medium sits is not checked against the lights.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -40,24 +43,31 @@ struct LightPaths {
     bool diffuseInSpecular = false;  // LDS+E
     bool caustics = false;           // LS+DE
     bool indirectDiffuse = false;    // LD(S|D)*DE
+    bool volume = false;             // L(S|D|V)*V(S|D|V)*E: light scattered in a medium
     // Facts behind them.
     size_t lights = 0, areaTriangles = 0, diffusePrims = 0, specularPrims = 0, pureSpecularPrims = 0, glossyPrims = 0;
     uint32_t markedCells = 0;  // projection-map cells over all lights (specular surfaces, mixed included)
     bool diffuseSeesDiffuse = false, diffuseSeesSpecular = false;
-    std::vector<LightPath> list;  // the classes above, in order, with reasons
+    size_t media = 0, scatteringMedia = 0;  // media in use (global or in a shape), those with σs > 0
+    std::vector<LightPath> list;            // the classes above, in order, with reasons
 };
 
 struct PlanSettings {
     uint32_t globalPhotons = 200000;   // photons emitted in the global pass when one is needed
     uint32_t causticPhotons = 100000;  // photons emitted in the caustic pass when one is needed
+    uint32_t volumePhotons = 100000;   // photons emitted for the volume map when one is needed
 };
 
 struct RenderPlan {
     bool globalMap = false, causticMap = false, finalGather = false;
     bool lensSampling = false, timeSampling = false, areaLightSampling = false, glossySampling = false;
-    uint32_t globalPhotons = 0, causticPhotons = 0;
+    // Volume photons at scattering events in media (Jensen & Christensen 1998), planned only
+    // when a medium scatters. Not built yet: the photon methods refuse media for now
+    // (prep/media_support.h); --method path renders them.
+    bool volumeMap = false;
+    uint32_t globalPhotons = 0, causticPhotons = 0, volumePhotons = 0;
     // One reason per decision, in the order of the fields above: global map, caustic map, final
-    // gather, lens, time, area light, glossy.
+    // gather, lens, time, area light, glossy, volume map.
     std::vector<std::string> reasons;
 };
 

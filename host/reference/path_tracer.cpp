@@ -11,6 +11,7 @@
 
 #include "core/clock.h"
 #include "reference/bsdf.h"
+#include "reference/medium.h"
 #include "reference/sampling.h"
 #include "reference/surface.h"
 
@@ -18,11 +19,52 @@ namespace pcl {
 
 PathTracer::PathTracer(const Scene& scene, const SceneGeometry& geometry, PathTracerSettings settings)
     : scene_(scene), geometry_(geometry), settings_(std::move(settings)), camera_(scene.camera),
-      lights_(scene, geometry) {}
+      lights_(scene, geometry), hasMedia_(scene.hasMedia()) {
+    if (hasMedia_) boundaries_ = findMediumBoundaries(scene, geometry);
+}
+
+namespace {
+
+// A path crosses at most this many invisible medium boundaries per shadow ray, and has at most
+// this many vertices (boundary crossings do not count toward maxDepth): a guard, never reached in
+// a sane scene.
+constexpr int kMaxBoundaryCrossings = 256;
+constexpr uint32_t kMaxVertices = 4096;
+
+}  // namespace
+
+Vec3 PathTracer::shadowTransmittance(PclRay shadow, int32_t medium) const {
+    if (!hasMedia_) return geometry_.occluded(shadow) ? Vec3(0.0f) : Vec3(1.0f);
+    const float length = pcl::length(rayDirection(shadow));
+    Vec3 tr(1.0f);
+    float start = shadow.tmin;  // where the current medium began along the ray
+    for (int crossing = 0; crossing < kMaxBoundaryCrossings; ++crossing) {
+        PclHit hit;
+        const bool found = geometry_.intersect(shadow, hit);
+        const float end = found ? hit.t : shadow.tmax;
+        if (medium >= 0) tr *= pcl::transmittance(scene_.media[size_t(medium)].sigmaT(), (end - start) * length);
+        if (!found) return tr;
+        const SurfacePoint s = surfaceAt(scene_, geometry_, shadow, hit);
+        if (!s.material->interface) return Vec3(0.0f);
+        // Through the boundary into the medium beyond: the search goes on past the hit by the
+        // offset spawnRay uses, the medium's length is counted from the hit itself.
+        medium = boundaries_.beyond(s.prim, dot(s.ng, rayDirection(shadow)));
+        start = hit.t;
+        shadow.tmin = hit.t + 1e-4f * std::max(1.0f, maxComponent(vmax(s.p, -s.p))) / length;
+        if (!(shadow.tmin < shadow.tmax)) return tr;
+    }
+    return Vec3(0.0f);
+}
+
+Vec3 PathTracer::transmittance(Vec3 from, Vec3 to, float time) const {
+    PclRay r = spawnRay(from, Vec3(0.0f), to - from, time, 1.0f);
+    return shadowTransmittance(r, hasMedia_ ? mediumAt(scene_, from) : -1);
+}
 
 // Next-event estimation at s: one light sample, weighted against BSDF sampling by the power
 // heuristic when the light is an area (the BSDF could have found it too); delta lights get weight 1.
-Vec3 PathTracer::sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3 wo, Sampler& sampler,
+// The shadow ray starts in `medium`, the one on wo's side (the non-delta lobes only reflect).
+Vec3 PathTracer::sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3 wo, int32_t medium, Sampler& sampler,
                               uint32_t vertex) const {
     LightSample ls;
     if (!lights_.sampleLi(s.p, s.time, sampler.vertex(vertex, PathVertexDims::kLightSelect),
@@ -33,13 +75,35 @@ Vec3 PathTracer::sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3
     if (maxComponent(fCos) <= 0.0f) return Vec3(0.0f);
     PclRay shadow = ls.infinite ? spawnRay(s.p, s.ng, ls.wi, s.time, std::numeric_limits<float>::infinity())
                                 : spawnShadowRay(s.p, s.ng, ls.point, ls.normal, s.time);
-    if (geometry_.occluded(shadow)) return Vec3(0.0f);
+    const Vec3 tr = shadowTransmittance(shadow, medium);
+    if (maxComponent(tr) <= 0.0f) return Vec3(0.0f);
     float weight = ls.delta ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
-    return fCos * ls.Li * (weight / ls.pdf);
+    return fCos * ls.Li * (weight / ls.pdf) * tr;
 }
 
-// The path integral estimator of pbrt-v4 §13.4 (PathIntegrator): at each vertex, emission
-// found by the BSDF-sampled ray (MIS-weighted), then a light sample, then the next direction.
+// Next-event estimation at a scattering event at p in `medium`: the phase function in place of
+// f cos θ, MIS against phase sampling for area lights.
+Vec3 PathTracer::sampleDirectInMedium(Vec3 p, Vec3 wo, float time, int32_t medium, Sampler& sampler,
+                                      uint32_t vertex) const {
+    LightSample ls;
+    if (!lights_.sampleLi(p, time, sampler.vertex(vertex, PathVertexDims::kLightSelect),
+                          sampler.vertex(vertex, PathVertexDims::kLightPoint),
+                          sampler.vertex(vertex, PathVertexDims::kLightPoint + 1), ls))
+        return Vec3(0.0f);
+    const float phase = henyeyGreenstein(dot(-wo, ls.wi), scene_.media[size_t(medium)].g);
+    PclRay shadow = ls.infinite ? spawnRay(p, Vec3(0.0f), ls.wi, time, std::numeric_limits<float>::infinity())
+                                : spawnShadowRay(p, Vec3(0.0f), ls.point, ls.normal, time);
+    const Vec3 tr = shadowTransmittance(shadow, medium);
+    if (maxComponent(tr) <= 0.0f) return Vec3(0.0f);
+    const float weight = ls.delta ? 1.0f : powerHeuristic(ls.pdf, phase);
+    return ls.Li * tr * (phase * weight / ls.pdf);
+}
+
+// The path integral estimator of pbrt-v4 §13.4 (PathIntegrator), with media as in its
+// VolPathIntegrator (§14.2) for homogeneous media: on each segment inside a medium a free-flight
+// distance decides between a scattering event and the surface; at a scattering event a light
+// sample and a phase-sampled direction, at a surface the emission found (MIS-weighted), a light
+// sample and a BSDF-sampled direction.
 Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
     Vec3 L(0.0f), beta(1.0f);
     // The product of the refractions' radiance scales undone for Russian roulette (pbrt-v4's
@@ -48,11 +112,55 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
     bool specularBounce = true;  // the camera ray counts as specular: emitters seen directly count fully
     float prevPdf = 0.0f;
     Vec3 prevP;
-    for (int depth = 0;; ++depth) {
+    int32_t medium = hasMedia_ ? boundaries_.cameraMedium : -1;  // the medium the ray travels in
+    int depth = 0;                                               // scattering events so far (surfaces and media)
+    // Where the current medium began along the ray (its parameter): past an invisible boundary the
+    // ray goes on from the boundary, and the search for the next hit from just beyond it.
+    float segmentStart = 0.0f;
+    for (uint32_t vertex = 0; vertex < kMaxVertices; ++vertex) {
         PclHit hit;
-        if (!geometry_.intersect(ray, hit)) break;  // no environment light: nothing arrives from outside
+        const bool found = geometry_.intersect(ray, hit);
+        if (medium >= 0) {
+            const Medium& m = scene_.media[size_t(medium)];
+            const Vec3 d = rayDirection(ray);
+            const float length = pcl::length(d);
+            const FreeFlight flight =
+                sampleFreeFlight(m, found ? (hit.t - segmentStart) * length : std::numeric_limits<float>::infinity(),
+                                 sampler.vertex(vertex, PathVertexDims::kFreeFlight), beta);
+            beta *= flight.weight;
+            if (!(maxComponent(beta) > 0.0f)) break;
+            if (flight.scattered) {
+                if (depth >= settings_.maxDepth) break;
+                const Vec3 wo = -d / length;
+                const Vec3 p = rayOrigin(ray) + d * segmentStart - wo * flight.t;
+                if (settings_.lightSampling) L += beta * sampleDirectInMedium(p, wo, ray.time, medium, sampler, vertex);
+                // The phase function is sampled exactly: the weight p/pdf is 1.
+                const Vec3 wi = sampleHenyeyGreenstein(wo, m.g, sampler.vertex(vertex, PathVertexDims::kDirection),
+                                                       sampler.vertex(vertex, PathVertexDims::kDirection + 1));
+                specularBounce = false;
+                prevPdf = henyeyGreenstein(dot(-wo, wi), m.g);
+                prevP = p;
+                ray = spawnRay(p, Vec3(0.0f), wi, ray.time, std::numeric_limits<float>::infinity());
+                segmentStart = 0.0f;
+                if (depth + 1 >= settings_.rouletteDepth) {
+                    float q = std::max(0.05f, 1.0f - maxComponent(beta) * rouletteScale);
+                    if (sampler.vertex(vertex, PathVertexDims::kRoulette) < q) break;
+                    beta *= 1.0f / (1.0f - q);
+                }
+                ++depth;
+                continue;
+            }
+        }
+        if (!found) break;  // no environment light: nothing arrives from outside
         SurfacePoint s = surfaceAt(scene_, geometry_, ray, hit);
         Vec3 wo = -normalize(rayDirection(ray));
+        if (s.material->interface) {
+            // An invisible medium boundary: on in the same direction, in the medium beyond.
+            medium = boundaries_.beyond(s.prim, -dot(s.ng, wo));
+            segmentStart = hit.t;
+            ray.tmin = hit.t + 1e-4f * std::max(1.0f, maxComponent(vmax(s.p, -s.p))) / pcl::length(rayDirection(ray));
+            continue;
+        }
 
         Vec3 Le = LightSampler::emitted(s, wo);
         if (maxComponent(Le) > 0.0f) {
@@ -65,8 +173,8 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
 
         MixedBsdf bsdf(*s.material, s.ns, s.ng);
         if (bsdf.isBlack()) break;
-        uint32_t vertex = static_cast<uint32_t>(depth);
-        if (bsdf.hasNonDelta() && settings_.lightSampling) L += beta * sampleDirect(s, bsdf, wo, sampler, vertex);
+        if (bsdf.hasNonDelta() && settings_.lightSampling)
+            L += beta * sampleDirect(s, bsdf, wo, medium, sampler, vertex);
 
         BsdfSample bs;
         if (!bsdf.sample(wo, sampler.vertex(vertex, PathVertexDims::kLobe),
@@ -79,6 +187,9 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
         prevPdf = bs.pdf;
         prevP = s.p;
         ray = spawnRay(s.p, s.ng, bs.wi, s.time, std::numeric_limits<float>::infinity());
+        segmentStart = 0.0f;
+        // Through the surface (refraction): the medium on the other side.
+        if (hasMedia_ && dot(s.ng, wo) * dot(s.ng, bs.wi) < 0.0f) medium = boundaries_.beyond(s.prim, dot(s.ng, bs.wi));
 
         // Russian roulette (Arvo & Kirk 1990): end with probability q, divide survivors by 1 - q.
         if (depth + 1 >= settings_.rouletteDepth) {
@@ -87,6 +198,7 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
             beta *= 1.0f / (1.0f - q);
         }
         if (maxComponent(beta) <= 0.0f) break;
+        ++depth;
     }
     return L;
 }

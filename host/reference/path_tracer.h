@@ -2,7 +2,11 @@
 // unidirectional path tracing with next-event estimation and multiple importance sampling
 // (Veach 1997, power heuristic) between light sampling and BSDF sampling for emitting surfaces;
 // delta lights (point, spot, directional) by light sampling only; Russian roulette on the path
-// throughput. Deterministic: pixel (x, y), sample s always uses the same random numbers
+// throughput. Participating media (homogeneous, reference/medium.h): free-flight sampling on
+// every segment inside a medium, next-event estimation at scattering events with shadow rays
+// that carry transmittance through invisible medium boundaries, and MIS between light and
+// Henyey–Greenstein phase sampling for area lights there as at surfaces; the medium a path is in
+// follows the surfaces it crosses (prep/medium_boundaries.h). Deterministic: pixel (x, y), sample s always uses the same random numbers
 // (sampler.h), whatever the thread count, and each pixel's samples are added in order.
 #pragma once
 #include <cstdint>
@@ -10,6 +14,7 @@
 
 #include "geometry/scene_geometry.h"
 #include "image/film.h"
+#include "prep/medium_boundaries.h"
 #include "reference/bsdf.h"
 #include "reference/camera.h"
 #include "reference/light_sampling.h"
@@ -20,9 +25,12 @@ namespace pcl {
 
 struct PathTracerSettings {
     int samplesPerPixel = 16;
-    int firstSample = 0;    // render samples [firstSample, firstSample + samplesPerPixel):
-                            // shards of one render merge into exactly the single-run film
-    int maxDepth = 64;      // bounces after the camera ray; Russian roulette ends paths long before
+    int firstSample = 0;  // render samples [firstSample, firstSample + samplesPerPixel):
+                          // shards of one render merge into exactly the single-run film
+    // Scattering events after the camera ray (surface bounces and scattering in media; crossing
+    // an invisible medium boundary is none): 1 = direct light and single scattering only.
+    // Russian roulette ends paths long before 64.
+    int maxDepth = 64;
     int rouletteDepth = 3;  // Russian roulette from this bounce on
     uint64_t seed = 0;
     int threads = 0;  // 0: std::thread::hardware_concurrency()
@@ -51,14 +59,26 @@ public:
     // Radiance arriving along a camera ray (one path sample), numbers from `sampler`.
     Vec3 Li(PclRay ray, Sampler& sampler) const;
 
+    // Transmittance along the straight segment from `from` to `to` at shutter time `time`,
+    // starting in the medium at `from`: the product of exp(−σt d) over the media it passes,
+    // through invisible medium boundaries; 0 if any other surface is in between.
+    Vec3 transmittance(Vec3 from, Vec3 to, float time) const;
+
 private:
-    Vec3 sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3 wo, Sampler& sampler, uint32_t vertex) const;
+    Vec3 sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3 wo, int32_t medium, Sampler& sampler,
+                      uint32_t vertex) const;
+    Vec3 sampleDirectInMedium(Vec3 p, Vec3 wo, float time, int32_t medium, Sampler& sampler, uint32_t vertex) const;
+    // What reaches the end of a shadow ray that starts in `medium`: 0 when a surface blocks it,
+    // else the transmittance of the media it passes (1 in a scene without media).
+    Vec3 shadowTransmittance(PclRay shadow, int32_t medium) const;
 
     const Scene& scene_;
     const SceneGeometry& geometry_;
     PathTracerSettings settings_;
     RayCamera camera_;
     LightSampler lights_;
+    bool hasMedia_ = false;
+    MediumBoundaries boundaries_;  // filled only when the scene has media
 };
 
 }  // namespace pcl

@@ -5,9 +5,15 @@
 // Counter layout: path = pixel index (y * width + x), the "bounce" word = sample index within
 // the pixel, stream = PCL_RNG_STREAM_CAMERA, dimension = a fixed slot:
 //   dimensions 0..4               camera: film x, film y, lens u, lens v, shutter time
-//   dimensions 8+8b .. 8+8b+6    path vertex b: see PathVertexDims
-// Fixed slots keep a vertex's numbers the same whatever the path did before it. The light tracer
-// (light_tracer.h) uses the same vertex slots on stream LIGHT_PATH, path = light path, bounce = pass.
+//   dimensions 8+8b .. 8+8b+7    path vertex b: see PathVertexDims
+// Fixed slots keep a vertex's numbers the same whatever the path did before it. A vertex is any
+// event on the path: a surface hit, a scattering event in a medium, or the crossing of an
+// invisible medium boundary. A scattering event in a medium uses the surface slots it needs
+// (light choice and point, direction, roulette); kFreeFlight is the free-flight distance drawn on
+// the segment that ends at the vertex (only in a medium), so it never meets the slots the vertex
+// itself uses once it knows what it is.
+// The light tracer (light_tracer.h) uses the same vertex slots on stream LIGHT_PATH, path = light
+// path, bounce = pass.
 #pragma once
 #include <cstdint>
 
@@ -20,7 +26,8 @@ struct CameraDims {
 };
 struct PathVertexDims {
     static constexpr uint32_t kFirst = 8, kPerVertex = 8;
-    static constexpr uint32_t kLightSelect = 0, kLightPoint = 1, kLobe = 3, kDirection = 4, kRoulette = 6;
+    static constexpr uint32_t kLightSelect = 0, kLightPoint = 1, kLobe = 3, kDirection = 4, kRoulette = 6,
+                              kFreeFlight = 7;
 };
 
 class Sampler {

@@ -19,6 +19,12 @@ PathRenderResult renderPathTraced(const Scene& scene, const SceneGeometry& geome
     pt.threads = s.threads;
     PathTracerStats stats;
     if (s.lightTracing) r.lightTracing = pathsThePathTracerMisses(scene);
+    // The light tracer does not follow light through media yet: with one it would add wrong light,
+    // without it the image lacks that light. Say so rather than pick either silently.
+    if (!r.lightTracing.empty() && scene.hasMedia())
+        throw InputError("render: " + scene.path + ": " + r.lightTracing +
+                         ", and the light tracer that finds it does not trace media yet; "
+                         "--no-light-tracing renders without that light");
     LightTracerSettings lt;
     lt.seed = s.seed;
     lt.threads = s.threads;

@@ -1,4 +1,5 @@
 #include "render/photon_renderer.h"
+#include "prep/media_support.h"
 
 #include <algorithm>
 #include <chrono>
@@ -447,10 +448,11 @@ PhotonRenderResult PhotonRenderer::run() {
 namespace {
 
 // Before any stage is built: a photon method and valid settings.
-void requirePhotonRender(const PhotonRenderSettings& settings) {
+void requirePhotonRender(const PhotonRenderSettings& settings, const Scene& scene) {
     if (settings.method == RenderMethod::PathTracing)
         throw InternalError("renderPhotonMapped: the path tracer is render/path_render.h, not a photon method");
     validateRenderSettings(settings);
+    refuseMediaWithoutPathTracer(scene, std::string("--method ") + renderMethodName(settings.method));
 }
 
 }  // namespace
@@ -458,14 +460,14 @@ void requirePhotonRender(const PhotonRenderSettings& settings) {
 PhotonRenderResult renderPhotonMapped(RenderStages& stages, const Scene& scene, const SceneGeometry& geometry,
                                       const SceneBuffers& buffers, const RenderPlan& plan,
                                       const PhotonRenderSettings& settings) {
-    requirePhotonRender(settings);
+    requirePhotonRender(settings, scene);
     return PhotonRenderer(stages, scene, geometry, buffers, plan, settings).run();
 }
 
 PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const SceneGeometry& geometry,
                                       const SceneBuffers& buffers, const RenderPlan& plan,
                                       const PhotonRenderSettings& settings) {
-    requirePhotonRender(settings);
+    requirePhotonRender(settings, scene);
     DeviceRenderStages stages(device, scene, geometry, buffers, settings);
     return renderPhotonMapped(stages, scene, geometry, buffers, plan, settings);
 }
@@ -473,7 +475,7 @@ PhotonRenderResult renderPhotonMapped(Device& device, const Scene& scene, const 
 PhotonRenderResult renderPhotonMappedTwin(const Scene& scene, const SceneGeometry& geometry,
                                           const SceneBuffers& buffers, const RenderPlan& plan,
                                           const PhotonRenderSettings& settings) {
-    requirePhotonRender(settings);
+    requirePhotonRender(settings, scene);
     TwinRenderStages stages(scene, geometry, buffers);
     return renderPhotonMapped(stages, scene, geometry, buffers, plan, settings);
 }

@@ -16,6 +16,7 @@
 #include "image/film.h"
 #include "image/image_io.h"
 #include "image/metrics.h"
+#include "prep/media_support.h"
 #include "prep/prepared_scene.h"
 #include "reference/path_tracer.h"
 #include "render/path_render.h"
@@ -171,6 +172,8 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
 
     Image reference = readImage(o.referencePath);
     Scene scene = loadScene(o.scenePath);
+    // Refused before any curve runs, not after the path tracer's.
+    refuseMediaWithoutPathTracer(scene, "sweep (its photon-method curves)");
     Camera& cam = scene.camera;
     // The reference's size sets the render's; a different aspect ratio is a different image.
     const double camAspect = double(cam.width) / cam.height, refAspect = double(reference.width) / reference.height;

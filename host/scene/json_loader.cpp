@@ -41,8 +41,12 @@ public:
     explicit JsonSceneReader(std::string file) : file_(std::move(file)) { scene_.path = file_; }
 
     Scene read(const json& root) {
-        checkObject(root, "", {"comment", "camera", "materials", "shapes", "lights", "include"});
+        checkObject(root, "", {"comment", "camera", "materials", "media", "medium", "shapes", "lights", "include"});
         if (auto* v = optional(root, "comment")) text(*v, "comment");
+        if (auto* v = optional(root, "media")) {
+            for (size_t i = 0; i < array(*v, "media").size(); ++i) readMedium((*v)[i], indexPath("media", i));
+        }
+        if (auto* v = optional(root, "medium")) scene_.globalMedium = mediumRef(*v, "medium");
         if (auto* v = optional(root, "materials")) {
             for (size_t i = 0; i < array(*v, "materials").size(); ++i) readMaterial((*v)[i], indexPath("materials", i));
         }
@@ -246,16 +250,82 @@ private:
         }
     }
 
+    // ---- Media ---------------------------------------------------------------------------
+
+    // {"name": ..., "sigma_a": [r,g,b], "sigma_s": [r,g,b], "g": g}: 1/m, |g| < 1.
+    void readMedium(const json& value, const std::string& path) {
+        checkObject(value, path, {"name", "sigma_a", "sigma_s", "g"});
+        Medium m;
+        m.name = text(required(value, path, "name", "a medium name"), keyPath(path, "name"));
+        if (m.name.empty()) fail(keyPath(path, "name"), "a non-empty name", value["name"]);
+        if (mediumIndex_.count(m.name))
+            failInput(file_, keyPath(path, "name"), "a name not used by another medium", "\"" + m.name + "\" again");
+        const std::string coefficient = "3 finite numbers >= 0 (1/m)";
+        if (auto* v = optional(value, "sigma_a"))
+            m.sigmaA = triple(*v, keyPath(path, "sigma_a"), 0.0, kFloatMax, coefficient);
+        if (auto* v = optional(value, "sigma_s"))
+            m.sigmaS = triple(*v, keyPath(path, "sigma_s"), 0.0, kFloatMax, coefficient);
+        if (maxComponent(m.sigmaA + m.sigmaS) <= 0)
+            failInput(file_, path, "sigma_a + sigma_s > 0 in some channel (a medium that does nothing is no medium)",
+                      "all zero");
+        if (auto* v = optional(value, "g")) {
+            const std::string expected = "a Henyey-Greenstein g in (-1, 1)";
+            m.g = float(number(*v, keyPath(path, "g"), -1.0, 1.0, expected));
+            if (!(std::abs(m.g) < 1.0f)) fail(keyPath(path, "g"), expected, *v);
+        }
+        mediumIndex_[m.name] = int(scene_.media.size());
+        scene_.media.push_back(m);
+    }
+
+    int mediumRef(const json& value, const std::string& path) {
+        std::string name = text(value, path);
+        auto it = mediumIndex_.find(name);
+        if (it == mediumIndex_.end()) {
+            std::string names;
+            for (const auto& [n, i] : mediumIndex_) names += (names.empty() ? "" : ", ") + n;
+            failInput(file_, path, "the name of a medium (" + (names.empty() ? "none defined" : names) + ")",
+                      "\"" + name + "\"");
+        }
+        return it->second;
+    }
+
+    // A shape's "medium" (or -1), read before its material: with a medium, "material" may be left
+    // out and the shape is then an invisible boundary (Material::interface).
+    int shapeMedium(const json& value, const std::string& path) {
+        auto* v = optional(value, "medium");
+        return v ? mediumRef(*v, keyPath(path, "medium")) : -1;
+    }
+    int shapeMaterial(const json& value, const std::string& path, int medium) {
+        if (medium >= 0 && !value.contains("material")) return interfaceMaterial();
+        return materialRef(required(value, path, "material",
+                                    medium >= 0 ? "a material name (or none: an invisible medium boundary)"
+                                                : "a material name"),
+                           keyPath(path, "material"));
+    }
+    // The one material of every invisible medium boundary, made on first use; scene files cannot
+    // name it.
+    int interfaceMaterial() {
+        if (interfaceMaterial_ < 0) {
+            Material m;
+            m.name = "(medium boundary)";
+            m.interface = true;
+            interfaceMaterial_ = int(scene_.materials.size());
+            scene_.materials.push_back(m);
+        }
+        return interfaceMaterial_;
+    }
+
     // ---- Shapes --------------------------------------------------------------------------
 
     void readShape(const json& value, const std::string& path) {
         if (!value.is_object()) fail(path, "an object", value);
         std::string type = text(required(value, path, "type", "mesh, sphere or quad"), keyPath(path, "type"));
         if (type == "sphere") {
-            checkObject(value, path, {"type", "name", "material", "centre", "radius", "motion"});
+            checkObject(value, path, {"type", "name", "material", "medium", "centre", "radius", "motion"});
             Sphere s;
             s.name = shapeName(value, path);
-            s.material = materialRef(required(value, path, "material", "a material name"), keyPath(path, "material"));
+            s.medium = shapeMedium(value, path);
+            s.material = shapeMaterial(value, path, s.medium);
             if (scene_.materials[s.material].emits())
                 failInput(file_, keyPath(path, "material"),
                           "a non-emissive material (emitting spheres are not supported; use a mesh or an area light)",
@@ -267,20 +337,21 @@ private:
             s.motion = motion(value, path);
             scene_.spheres.push_back(s);
         } else if (type == "quad") {
-            checkObject(value, path, {"type", "name", "material", "corner", "edge_u", "edge_v", "motion"});
+            checkObject(value, path, {"type", "name", "material", "medium", "corner", "edge_u", "edge_v", "motion"});
             TriangleMesh mesh = quadMesh(value, path);
             mesh.name = shapeName(value, path);
-            mesh.material =
-                materialRef(required(value, path, "material", "a material name"), keyPath(path, "material"));
+            mesh.medium = shapeMedium(value, path);  // refused by validateScene: a quad is not closed
+            mesh.material = shapeMaterial(value, path, mesh.medium);
             mesh.motion = motion(value, path);
             scene_.meshes.push_back(std::move(mesh));
         } else if (type == "mesh") {
             if (value.contains("gltf")) {
-                checkObject(value, path, {"type", "name", "material", "gltf", "transform", "motion"});
+                checkObject(value, path, {"type", "name", "material", "medium", "gltf", "transform", "motion"});
                 readGltfMesh(value, path);
             } else {
                 checkObject(value, path,
-                            {"type", "name", "material", "positions", "indices", "normals", "transform", "motion"});
+                            {"type", "name", "material", "medium", "positions", "indices", "normals", "transform",
+                             "motion"});
                 readInlineMesh(value, path);
             }
         } else {
@@ -308,7 +379,8 @@ private:
     void readInlineMesh(const json& value, const std::string& path) {
         TriangleMesh mesh;
         mesh.name = shapeName(value, path);
-        mesh.material = materialRef(required(value, path, "material", "a material name"), keyPath(path, "material"));
+        mesh.medium = shapeMedium(value, path);
+        mesh.material = shapeMaterial(value, path, mesh.medium);
         mesh.motion = motion(value, path);
         mesh.positions =
             vectors(required(value, path, "positions", "a flat array of 3N numbers"), keyPath(path, "positions"));
@@ -374,11 +446,13 @@ private:
 #ifdef PHOTONCL_HAVE_GLTF
         GltfImportOptions options;
         options.geometryOnly = true;
-        if (auto* m = optional(value, "material"))
-            options.materialOverride = materialRef(*m, keyPath(path, "material"));
+        const int medium = shapeMedium(value, path);
+        if (medium >= 0 || optional(value, "material")) options.materialOverride = shapeMaterial(value, path, medium);
         if (auto* t = optional(value, "transform")) options.transform = transform(*t, keyPath(path, "transform"));
         options.motion = motion(value, path);
+        const size_t firstMesh = scene_.meshes.size();
         importGltf(scene_, file, options);
+        for (size_t i = firstMesh; i < scene_.meshes.size(); ++i) scene_.meshes[i].medium = medium;
 #endif
     }
 
@@ -598,6 +672,8 @@ private:
     std::string file_;
     Scene scene_;
     std::map<std::string, int> materialIndex_;
+    std::map<std::string, int> mediumIndex_;
+    int interfaceMaterial_ = -1;  // the shared invisible-boundary material, once a shape needs it
     std::optional<Camera> includedCamera_;
 };
 

@@ -21,7 +21,21 @@ struct Material {
     float phongExponent = 0.0f;  // Glossy: normalised Phong lobe (n+2)/(2π) cos^n around the mirror direction
     float ior = 1.5f;            // Dielectric: index of refraction inside (outside is 1)
     Vec3 emission{0.0f};         // one-sided emitted radiance, W m^-2 sr^-1, on the geometric-normal side
+    // No surface at all: rays pass straight through. Only the boundary of a medium (a shape with
+    // a medium and no material in the scene file) has it; it reflects nothing and emits nothing.
+    bool interface = false;
     bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+};
+
+// A homogeneous participating medium (pbrt-v4 §11.1): absorption σa and scattering σs per
+// channel in 1/m, and the Henyey–Greenstein asymmetry g in (−1, 1) (g > 0 scatters forward).
+// It fills the inside of the closed shapes that name it, or the whole scene (Scene::globalMedium).
+struct Medium {
+    std::string name;
+    Vec3 sigmaA{0.0f};
+    Vec3 sigmaS{0.0f};
+    float g = 0.0f;
+    Vec3 sigmaT() const { return sigmaA + sigmaS; }
 };
 
 // Triangle soup with shared vertices. Winding is counter-clockwise seen from the front side;
@@ -33,6 +47,7 @@ struct TriangleMesh {
     std::vector<uint32_t> indices;  // three per triangle
     int material = 0;
     Vec3 motion{0.0f};  // translation over the shutter interval
+    int medium = -1;    // index into Scene::media filling the inside (closed, outward-facing mesh), or -1
     size_t triangleCount() const { return indices.size() / 3; }
 };
 
@@ -42,6 +57,7 @@ struct Sphere {
     float radius = 1.0f;
     int material = 0;
     Vec3 motion{0.0f};
+    int medium = -1;  // index into Scene::media filling the inside, or -1
 };
 
 enum class LightType { Point, Spot, Area, Directional };
@@ -80,6 +96,8 @@ struct Scene {
     std::vector<TriangleMesh> meshes;
     std::vector<Sphere> spheres;
     std::vector<Light> lights;
+    std::vector<Medium> media;
+    int globalMedium = -1;  // index into media filling all space outside the shapes with their own (fog), or -1
     Camera camera;
     size_t droppedDegenerateTriangles = 0;
 
@@ -87,6 +105,15 @@ struct Scene {
         size_t n = 0;
         for (const auto& m : meshes) n += m.triangleCount();
         return n;
+    }
+    // Whether any medium is in use (a shape's or the global one); an unused entry in media is not.
+    bool hasMedia() const {
+        if (globalMedium >= 0) return true;
+        for (const auto& m : meshes)
+            if (m.medium >= 0) return true;
+        for (const auto& s : spheres)
+            if (s.medium >= 0) return true;
+        return false;
     }
     bool hasMotion() const {
         for (const auto& m : meshes)

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "scene/mesh_topology.h"
 #include "scene/scene_error.h"
 
 namespace pcl {
@@ -223,6 +224,47 @@ void checkCamera(const Scene& s) {
                   "[" + std::to_string(c.shutterOpen) + "," + std::to_string(c.shutterClose) + "]");
 }
 
+// Media: coefficients, g, the references to them, and shapes that can hold one (after degenerate
+// triangles are dropped, which may open a mesh).
+void checkMedia(const Scene& s) {
+    for (size_t i = 0; i < s.media.size(); ++i) {
+        const Medium& m = s.media[i];
+        std::string f = at("media", i) + " (\"" + m.name + "\")";
+        if (!nonNegative(m.sigmaA)) failInput(s.path, f + ".sigma_a", "3 finite numbers >= 0 (1/m)", show(m.sigmaA));
+        if (!nonNegative(m.sigmaS)) failInput(s.path, f + ".sigma_s", "3 finite numbers >= 0 (1/m)", show(m.sigmaS));
+        if (!(maxComponent(m.sigmaT()) > 0))
+            failInput(s.path, f, "sigma_a + sigma_s > 0 in some channel", show(m.sigmaT()));
+        if (!(std::abs(m.g) < 1.0f))
+            failInput(s.path, f + ".g", "a Henyey-Greenstein g in (-1, 1)", std::to_string(m.g));
+    }
+    auto checkRef = [&](int medium, const std::string& f) {
+        if (medium < -1 || medium >= int(s.media.size()))
+            failInput(s.path, f, "a medium index below " + std::to_string(s.media.size()) + " (or none)",
+                      std::to_string(medium));
+    };
+    checkRef(s.globalMedium, "medium");
+    for (size_t i = 0; i < s.spheres.size(); ++i)
+        checkRef(s.spheres[i].medium, at("spheres", i) + " (\"" + s.spheres[i].name + "\").medium");
+    for (size_t i = 0; i < s.meshes.size(); ++i) {
+        const TriangleMesh& m = s.meshes[i];
+        std::string f = at("meshes", i) + " (\"" + m.name + "\").medium";
+        checkRef(m.medium, f);
+        if (m.medium < 0) continue;
+        std::string problem = closedMeshProblem(m);
+        if (!problem.empty())
+            failInput(s.path, f,
+                      "a closed mesh to hold medium \"" + s.media[size_t(m.medium)].name +
+                          "\" (every edge shared by exactly two triangles, consistently wound, facing outward)",
+                      problem);
+    }
+    // A boundary that is no surface must bound something.
+    for (size_t i = 0; i < s.materials.size(); ++i)
+        if (s.materials[i].interface &&
+            (s.materials[i].emits() || maxComponent(s.materials[i].rhoD + s.materials[i].rhoS) > 0))
+            failInput(s.path, at("materials", i), "an invisible medium boundary that neither reflects nor emits",
+                      "\"" + s.materials[i].name + "\"");
+}
+
 }  // namespace
 
 void validateScene(Scene& scene) {
@@ -232,6 +274,7 @@ void validateScene(Scene& scene) {
     dropDegenerateTriangles(scene);
     if (scene.meshes.empty() && scene.spheres.empty())
         failInput(scene.path, "shapes", "at least one shape with non-zero area", "none");
+    checkMedia(scene);
     linkEmitters(scene);
     checkLights(scene);
     checkCamera(scene);

@@ -21,6 +21,19 @@ inline std::vector<std::string> referencedScenes() {
             "motion-dof.json",  "gltf-room.gltf",       "furnace-0.5.json",           "furnace-0.8.json"};
 }
 
+// The shipped scenes with participating media (scenes/media/), each with a path-traced reference
+// in tests/data/ref-<stem>.exr. Only --method path renders media until the volume photon map
+// lands, so they are kept out of referencedScenes() (which photon-method tests iterate) and out
+// of scenes/ itself (which the tests over every shipped scene enumerate); the path-traced
+// reference tests take both lists (pathTracedScenes()).
+inline std::vector<std::string> mediaScenes() { return {"media/cornell-fog.json", "media/hazy-room.json"}; }
+
+inline std::vector<std::string> pathTracedScenes() {
+    std::vector<std::string> all = referencedScenes();
+    for (const std::string& name : mediaScenes()) all.push_back(name);
+    return all;
+}
+
 inline std::string scenePath(const std::string& name) {
     return (std::filesystem::path(PHOTONCL_SOURCE_DIR) / "scenes" / name).string();
 }

@@ -12,6 +12,7 @@
 
 #include "accuracy/accuracy_common.h"
 #include "common/test_scenes.h"
+#include "core/error.h"
 #include "geometry/scene_geometry.h"
 #include "image/film.h"
 #include "image/metrics.h"
@@ -418,4 +419,18 @@ TEST(LightTracerAccuracy, PathRenderAddsTheLightTracerWhereTheSceneNeedsIt) {
     pt.samplesPerPixel = 3;
     EXPECT_EQ(pathOnly.film.sums(), PathTracer(scene, geometry, pt).render().sums());
     EXPECT_GT(accuracy::meanValue(a), accuracy::meanValue(pathOnly.film.resolve()));
+
+    // In fog the light tracer would miss the medium: refused, unless the user renders without it.
+    Medium fog;
+    fog.name = "fog";
+    fog.sigmaS = Vec3(0.05f);
+    scene.media.push_back(fog);
+    scene.globalMedium = 0;
+    try {
+        renderPathTraced(scene, geometry, s);
+        ADD_FAILURE() << "a light-traced scene with a medium rendered";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("does not trace media"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(renderPathTraced(scene, geometry, alone).lightPaths, 0u);
 }

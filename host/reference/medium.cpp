@@ -1,0 +1,74 @@
+#include "reference/medium.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "reference/sampling.h"
+
+namespace pcl {
+namespace {
+
+float channelTransmittance(float sigmaT, float distance) { return sigmaT > 0.0f ? std::exp(-sigmaT * distance) : 1.0f; }
+
+}  // namespace
+
+Vec3 transmittance(Vec3 sigmaT, float distance) {
+    return {channelTransmittance(sigmaT.x, distance), channelTransmittance(sigmaT.y, distance),
+            channelTransmittance(sigmaT.z, distance)};
+}
+
+FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float u, Vec3 beta) {
+    FreeFlight f;
+    const Vec3 choice = vmax(beta, Vec3(0.0f));
+    const float total = choice.x + choice.y + choice.z;
+    if (!(total > 0.0f) || !std::isfinite(total)) return f;
+    const Vec3 P = choice / total;  // channel probabilities
+    // The channel whose share of [0, 1) holds u, and u's place within it.
+    int channel = 0;
+    float below = 0.0f;
+    while (channel < 2 && (P[channel] == 0.0f || u >= below + P[channel])) {
+        below += P[channel];
+        ++channel;
+    }
+    while (P[channel] == 0.0f) --channel;  // rounding pushed u past the last share; total > 0 ends it
+    const float uDistance = std::clamp((u - below) / P[channel], 0.0f, 0x1.fffffep-1f);
+    const Vec3 sigmaT = medium.sigmaT();
+    const float sigmaC = sigmaT[channel];
+    f.t = sigmaC > 0.0f ? -std::log1p(-uDistance) / sigmaC : std::numeric_limits<float>::infinity();
+    if (f.t < tMax) {
+        // A scattering event: density Σ_c P(c) σt[c] e^{−σt[c] t}.
+        f.scattered = true;
+        const Vec3 tr = transmittance(sigmaT, f.t);
+        const float pdf = dot(P, sigmaT * tr);
+        f.weight = pdf > 0.0f ? medium.sigmaS * tr / pdf : Vec3(0.0f);
+        return f;
+    }
+    // Past the segment's end: probability Σ_c P(c) e^{−σt[c] tMax}.
+    f.t = tMax;
+    const Vec3 tr = transmittance(sigmaT, tMax);
+    const float probability = dot(P, tr);
+    f.weight = probability > 0.0f ? tr / probability : Vec3(0.0f);
+    return f;
+}
+
+float henyeyGreenstein(float cosScatter, float g) {
+    const float denom = 1.0f + g * g - 2.0f * g * cosScatter;
+    return (1.0f - g * g) / (4.0f * kPi * denom * std::sqrt(std::max(denom, 0.0f)));
+}
+
+float sampleHenyeyGreensteinCosine(float g, float u) {
+    if (std::abs(g) < 1e-3f) return 2.0f * u - 1.0f;
+    const float s = (1.0f - g * g) / (1.0f - g + 2.0f * g * u);
+    return std::clamp((1.0f + g * g - s * s) / (2.0f * g), -1.0f, 1.0f);
+}
+
+Vec3 sampleHenyeyGreenstein(Vec3 wo, float g, float u1, float u2) {
+    const float cosTheta = sampleHenyeyGreensteinCosine(g, u1);
+    const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    const Vec3 forward = -wo;
+    Vec3 t, b;
+    makeBasis(forward, t, b);
+    return fromLocal(t, b, forward, sinTheta, cosTheta, 2.0f * kPi * u2);
+}
+
+}  // namespace pcl
