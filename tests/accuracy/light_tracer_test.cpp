@@ -60,27 +60,6 @@ void setCamera(Scene& scene, Vec3 pos, Vec3 at, Vec3 up, float vfov, int w, int 
     scene.camera.height = h;
 }
 
-// The pinhole ray through film position (fx, fy) ∈ [0,1)² of pixel (x, y), from the camera's
-// definition (not from reference/camera.cpp).
-Vec3 pinholeDirection(const Camera& cam, int x, int y, float fx, float fy) {
-    Vec3 f = normalize(cam.lookAt - cam.position), r = normalize(cross(f, cam.up)), u = cross(r, f);
-    float th = std::tan(0.5f * cam.vfovDegrees * kPi / 180.0f), tw = th * cam.width / cam.height;
-    float sx = (2.0f * (x + fx) / cam.width - 1.0f) * tw, sy = (1.0f - 2.0f * (y + fy) / cam.height) * th;
-    return normalize(f + r * sx + u * sy);
-}
-
-// g averaged over the points of the plane y = 0 seen in pixel (x, y) (an n×n grid).
-template <class G>
-double pixelAverageOnGround(const Camera& cam, int x, int y, G g, int n = 8) {
-    double sum = 0.0;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            Vec3 d = pinholeDirection(cam, x, y, (i + 0.5f) / n, (j + 0.5f) / n);
-            sum += g(cam.position + d * (-cam.position.y / d.y));
-        }
-    return sum / (n * n);
-}
-
 }  // namespace
 
 // A spot light at height h under a mirror ceiling at height H, pointing up: its mirror image is

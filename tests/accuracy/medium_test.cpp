@@ -15,6 +15,7 @@
 #include <functional>
 #include <vector>
 
+#include "common/test_scenes.h"
 #include "core/math.h"
 #include "geometry/scene_geometry.h"
 #include "image/film.h"
@@ -24,17 +25,11 @@
 #include "reference/sampling.h"
 
 using namespace pcl;
+using test_scenes::addEmitter;
+using test_scenes::addMaterial;
 
 namespace {
 
-int addMaterial(Scene& scene, Vec3 rhoD, Vec3 emission = Vec3(0.0f)) {
-    Material m;
-    m.name = "m" + std::to_string(scene.materials.size());
-    m.rhoD = rhoD;
-    m.emission = emission;
-    scene.materials.push_back(m);
-    return static_cast<int>(scene.materials.size()) - 1;
-}
 int addBoundaryMaterial(Scene& scene) {
     int m = addMaterial(scene, Vec3(0.0f));
     scene.materials[size_t(m)].interface = true;
@@ -237,7 +232,7 @@ TEST(MediumAccuracy, RenderedSlabTransmittance) {
     const Vec3 sigmaA(0.5f, 1.0f, 2.0f);
     addBox(scene, Vec3(-5, -5, 0.0f), Vec3(5, 5, 0.8f), boundary, addMedium(scene, sigmaA, Vec3(0.0f), 0.0f));
     const Vec3 Le(1.0f, 2.0f, 3.0f);
-    const int lamp = addMaterial(scene, Vec3(0.0f), Le);
+    const int lamp = addEmitter(scene, Vec3(0.0f), Le);
     TriangleMesh quad;  // facing +z, toward the camera
     quad.positions = {{-4, -4, -1}, {4, -4, -1}, {4, 4, -1}, {-4, 4, -1}};
     quad.indices = {0, 1, 2, 0, 2, 3};
@@ -343,7 +338,7 @@ TEST(MediumAccuracy, NonAbsorbingMediaInTheFurnaceStayUniform) {
     const float rho = 0.5f;
     const Vec3 Le(1.0f, 0.5f, 2.0f);
     Scene scene;
-    addBox(scene, Vec3(-1), Vec3(1), addMaterial(scene, Vec3(rho), Le), -1, /*inward=*/true);
+    addBox(scene, Vec3(-1), Vec3(1), addEmitter(scene, Vec3(rho), Le), -1, /*inward=*/true);
     scene.globalMedium = addMedium(scene, Vec3(0.0f), Vec3(1.0f, 2.0f, 0.5f), 0.5f);
     addSphere(scene, Vec3(0.3f, 0.1f, -0.4f), 0.35f, addGlass(scene, 1.33f),
               addMedium(scene, Vec3(0.0f), Vec3(6.0f, 4.0f, 8.0f), 0.8f));
@@ -383,7 +378,7 @@ TEST(MediumAccuracy, NonAbsorbingMediaInTheFurnaceStayUniform) {
 // Same film bits for 1 and 3 threads in a scene with every kind of medium event.
 TEST(MediumAccuracy, DeterministicAcrossThreads) {
     Scene scene;
-    addBox(scene, Vec3(-1), Vec3(1), addMaterial(scene, Vec3(0.6f), Vec3(1.0f)), -1, /*inward=*/true);
+    addBox(scene, Vec3(-1), Vec3(1), addEmitter(scene, Vec3(0.6f), Vec3(1.0f)), -1, /*inward=*/true);
     scene.globalMedium = addMedium(scene, Vec3(0.2f), Vec3(1.0f), 0.3f);
     addSphere(scene, Vec3(0.2f, 0, -0.3f), 0.3f, addGlass(scene, 1.5f), addMedium(scene, Vec3(0.5f), Vec3(4.0f), 0.7f));
     setCamera(scene, Vec3(0, 0, 0.8f), Vec3(0, 0, -1), 70.0f, 20, 20);

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "common/test_scenes.h"
 #include "geometry/scene_geometry.h"
 #include "image/film.h"
 #include "reference/bsdf.h"
@@ -15,17 +16,12 @@
 #include "reference/sampling.h"
 
 using namespace pcl;
+using test_scenes::addEmitter;
+using test_scenes::addMaterial;
+using test_scenes::pinholeDirection;
+using test_scenes::pixelAverageOnGround;
 
 namespace {
-
-int addMaterial(Scene& scene, Vec3 rhoD, Vec3 emission = Vec3(0.0f)) {
-    Material m;
-    m.name = "m" + std::to_string(scene.materials.size());
-    m.rhoD = rhoD;
-    m.emission = emission;
-    scene.materials.push_back(m);
-    return static_cast<int>(scene.materials.size()) - 1;
-}
 
 // A square (or rectangle) centred at c with front-side normal n, half-sizes hu, hv.
 void addQuad(Scene& scene, int material, Vec3 c, Vec3 n, float hu, float hv, Vec3 motion = Vec3(0.0f),
@@ -78,28 +74,6 @@ double meanChannel(const Image& img, int c) {
     return s / static_cast<double>(img.pixelCount());
 }
 
-// The pinhole ray through film position (fx, fy) ∈ [0,1)² of pixel (x, y), computed here
-// independently of reference/camera.cpp.
-Vec3 pinholeDirection(const Camera& cam, int x, int y, float fx, float fy) {
-    Vec3 f = normalize(cam.lookAt - cam.position), r = normalize(cross(f, cam.up)), u = cross(r, f);
-    float th = std::tan(0.5f * cam.vfovDegrees * kPi / 180.0f), tw = th * cam.width / cam.height;
-    float sx = (2.0f * (x + fx) / cam.width - 1.0f) * tw, sy = (1.0f - 2.0f * (y + fy) / cam.height) * th;
-    return normalize(f + r * sx + u * sy);
-}
-
-// Averages g(hit point on the plane y = 0) over an n×n grid inside pixel (x, y).
-template <class G>
-double pixelAverageOnGround(const Camera& cam, int x, int y, G g, int n = 8) {
-    double sum = 0.0;
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            Vec3 d = pinholeDirection(cam, x, y, (i + 0.5f) / n, (j + 0.5f) / n);
-            float t = -cam.position.y / d.y;
-            sum += g(cam.position + d * t);
-        }
-    return sum / (n * n);
-}
-
 }  // namespace
 
 // White furnace: a closed diffuse enclosure, albedo ρ, emitting Le inward everywhere. Radiance
@@ -107,7 +81,7 @@ double pixelAverageOnGround(const Camera& cam, int x, int y, G g, int n = 8) {
 TEST(PathTracerAccuracy, WhiteFurnace) {
     for (float rho : {0.5f, 0.8f}) {
         Scene scene;
-        int m = addMaterial(scene, Vec3(rho), Vec3(1.0f, 0.5f, 2.0f));
+        int m = addEmitter(scene, Vec3(rho), Vec3(1.0f, 0.5f, 2.0f));
         addInwardBox(scene, m);
         setCamera(scene, {0.2f, -0.1f, 0.3f}, {0.5f, 0.3f, -1.0f}, {0, 1, 0}, 90.0f, 16, 16);
         Image img = render(scene, rho < 0.7f ? 1024 : 2048, 256);  // ~2 s in all
@@ -223,7 +197,7 @@ TEST(PathTracerAccuracy, SpotAndDirectionalLights) {
 TEST(PathTracerAccuracy, AreaLightOverDiffusePlane) {
     Scene scene;
     int ground = addMaterial(scene, Vec3(0.7f));
-    int lamp = addMaterial(scene, Vec3(0.0f), Vec3(5.0f));
+    int lamp = addEmitter(scene, Vec3(0.0f), Vec3(5.0f));
     addQuad(scene, ground, Vec3(0.0f), Vec3(0, 1, 0), 50.0f, 50.0f);
     addQuad(scene, lamp, Vec3(0.0f, 1.0f, 0.0f), Vec3(0, -1, 0), 0.25f, 0.25f, Vec3(0.0f), Vec3(1, 0, 0));
     Light area;
@@ -263,7 +237,7 @@ TEST(PathTracerAccuracy, AreaLightOverDiffusePlane) {
 TEST(PathTracerAccuracy, LosslessSpheresInFurnaceConserveEnergy) {
     for (SpecularKind kind : {SpecularKind::Dielectric, SpecularKind::Mirror}) {
         Scene scene;
-        int walls = addMaterial(scene, Vec3(0.5f), Vec3(1.0f));
+        int walls = addEmitter(scene, Vec3(0.5f), Vec3(1.0f));
         addInwardBox(scene, walls);
         Material glass;
         glass.name = "glass";
@@ -292,7 +266,7 @@ TEST(PathTracerAccuracy, LosslessSpheresInFurnaceConserveEnergy) {
 // L = (ρd + ρs) Le. Light sampling, BSDF sampling and their MIS weights all take part.
 TEST(PathTracerAccuracy, GlossyAndDiffuseAlbedoAtNormalIncidence) {
     Scene scene;
-    int lamp = addMaterial(scene, Vec3(0.0f), Vec3(2.0f));
+    int lamp = addEmitter(scene, Vec3(0.0f), Vec3(2.0f));
     Material floor;
     floor.rhoD = Vec3(0.3f);
     floor.rhoS = Vec3(0.6f);
@@ -326,7 +300,7 @@ TEST(PathTracerAccuracy, FresnelDielectric) {
 // averages Le/4.
 TEST(PathTracerAccuracy, MotionBlurAveragesOverTheShutter) {
     Scene scene;
-    int lamp = addMaterial(scene, Vec3(0.0f), Vec3(1.0f));
+    int lamp = addEmitter(scene, Vec3(0.0f), Vec3(1.0f));
     addQuad(scene, lamp, Vec3(0.0f), Vec3(0, 0, 1), 0.5f, 2.0f, Vec3(2.0f, 0.0f, 0.0f), Vec3(1, 0, 0));
     setCamera(scene, {0.0f, 0.0f, 2.0f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 20.0f, 8, 8);  // sees x ∈ ±0.35
     scene.camera.shutterOpen = 0.0f;
@@ -352,7 +326,7 @@ TEST(PathTracerAccuracy, MotionBlurAveragesOverTheShutter) {
 // of a uniform point on the unit disk, P(lx < s) = 1/2 + (s sqrt(1-s²) + asin s)/π.
 TEST(PathTracerAccuracy, ThinLensDepthOfField) {
     Scene scene;
-    int lamp = addMaterial(scene, Vec3(0.0f), Vec3(1.0f));
+    int lamp = addEmitter(scene, Vec3(0.0f), Vec3(1.0f));
     const float D = 4.0f;
     addQuad(scene, lamp, Vec3(-5.0f, 0.0f, -D), Vec3(0, 0, 1), 5.0f, 5.0f, Vec3(0.0f), Vec3(1, 0, 0));
     setCamera(scene, {0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 10.0f, 16, 4);
@@ -396,7 +370,7 @@ TEST(PathTracerAccuracy, MisAgreesWithBsdfSamplingAlone) {
     Scene scene;
     int white = addMaterial(scene, Vec3(0.7f));
     int red = addMaterial(scene, Vec3(0.6f, 0.1f, 0.1f));
-    int lamp = addMaterial(scene, Vec3(0.0f), Vec3(2.0f));
+    int lamp = addEmitter(scene, Vec3(0.0f), Vec3(2.0f));
     Material glossy;
     glossy.rhoD = Vec3(0.3f);
     glossy.rhoS = Vec3(0.5f);
@@ -467,7 +441,7 @@ TEST(PathTracerAccuracy, DeterministicAcrossThreadsAndShards) {
     Scene scene;
     int white = addMaterial(scene, Vec3(0.7f));
     int red = addMaterial(scene, Vec3(0.6f, 0.1f, 0.1f));
-    int lamp = addMaterial(scene, Vec3(0.0f), Vec3(10.0f));
+    int lamp = addEmitter(scene, Vec3(0.0f), Vec3(10.0f));
     addInwardBox(scene, white);
     scene.meshes[0].material = red;
     addQuad(scene, lamp, Vec3(0.0f, 0.99f, 0.0f), Vec3(0, -1, 0), 0.3f, 0.3f);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <random>
@@ -60,6 +61,32 @@ inline int addMaterial(Scene& s, Vec3 rhoD, Vec3 rhoS = Vec3(0.0f), SpecularKind
     m.emission = emission;
     s.materials.push_back(m);
     return static_cast<int>(s.materials.size()) - 1;
+}
+
+// A diffuse emitter (or, with emission 0, a plain Lambertian material); returns the index.
+inline int addEmitter(Scene& s, Vec3 rhoD, Vec3 emission) {
+    return addMaterial(s, rhoD, Vec3(0.0f), SpecularKind::None, emission);
+}
+
+// The pinhole ray through film position (fx, fy) ∈ [0,1)² of pixel (x, y), from the camera's
+// definition, independently of reference/camera.cpp.
+inline Vec3 pinholeDirection(const Camera& cam, int x, int y, float fx, float fy) {
+    Vec3 f = normalize(cam.lookAt - cam.position), r = normalize(cross(f, cam.up)), u = cross(r, f);
+    float th = std::tan(cam.vfovDegrees * (3.14159265358979f / 360.0f)), tw = th * cam.width / cam.height;
+    float sx = (2.0f * (x + fx) / cam.width - 1.0f) * tw, sy = (1.0f - 2.0f * (y + fy) / cam.height) * th;
+    return normalize(f + r * sx + u * sy);
+}
+
+// g averaged over the points of the plane y = 0 seen in pixel (x, y) (an n×n grid).
+template <class G>
+double pixelAverageOnGround(const Camera& cam, int x, int y, G g, int n = 8) {
+    double sum = 0.0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            Vec3 d = pinholeDirection(cam, x, y, (i + 0.5f) / n, (j + 0.5f) / n);
+            sum += g(cam.position + d * (-cam.position.y / d.y));
+        }
+    return sum / (n * n);
 }
 
 // The quad corner, corner + u, corner + u + v, corner + v as one mesh of two triangles; returns
