@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "reference/sampling.h"
+#include "reference/surface.h"
 
 namespace pcl {
 
@@ -66,16 +67,7 @@ PclRay RayCamera::generateRay(int x, int y, const CameraSample& s) const {
         origin = origin + (right_ * lx + up_ * ly) * camera_.apertureRadius;
         dir = normalize(focus - origin);
     }
-    PclRay ray{};
-    ray.ox = origin.x;
-    ray.oy = origin.y;
-    ray.oz = origin.z;
-    ray.dx = dir.x;
-    ray.dy = dir.y;
-    ray.dz = dir.z;
-    ray.tmin = 0.0f;
-    ray.tmax = std::numeric_limits<float>::infinity();
-    ray.time = shutterOpen_ ? s.time : 0.0f;
+    PclRay ray = makeRay(origin, dir, shutterOpen_ ? s.time : 0.0f);
     return ray;
 }
 

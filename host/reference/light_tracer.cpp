@@ -240,16 +240,7 @@ void LightTracer::tracePath(uint32_t pass, uint32_t path, std::vector<Splat>& sp
     beta = beta / probability_[k];
     if (!(maxComponent(beta) > 0.0f)) return;
 
-    PclRay ray{};
-    ray.ox = origin.x;
-    ray.oy = origin.y;
-    ray.oz = origin.z;
-    ray.dx = dir.x;
-    ray.dy = dir.y;
-    ray.dz = dir.z;
-    ray.tmin = 0.0f;
-    ray.tmax = std::numeric_limits<float>::infinity();
-    ray.time = time;
+    PclRay ray = makeRay(origin, dir, time);
 
     const bool all = settings_.paths == LightTracerPaths::All;
     const float invPaths = 1.0f / float(pathsPerPass_);

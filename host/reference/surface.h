@@ -2,6 +2,7 @@
 // moving primitives placed at the ray's shutter time.
 #pragma once
 #include <cstdint>
+#include <limits>
 
 #include "geometry/scene_geometry.h"
 #include "scene/scene.h"
@@ -27,6 +28,20 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
 
 inline Vec3 rayOrigin(const PclRay& r) { return {r.ox, r.oy, r.oz}; }
 inline Vec3 rayDirection(const PclRay& r) { return {r.dx, r.dy, r.dz}; }
+// The ray o + t d, t in [0, tmax), with no offset (cameras and lights: nothing to leave).
+inline PclRay makeRay(Vec3 o, Vec3 d, float time, float tmax = std::numeric_limits<float>::infinity()) {
+    PclRay r{};
+    r.ox = o.x;
+    r.oy = o.y;
+    r.oz = o.z;
+    r.dx = d.x;
+    r.dy = d.y;
+    r.dz = d.z;
+    r.tmin = 0.0f;
+    r.tmax = tmax;
+    r.time = time;
+    return r;
+}
 
 // A ray leaving p along d (unnormalised allowed) on the side of n that d points to, offset
 // against self-intersection by a distance relative to the magnitude of p.
