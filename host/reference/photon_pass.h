@@ -32,6 +32,7 @@ struct ReferencePhotonStats {
 
 struct ReferencePhotonMaps {
     std::vector<PclPhoton> global, caustic;
+    std::vector<PclPhoton> volume, volumeCaustic;  // scenes with media: the passes' volume photons
     ReferencePhotonStats globalStats, causticStats;
 };
 
@@ -48,7 +49,8 @@ std::vector<uint32_t> referenceLightFirstPhoton(const SceneBuffers& buffers, uin
 std::vector<PclPhoton> referencePhotonMap(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                           const ReferencePhotonPassSettings& settings, uint32_t pass,
                                           ReferencePhotonStats* stats = nullptr,
-                                          std::vector<uint32_t>* pathCounts = nullptr);
+                                          std::vector<uint32_t>* pathCounts = nullptr,
+                                          std::vector<PclPhoton>* volume = nullptr);
 
 ReferencePhotonMaps runPhotonPassReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                            const ReferencePhotonPassSettings& settings);
