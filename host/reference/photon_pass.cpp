@@ -35,7 +35,7 @@ std::vector<uint32_t> referenceLightFirstPhoton(const SceneBuffers& buffers, uin
 std::vector<PclPhoton> referencePhotonMap(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                           const ReferencePhotonPassSettings& settings, uint32_t pass,
                                           ReferencePhotonStats* stats, std::vector<uint32_t>* pathCounts,
-                                          std::vector<PclPhoton>* volume) {
+                                          std::vector<PclPhoton>* volume, std::vector<uint32_t>* volumePathCounts) {
     const uint32_t photons = pass == PCL_PASS_CAUSTIC ? settings.causticPhotons : settings.globalPhotons;
     const std::vector<uint32_t> first = referenceLightFirstPhoton(buffers, pass, photons);
     const uint32_t total = first.back();  // 0 when no light has power (or no marked cells)
@@ -50,6 +50,8 @@ std::vector<PclPhoton> referencePhotonMap(const SceneBuffers& buffers, const Sce
         depositPhotonsReference(batch.counts, batch.slots, batch.slotsPerPath, map);
         if (volume && params.hasMedia)
             depositPhotonsReference(batch.volumeCounts, batch.volumeSlots, batch.slotsPerPath, *volume);
+        if (volumePathCounts && params.hasMedia)
+            volumePathCounts->insert(volumePathCounts->end(), batch.volumeCounts.begin(), batch.volumeCounts.end());
         if (pathCounts) pathCounts->insert(pathCounts->end(), batch.counts.begin(), batch.counts.end());
         if (stats) {
             stats->paths += n;
