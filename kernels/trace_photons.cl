@@ -34,7 +34,9 @@
  *
  * Random numbers: bounce b of (pass seed, j = firstPhoton + i), block 0: u0 roulette, u1
  * Fresnel choice, (u2, u3) direction. In a medium, block 1 + c for the c-th segment of bounce b
- * (c counts invisible boundaries crossed): u0 free flight, u1 roulette, (u2, u3) HG direction.
+ * (c counts invisible boundaries crossed): u0 the channel, u1 the distance of the free flight; a
+ * scattering event at bounce b takes block 0 (unused: no surface event at that bounce): u0
+ * roulette, (u2, u3) HG direction.
  * options: -DPCL_BVH_STACK_SIZE=n (DeviceGeometry::programOptions) */
 #include "shared/types.h"
 #include "shared/rng.h"
@@ -90,7 +92,8 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
             uint v[4];
             rng_block(seed, j, b, 1u + segment, stream, v);
             float t, wt[3];
-            const int scattered = medium_free_flight(m, found ? hit.t : INFINITY, rng_u01(v[0]), phi, &t, wt);
+            const int scattered =
+                medium_free_flight(m, found ? hit.t : INFINITY, rng_u01(v[0]), rng_u01(v[1]), phi, &t, wt);
             if (scattered) {
                 const PclV3 x = sampling_v3(o.x + t * d.x, o.y + t * d.y, o.z + t * d.z);
                 for (int c = 0; c < 3; ++c) wt[c] = phi[c] * wt[c]; /* ΔΦ: the power scattered here */
@@ -110,7 +113,8 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
                 const float maxPhi = sampling_max3(phi[0], phi[1], phi[2]);
                 float q = maxPhi > 0.0f ? sampling_max3(wt[0], wt[1], wt[2]) / maxPhi : 0.0f;
                 q = q > 1.0f ? 1.0f : q;
-                if (!(rng_u01(v[1]) < q)) {
+                rng_block(seed, j, b, 0u, stream, v);
+                if (!(rng_u01(v[0]) < q)) {
                     cause = PCL_END_ABSORBED;
                     break;
                 }

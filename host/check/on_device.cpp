@@ -62,7 +62,8 @@ PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geom
     cl::Buffer ends = device.allocate<uint32_t>(chunk, CL_MEM_READ_WRITE, "photon pass: ends");
     cl::Buffer volumeSlots =
         device.allocate<PclPhoton>(media ? chunk * S : 1, CL_MEM_READ_WRITE, "photon pass: volume slots");
-    cl::Buffer volumeCounts = device.allocate<uint32_t>(media ? chunk : 1, CL_MEM_READ_WRITE, "photon pass: volume counts");
+    cl::Buffer volumeCounts =
+        device.allocate<uint32_t>(media ? chunk : 1, CL_MEM_READ_WRITE, "photon pass: volume counts");
     for (size_t first = 0; first < n; first += chunk) {
         const size_t m = std::min(chunk, n - first);
         Device::guard("upload", [&] {

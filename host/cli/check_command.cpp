@@ -48,8 +48,8 @@ Run addCheckCommand(CLI::App& app) {
         const Scene scene = loadScene(o->scene);
         // The photon-pass stages trace media (volume photons); the eye-pass stages cannot read a
         // volume map yet and keep refusing a scene with media.
-        const bool photonPassStage =
-            o->stage == "emit" || o->stage == "trace_photons" || o->stage == "deposit" || o->stage == "pass";
+        const bool photonPassStage = o->stage == "emit" || o->stage == "trace_photons" || o->stage == "deposit" ||
+                                     o->stage == "pass";
         if (!photonPassStage)
             refuseMediaWithoutPathTracer(scene, "check --stage " + o->stage +
                                                     " (only emit, trace_photons, deposit and pass trace media)");

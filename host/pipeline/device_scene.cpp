@@ -10,7 +10,7 @@ DeviceScene::DeviceScene(Device& device, const SceneGeometry& g, const SceneBuff
       media(device.upload(b.hasMedia ? b.media : std::vector<PclMedium>(1), CL_MEM_READ_ONLY, "scene: media")),
       primMedia(device.upload(b.hasMedia ? b.primMedia : std::vector<PclPrimMedium>(1), CL_MEM_READ_ONLY,
                               "scene: primitive media")),
-      lightMedia(device.upload(b.hasMedia ? b.lightMedia : std::vector<int32_t>(1), CL_MEM_READ_ONLY,
-                               "scene: light media")) {}
+      lightMedia(
+          device.upload(b.hasMedia ? b.lightMedia : std::vector<int32_t>(1), CL_MEM_READ_ONLY, "scene: light media")) {}
 
 }  // namespace pcl

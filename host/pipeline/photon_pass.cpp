@@ -66,8 +66,9 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
     DevicePhotonMap volumeMap;
     if (media)
         volumeMap = makeDevicePhotonMap(device,
-                                        options.initialCapacity ? options.initialCapacity
-                                                                : initialMapCapacity(device.info().maxAlloc, passKind, total),
+                                        options.initialCapacity
+                                            ? options.initialCapacity
+                                            : initialMapCapacity(device.info().maxAlloc, passKind, total),
                                         "photon pass: " + mapName + " volume map");
 
     for (uint32_t firstPhoton = 0; firstPhoton < total; firstPhoton += batch) {

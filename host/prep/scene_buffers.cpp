@@ -162,10 +162,8 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
         // outside every shape, in the global medium.
         for (const PclLight& l : b.lights) {
             int32_t medium = scene.globalMedium;
-            if (l.type == PCL_LIGHT_TRIANGLE)
-                medium = sides.outside[l.prim];
-            else if (l.type != PCL_LIGHT_DIRECTIONAL)
-                medium = mediumAt(scene, Vec3(l.p[0], l.p[1], l.p[2]));
+            if (l.type == PCL_LIGHT_TRIANGLE) medium = sides.outside[l.prim];
+            else if (l.type != PCL_LIGHT_DIRECTIONAL) medium = mediumAt(scene, Vec3(l.p[0], l.p[1], l.p[2]));
             b.lightMedia.push_back(medium);
         }
     }

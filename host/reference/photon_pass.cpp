@@ -66,8 +66,8 @@ ReferencePhotonMaps runPhotonPassReference(const SceneBuffers& buffers, const Sc
                                            const ReferencePhotonPassSettings& settings) {
     ReferencePhotonMaps maps;
     if (settings.globalPhotons > 0)
-        maps.global = referencePhotonMap(buffers, geometry, settings, PCL_PASS_GLOBAL, &maps.globalStats, nullptr,
-                                         &maps.volume);
+        maps.global =
+            referencePhotonMap(buffers, geometry, settings, PCL_PASS_GLOBAL, &maps.globalStats, nullptr, &maps.volume);
     if (settings.causticPhotons > 0)
         maps.caustic = referencePhotonMap(buffers, geometry, settings, PCL_PASS_CAUSTIC, &maps.causticStats, nullptr,
                                           &maps.volumeCaustic);

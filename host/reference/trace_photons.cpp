@@ -180,7 +180,7 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
             uint32_t v[4];
             rng_block(seed, j, b, 1 + segment, stream, v);
             const FreeFlight flight =
-                sampleFreeFlight(medium, found ? hit.t : INFINITY, rng_u01(v[0]), power);
+                sampleFreeFlight(medium, found ? hit.t : INFINITY, rng_u01(v[0]), rng_u01(v[1]), power);
             if (flight.scattered) {
                 const Vec3 x = o + d * flight.t;
                 const Vec3 scattered = power * flight.weight;  // ΔΦ: the power scattered at x
@@ -203,10 +203,10 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
                 // The caustic pass keeps L S+ V and nothing past a medium event.
                 if (caustic) return b | (store ? PCL_END_STORED : PCL_END_ABSORBED) << 8;
                 // Roulette on the scattered share: q = the single-scattering albedo when grey.
-                const float q = std::min(1.0f, maxComponent(power) > 0.0f
-                                                   ? maxComponent(scattered) / maxComponent(power)
-                                                   : 0.0f);
-                if (!(rng_u01(v[1]) < q)) return b | PCL_END_ABSORBED << 8;
+                const float q =
+                    std::min(1.0f, maxComponent(power) > 0.0f ? maxComponent(scattered) / maxComponent(power) : 0.0f);
+                rng_block(seed, j, b, 0, stream, v);  // block 0: no surface event at this bounce
+                if (!(rng_u01(v[0]) < q)) return b | PCL_END_ABSORBED << 8;
                 power = scattered / Vec3(q);
                 flags |= PCL_PHOTON_AFTER_DIFFUSE;
                 if (b >= params.maxDepth) return b | PCL_END_MAX_DEPTH << 8;
@@ -297,10 +297,10 @@ ReferencePhotonBatch tracePhotonsReference(const SceneBuffers& buffers, const Sc
         out.volumeCounts.assign(n, 0u);
     }
     referenceParallelFor(n, threads, [&](size_t i) {
-        out.ends[i] = tracePhotonPathReference(
-            buffers, geometry, params, rays[i], static_cast<uint32_t>(i), &out.slots[i * out.slotsPerPath],
-            out.counts[i], nullptr, params.hasMedia ? &out.volumeSlots[i * out.slotsPerPath] : nullptr,
-            params.hasMedia ? &out.volumeCounts[i] : nullptr);
+        out.ends[i] = tracePhotonPathReference(buffers, geometry, params, rays[i], static_cast<uint32_t>(i),
+                                               &out.slots[i * out.slotsPerPath], out.counts[i], nullptr,
+                                               params.hasMedia ? &out.volumeSlots[i * out.slotsPerPath] : nullptr,
+                                               params.hasMedia ? &out.volumeCounts[i] : nullptr);
     });
     return out;
 }

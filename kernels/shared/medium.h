@@ -31,11 +31,14 @@ PCL_INLINE pcl_f32 medium_channel_tr(pcl_f32 sigmaT, pcl_f32 distance) {
     return sigmaT > 0.0f ? PCL_EXPF(-sigmaT * distance) : 1.0f;
 }
 
-/* u in [0, 1): where it falls among the channels' shares picks the channel, its place in that
- * share (rescaled to [0, 1)) the distance. Returns 1 for a scattering event at *t (< tMax), 0 for
+/* uChannel in [0, 1): the share it falls in picks the channel; uDistance the distance (two
+ * numbers, so the distance does not inherit the last bits of the powers, which kernel and twin
+ * may round differently: with one number rescaled within its share, a long flight (1 − u′ near
+ * 0) amplified an ulp of the powers to 1e-4 of its length). Returns 1 for a scattering event at *t (< tMax), 0 for
  * the segment's end (*t = tMax); weight[c] multiplies the power (all 0 when the power is 0 or
  * the photon leaves to infinity). */
-PCL_INLINE int medium_free_flight(PclMedium m, pcl_f32 tMax, pcl_f32 u, const pcl_f32 phi[3], pcl_f32* t,
+PCL_INLINE int medium_free_flight(PclMedium m, pcl_f32 tMax, pcl_f32 uChannel, pcl_f32 uDistance,
+                                  const pcl_f32 phi[3], pcl_f32* t,
                                   pcl_f32 weight[3]) {
     weight[0] = weight[1] = weight[2] = 0.0f;
     *t = INFINITY;
@@ -47,12 +50,12 @@ PCL_INLINE int medium_free_flight(PclMedium m, pcl_f32 tMax, pcl_f32 u, const pc
     for (int c = 0; c < 3; ++c) P[c] = P[c] * inv;
     int channel = 0;
     pcl_f32 below = 0.0f;
-    while (channel < 2 && (P[channel] == 0.0f || u >= below + P[channel])) {
+    while (channel < 2 && (P[channel] == 0.0f || uChannel >= below + P[channel])) {
         below += P[channel];
         ++channel;
     }
     while (P[channel] == 0.0f) --channel;
-    pcl_f32 uD = (u - below) / P[channel];
+    pcl_f32 uD = uDistance;
     uD = uD < 0.0f ? 0.0f : (uD > 0x1.fffffep-1f ? 0x1.fffffep-1f : uD);
     pcl_f32 sigmaT[3];
     for (int c = 0; c < 3; ++c) sigmaT[c] = m.sigmaA[c] + m.sigmaS[c];
