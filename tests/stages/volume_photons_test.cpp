@@ -233,5 +233,35 @@ TEST(VolumePhotons, DeviceEqualsTwinOnTheShippedMediaScenes) {
     }
 }
 
+// The photon pass on the fog Cornell box with its glass ball: the volume caustic map holds only
+// L S+ V photons (after a specular bounce and nothing else), the volume map every scattering
+// event, and neither surface map a volume photon.
+TEST(VolumePhotons, VolumeCausticMapHoldsOnlyLSPlusVAndTheSurfaceMapsNoVolumePhotons) {
+    test::ScenePhotonPass r =
+        test::runScenePhotonPass(std::string(PHOTONCL_SOURCE_DIR) + "/scenes/media/cornell-fog.json", 20000, 4);
+    const PhotonMaps& m = r.maps;
+    std::printf("global %zu, caustic %zu, volume %zu, volume caustic %zu records\n", m.global.size(), m.caustic.size(),
+                m.volume.size(), m.volumeCaustic.size());
+    ASSERT_GT(m.volume.size(), 0u);
+    ASSERT_GT(m.volumeCaustic.size(), 0u);
+    EXPECT_EQ(m.stats.global.volumeDeposits, m.volume.size());
+    EXPECT_EQ(m.stats.caustic.volumeDeposits, m.volumeCaustic.size());
+    for (const PclPhoton& p : m.volumeCaustic) {
+        ASSERT_EQ(p.packed &
+                      (PCL_PHOTON_VOLUME | PCL_PHOTON_CAUSTIC | PCL_PHOTON_AFTER_SPECULAR | PCL_PHOTON_AFTER_DIFFUSE),
+                  PCL_PHOTON_VOLUME | PCL_PHOTON_CAUSTIC | PCL_PHOTON_AFTER_SPECULAR);
+        ASSERT_GE(bounceOf(p), 1u);
+        ASSERT_EQ(p.normal, 0u);
+    }
+    size_t afterVolume = 0;
+    for (const PclPhoton& p : m.volume) {
+        ASSERT_EQ(p.packed & (PCL_PHOTON_VOLUME | PCL_PHOTON_CAUSTIC), PCL_PHOTON_VOLUME);
+        afterVolume += (p.packed & PCL_PHOTON_AFTER_DIFFUSE) != 0;
+    }
+    EXPECT_GT(afterVolume, 0u);  // multiple scattering reaches the map
+    for (const std::vector<PclPhoton>* map : {&m.global, &m.caustic})
+        for (const PclPhoton& p : *map) ASSERT_EQ(p.packed & PCL_PHOTON_VOLUME, 0u);
+}
+
 }  // namespace
 }  // namespace pcl
