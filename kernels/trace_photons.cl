@@ -78,12 +78,12 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
     const float tau = start.time;
     float phi[3] = {start.power[0], start.power[1], start.power[2]};
 
-    uint count = 0u, flags = 0u, cause = PCL_END_ESCAPED;
+    uint count = 0u, flags = 0u, cause = PCL_END_ABSORBED; /* every break sets it; kept when unreachable */
     uint volumeCount = 0u;
     int medium = params.hasMedia ? lightMedia[start.light] : PCL_NO_MEDIUM;
     uint segment = 0u; /* segments of bounce b so far (invisible boundaries crossed) */
     uint b = 1u;
-    for (;; ++b) {
+    for (; medium != PCL_MEDIUM_UNREACHABLE; ++b) {
         const PclRay ray = bvh_ray(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY, tau);
         PclHit hit;
         const bool found = bvh_trace(nodes, packets, spheres, ray, false, &hit);

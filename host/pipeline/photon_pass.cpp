@@ -123,7 +123,10 @@ std::string PhotonPassStats::summary() const {
             name, (unsigned long long)s.emitted, s.batches, s.batchSize, (unsigned long long)s.deposits, s.growths,
             (unsigned long long)s.escaped, (unsigned long long)s.absorbed, (unsigned long long)s.stored,
             (unsigned long long)s.maxDepth, s.emittedFlux[0], s.emittedFlux[1], s.emittedFlux[2]);
-        return std::string(l);
+        std::string text(l);
+        if (s.volumeDeposits > 0)  // scenes with media: the pass's volume map
+            text.insert(text.size() - 1, "; " + std::to_string(s.volumeDeposits) + " volume records");
+        return text;
     };
     std::snprintf(buf, sizeof buf,
                   "device seconds: emit %.4f, trace %.4f, deposit %.4f; longest launch %.4f; wall %.4f s\n",

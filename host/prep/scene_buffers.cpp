@@ -158,12 +158,14 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
         for (uint32_t prim = 0; prim < geometry.primitiveCount(); ++prim)
             b.primMedia[prim] = {sides.inside[prim], sides.outside[prim]};
         // The medium each light entry emits into: a triangle's emitting side is the one its
-        // normal (the geometric one, same winding) points to; a directional light's disc lies
-        // outside every shape, in the global medium.
+        // normal (the geometric one, same winding) points to; a directional light comes from
+        // infinitely far, through all of a global medium: none of it arrives.
         for (const PclLight& l : b.lights) {
-            int32_t medium = scene.globalMedium;
-            if (l.type == PCL_LIGHT_TRIANGLE) medium = sides.outside[l.prim];
-            else if (l.type != PCL_LIGHT_DIRECTIONAL) medium = mediumAt(scene, Vec3(l.p[0], l.p[1], l.p[2]));
+            int32_t medium = PCL_NO_MEDIUM;
+            if (l.type == PCL_LIGHT_DIRECTIONAL)
+                medium = scene.globalMedium >= 0 ? PCL_MEDIUM_UNREACHABLE : PCL_NO_MEDIUM;
+            else if (l.type == PCL_LIGHT_TRIANGLE) medium = sides.outside[l.prim];
+            else medium = mediumAt(scene, Vec3(l.p[0], l.p[1], l.p[2]));
             b.lightMedia.push_back(medium);
         }
     }

@@ -145,6 +145,7 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
     if (volumeCount) *volumeCount = 0;
     int32_t mediumId = params.hasMedia ? buffers.lightMedia[ray.light] : PCL_NO_MEDIUM;
     uint32_t segment = 0;  // invisible boundaries crossed within this bounce: the random block 1 + segment
+    if (mediumId == PCL_MEDIUM_UNREACHABLE) return 1 | PCL_END_ABSORBED << 8;  // a directional light in fog
 
     auto deposit = [&](Vec3 p, Vec3 nf, uint32_t b, uint32_t extra) {
         PclPhoton& ph = slots[count++];

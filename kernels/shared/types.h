@@ -103,6 +103,10 @@ PCL_STATIC_ASSERT(sizeof(PclPrimInfo) == 32, PclPrimInfo_size);
 /* ---- Participating media (homogeneous; prep/medium_boundaries decides the sides) -------- */
 
 #define PCL_NO_MEDIUM -1 /* vacuum */
+/* lightMedia of a directional light in a global medium: its light crosses infinitely much of it
+ * and arrives with nothing (as the reference path tracer's shadow rays find); the path ends at
+ * once, ABSORBED, with no record. */
+#define PCL_MEDIUM_UNREACHABLE -2
 typedef struct PclMedium {
     pcl_f32 sigmaA[4];  /* absorption rgb in 1/m, [3] = 0 */
     pcl_f32 sigmaS[4];  /* scattering rgb in 1/m, [3] = 0 */

@@ -233,6 +233,42 @@ TEST(VolumePhotons, DeviceEqualsTwinOnTheShippedMediaScenes) {
     }
 }
 
+// A directional light in a global medium: its light crosses infinitely much fog (the reference
+// path tracer's shadow rays find no light either), so every path ends at once with no record;
+// the same light with the fog only inside a sphere sends photons in.
+TEST(VolumePhotons, DirectionalLightInAGlobalMediumSendsNothing) {
+    Medium m;
+    m.name = "fog";
+    m.sigmaS = Vec3(0.5f);
+    m.sigmaA = Vec3(0.1f);
+    for (bool global : {true, false}) {
+        Scene s = pointInMedium(m, 1.0f, global).scene;
+        Light sun;
+        sun.type = LightType::Directional;
+        sun.direction = Vec3(0.0f, -1.0f, 0.0f);
+        sun.irradiance = Vec3(1.0f);
+        s.lights = {sun};
+        test::BuiltScene b = test::build(s);
+        ASSERT_EQ(b.buffers.lightMedia.size(), 1u);
+        EXPECT_EQ(b.buffers.lightMedia[0], global ? PCL_MEDIUM_UNREACHABLE : PCL_NO_MEDIUM);
+        VolumeRun r = traceBoth(b, 2000, 16, 1);
+        size_t records = 0, immediate = 0;
+        for (size_t i = 0; i < r.rays.size(); ++i) {
+            records += r.device.counts[i] + r.device.volumeCounts[i];
+            immediate += r.device.ends[i] == (1u | PCL_END_ABSORBED << 8);
+        }
+        std::printf("%s: %zu records, %zu of %zu paths ended at once\n", global ? "global fog" : "fog ball", records,
+                    immediate, r.rays.size());
+        if (global) {
+            EXPECT_EQ(records, 0u);
+            EXPECT_EQ(immediate, r.rays.size());
+        } else {
+            EXPECT_GT(records, 0u);
+        }
+        EXPECT_EQ(divergentFraction(r, b.buffers.sceneRadius), 0.0);
+    }
+}
+
 // The photon pass on the fog Cornell box with its glass ball: the volume caustic map holds only
 // L S+ V photons (after a specular bounce and nothing else), the volume map every scattering
 // event, and neither surface map a volume photon.
