@@ -6,7 +6,11 @@
  *      rays[i], i < batchSize  PclPhotonRay from emit_photons
  *      nodes, packets, spheres the flat 8-wide BVH (shared/bvh.h)
  *      primInfo[prim]          normal or sphere centre/radius, material, motion
- *      materials[]             PclMaterial: ρd, ρs, specular kind, exponent, ior
+ *      materials[]             PclMaterial: ρd, ρs, specular kind, exponent, ior, flags
+ *      media[], primMedia[prim], lightMedia[light]
+ *                              participating media (read only when params.hasMedia): the medium
+ *                              table, the medium on either side of each primitive, the medium
+ *                              each light emits into
  * out: slots[k*batchSize + i]  record k < S of path i, in hit order (S = maxDepth in both
  *                              passes: at most one record per hit); only k < counts[i] are
  *                              written. Slot-major, so the first records of neighbouring paths
@@ -14,14 +18,31 @@
  *                              per path across a 100 MB buffer (TLB and write-allocate misses).
  *      counts[i]               records deposited by path i
  *      ends[i]                 b | cause << 8: the bounce the path ended at and PCL_END_*
+ *      volumeSlots[k*batchSize + i], volumeCounts[i]
+ *                              volume photons (PCL_PHOTON_VOLUME), laid out as slots/counts: at
+ *                              most one per bounce, so S slots suffice; written only when
+ *                              params.hasMedia (counts[i] = 0 otherwise)
+ *
+ * Media: in a medium every segment first samples a free flight (shared/medium.h); a scattering
+ * event is a bounce of its own: a volume photon is stored there with the power scattered at the
+ * event (Φ σs Tr/p: Σ ΔΦ over a volume estimates σs × fluence, what in-scattering needs), then
+ * roulette with q = max_c ΔΦ[c] / max_c Φ[c] (the single-scattering albedo for a grey medium),
+ * survivors carry ΔΦ/q in a Henyey–Greenstein direction. The global pass stores every event
+ * (L(S|D|V)*V), the caustic pass only L S+ V (its path ends at the event, like at a diffuse bounce).
+ * Invisible boundaries (PCL_MATERIAL_INTERFACE) change the medium and nothing else; refraction
+ * changes it to the one beyond. Surface photons carry the transmittance weight Tr/P(t ≥ tMax).
  *
  * Random numbers: bounce b of (pass seed, j = firstPhoton + i), block 0: u0 roulette, u1
- * Fresnel choice, (u2, u3) direction.
+ * Fresnel choice, (u2, u3) direction. In a medium, block 1 + c for the c-th segment of bounce b
+ * (c counts invisible boundaries crossed): u0 the channel, u1 the distance of the free flight; a
+ * scattering event at bounce b takes block 0 (unused: no surface event at that bounce): u0
+ * roulette, (u2, u3) HG direction.
  * options: -DPCL_BVH_STACK_SIZE=n (DeviceGeometry::programOptions) */
 #include "shared/types.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
 #include "shared/bvh.h"
+#include "shared/medium.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -40,7 +61,10 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
                        __global const PclPhotonRay* rays, __global const PclBvhNode* nodes,
                        __global const PclTriPacket* packets, __global const PclSphere* spheres,
                        __global const PclPrimInfo* primInfo, __global const PclMaterial* materials,
-                       __global PclPhoton* slots, __global uint* counts, __global uint* ends) {
+                       __global PclPhoton* slots, __global uint* counts, __global uint* ends,
+                       __global const PclMedium* media, __global const PclPrimMedium* primMedia,
+                       __global const int* lightMedia, __global PclPhoton* volumeSlots,
+                       __global uint* volumeCounts) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.batchSize) return;
     const uint j = params.firstPhoton + i;
@@ -54,12 +78,65 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
     const float tau = start.time;
     float phi[3] = {start.power[0], start.power[1], start.power[2]};
 
-    uint count = 0u, flags = 0u, cause = PCL_END_ESCAPED;
+    uint count = 0u, flags = 0u, cause = PCL_END_ABSORBED; /* every break sets it; kept when unreachable */
+    uint volumeCount = 0u;
+    int medium = params.hasMedia ? lightMedia[start.light] : PCL_NO_MEDIUM;
+    uint segment = 0u; /* segments of bounce b so far (invisible boundaries crossed) */
     uint b = 1u;
-    for (;; ++b) {
+    for (; medium != PCL_MEDIUM_UNREACHABLE; ++b) {
         const PclRay ray = bvh_ray(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY, tau);
         PclHit hit;
-        if (!bvh_trace(nodes, packets, spheres, ray, false, &hit)) {
+        const bool found = bvh_trace(nodes, packets, spheres, ray, false, &hit);
+        if (medium != PCL_NO_MEDIUM) {
+            const PclMedium m = media[medium];
+            uint v[4];
+            rng_block(seed, j, b, 1u + segment, stream, v);
+            float t, wt[3];
+            const int scattered =
+                medium_free_flight(m, found ? hit.t : INFINITY, rng_u01(v[0]), rng_u01(v[1]), phi, &t, wt);
+            if (scattered) {
+                const PclV3 x = sampling_v3(o.x + t * d.x, o.y + t * d.y, o.z + t * d.z);
+                for (int c = 0; c < 3; ++c) wt[c] = phi[c] * wt[c]; /* ΔΦ: the power scattered here */
+                const bool store = caustic ? ((flags & PCL_PHOTON_AFTER_SPECULAR) != 0u &&
+                                              (flags & PCL_PHOTON_AFTER_DIFFUSE) == 0u)
+                                           : params.storeGlobal != 0u;
+                if (store) {
+                    PclPhoton ph = trace_make_photon(x, sampling_v3(0.0f, 0.0f, 0.0f), wt, d, b - 1u,
+                                                     flags | PCL_PHOTON_VOLUME | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
+                    ph.normal = 0u;
+                    volumeSlots[(size_t)(volumeCount++) * params.batchSize + i] = ph;
+                }
+                if (caustic) { /* L S+ V ends here; any other caustic path is no longer L S+ */
+                    cause = store ? PCL_END_STORED : PCL_END_ABSORBED;
+                    break;
+                }
+                const float maxPhi = sampling_max3(phi[0], phi[1], phi[2]);
+                float q = maxPhi > 0.0f ? sampling_max3(wt[0], wt[1], wt[2]) / maxPhi : 0.0f;
+                q = q > 1.0f ? 1.0f : q;
+                rng_block(seed, j, b, 0u, stream, v);
+                if (!(rng_u01(v[0]) < q)) {
+                    cause = PCL_END_ABSORBED;
+                    break;
+                }
+                for (int c = 0; c < 3; ++c) phi[c] = wt[c] / q;
+                flags |= PCL_PHOTON_AFTER_DIFFUSE;
+                if (b >= params.maxDepth) {
+                    cause = PCL_END_MAX_DEPTH;
+                    break;
+                }
+                const float mu = medium_hg_cos(m.g, rng_u01(v[2]));
+                d = sampling_cone_direction(d, mu, PCL_TWO_PI_F * rng_u01(v[3]));
+                o = x;
+                segment = 0u;
+                continue;
+            }
+            for (int c = 0; c < 3; ++c) phi[c] = phi[c] * wt[c];
+            if (!(sampling_max3(phi[0], phi[1], phi[2]) > 0.0f)) { /* to infinity, or no power left */
+                cause = found ? PCL_END_ABSORBED : PCL_END_ESCAPED;
+                break;
+            }
+        }
+        if (!found) {
             cause = PCL_END_ESCAPED;
             break;
         }
@@ -76,6 +153,22 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
         const float dn = sampling_dot(d, n);
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
         const PclMaterial M = materials[info.material];
+        if (params.hasMedia) {
+            if ((M.flags & PCL_MATERIAL_INTERFACE) != 0u) {
+                /* An invisible boundary: straight on in the medium beyond, same bounce. The
+                 * segment count bounds the crossings (a ray meets finitely many surfaces). */
+                medium = dn < 0.0f ? primMedia[hit.prim].inside : primMedia[hit.prim].outside;
+                const float eps = params.rayEpsilon;
+                o = sampling_v3(p.x - nf.x * eps, p.y - nf.y * eps, p.z - nf.z * eps);
+                if (++segment >= PCL_MAX_SEGMENTS) {
+                    cause = PCL_END_MAX_DEPTH;
+                    break;
+                }
+                --b; /* the loop's ++b: the crossing is not a bounce */
+                continue;
+            }
+            segment = 0u;
+        }
 
         /* 1. Deposit at a surface with a diffuse part. The caustic path goes on to roulette
          * either way: a mixed surface may still bounce it specularly (Jensen's LS+D). */
@@ -150,6 +243,10 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
             break;
         }
 
+        /* Through the surface (refraction): the medium on the other side. */
+        if (params.hasMedia && sampling_dot(dNew, n) * dn > 0.0f)
+            medium = dn < 0.0f ? primMedia[hit.prim].inside : primMedia[hit.prim].outside;
+
         /* 3. Spawn off the side the new direction leaves by. */
         const float eps = params.rayEpsilon;
         const PclV3 ns = sampling_dot(dNew, nf) > 0.0f ? nf : sampling_v3(-nf.x, -nf.y, -nf.z);
@@ -158,20 +255,29 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
     }
     counts[i] = count;
     ends[i] = b | (cause << 8);
+    if (params.hasMedia) volumeCounts[i] = volumeCount;
 }
 
 __kernel void trace_photons_global(const PclPhotonParams params, __global const PclPhotonRay* rays,
                                    __global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                                    __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,
                                    __global const PclMaterial* materials, __global PclPhoton* slots,
-                                   __global uint* counts, __global uint* ends) {
-    trace_path(params, false, rays, nodes, packets, spheres, primInfo, materials, slots, counts, ends);
+                                   __global uint* counts, __global uint* ends,
+                                   __global const PclMedium* media, __global const PclPrimMedium* primMedia,
+                                   __global const int* lightMedia, __global PclPhoton* volumeSlots,
+                                   __global uint* volumeCounts) {
+    trace_path(params, false, rays, nodes, packets, spheres, primInfo, materials, slots, counts, ends, media,
+               primMedia, lightMedia, volumeSlots, volumeCounts);
 }
 
 __kernel void trace_photons_caustic(const PclPhotonParams params, __global const PclPhotonRay* rays,
                                     __global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                                     __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,
                                     __global const PclMaterial* materials, __global PclPhoton* slots,
-                                   __global uint* counts, __global uint* ends) {
-    trace_path(params, true, rays, nodes, packets, spheres, primInfo, materials, slots, counts, ends);
+                                    __global uint* counts, __global uint* ends,
+                                    __global const PclMedium* media, __global const PclPrimMedium* primMedia,
+                                    __global const int* lightMedia, __global PclPhoton* volumeSlots,
+                                    __global uint* volumeCounts) {
+    trace_path(params, true, rays, nodes, packets, spheres, primInfo, materials, slots, counts, ends, media,
+               primMedia, lightMedia, volumeSlots, volumeCounts);
 }

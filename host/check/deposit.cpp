@@ -29,8 +29,8 @@ PhotonCheckReport checkDeposit(Device& device, const SceneGeometry& geometry, co
         "deposit", geometry, buffers, options,
         [&](const CheckPass& pass, PhotonCheckRow& row, PhotonCheckReport& report) {
             // The twin's slots of every batch of the pass, deposited both ways.
-            std::vector<uint32_t> allCounts;
-            std::vector<PclPhoton> allSlots;
+            std::vector<uint32_t> allCounts, volumeCounts;
+            std::vector<PclPhoton> allSlots, volumeSlots;
             uint32_t slotsPerPath = 0;
             for (const PclPhotonParams& params : pass.batches) {
                 const std::vector<PclPhotonRay> rays = emitPhotonsReference(buffers, pass.first, params);
@@ -38,6 +38,14 @@ PhotonCheckReport checkDeposit(Device& device, const SceneGeometry& geometry, co
                 slotsPerPath = host.slotsPerPath;
                 allCounts.insert(allCounts.end(), host.counts.begin(), host.counts.end());
                 allSlots.insert(allSlots.end(), host.slots.begin(), host.slots.end());
+                volumeCounts.insert(volumeCounts.end(), host.volumeCounts.begin(), host.volumeCounts.end());
+                volumeSlots.insert(volumeSlots.end(), host.volumeSlots.begin(), host.volumeSlots.end());
+            }
+            // Scenes with media: the volume photons' map, deposited the same way, in the same row.
+            if (!volumeCounts.empty()) {
+                std::vector<PclPhoton> hostVolume;
+                depositPhotonsReference(volumeCounts, volumeSlots, slotsPerPath, hostVolume);
+                comparePhotonMaps(hostVolume, depositOnDevice(device, volumeCounts, volumeSlots, slotsPerPath, 0), row);
             }
             if (!allCounts.empty()) {
                 auto t = Clock::now();

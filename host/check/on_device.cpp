@@ -47,13 +47,23 @@ PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geom
     r.slots.resize(n * S);
     r.counts.resize(n);
     r.ends.resize(n);
+    const bool media = params.hasMedia != 0;
+    if (media) {
+        r.volumeSlots.resize(n * S);
+        r.volumeCounts.resize(n);
+    }
     // In launches of at most a pass's batch, so a large check neither outgrows a buffer nor
     // runs one long launch; photon indices (and so the random numbers) are unchanged.
-    const size_t chunk = std::min<size_t>(std::max<size_t>(n, 1), defaultPhotonBatch(device, uint32_t(S)));
+    const size_t chunk =
+        std::min<size_t>(std::max<size_t>(n, 1), defaultPhotonBatch(device, uint32_t(S) * (media ? 2u : 1u)));
     cl::Buffer rayBuf = device.allocate<PclPhotonRay>(chunk, CL_MEM_READ_WRITE, "photon pass: rays");
     cl::Buffer slots = device.allocate<PclPhoton>(chunk * S, CL_MEM_READ_WRITE, "photon pass: slots");
     cl::Buffer counts = device.allocate<uint32_t>(chunk, CL_MEM_READ_WRITE, "photon pass: counts");
     cl::Buffer ends = device.allocate<uint32_t>(chunk, CL_MEM_READ_WRITE, "photon pass: ends");
+    cl::Buffer volumeSlots =
+        device.allocate<PclPhoton>(media ? chunk * S : 1, CL_MEM_READ_WRITE, "photon pass: volume slots");
+    cl::Buffer volumeCounts =
+        device.allocate<uint32_t>(media ? chunk : 1, CL_MEM_READ_WRITE, "photon pass: volume counts");
     for (size_t first = 0; first < n; first += chunk) {
         const size_t m = std::min(chunk, n - first);
         Device::guard("upload", [&] {
@@ -62,8 +72,19 @@ PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geom
         PclPhotonParams p = params;
         p.firstPhoton = params.firstPhoton + uint32_t(first);
         p.batchSize = uint32_t(m);
-        tracePhotons(device, scene, p, rayBuf, slots, counts, ends);
+        tracePhotons(device, scene, p, rayBuf, slots, counts, ends, volumeSlots, volumeCounts);
         std::vector<PclPhoton> chunkSlots(m * S);  // slot-major: record k of path p at k*m + p
+        if (media) {
+            std::vector<PclPhoton> chunkVolume(m * S);
+            Device::guard("download", [&] {
+                device.queue().enqueueReadBuffer(volumeSlots, CL_TRUE, 0, m * S * sizeof(PclPhoton),
+                                                 chunkVolume.data());
+                device.queue().enqueueReadBuffer(volumeCounts, CL_TRUE, 0, m * sizeof(uint32_t),
+                                                 r.volumeCounts.data() + first);
+            });
+            const std::vector<PclPhoton> v = pathMajor(chunkVolume, m, uint32_t(S));
+            std::copy(v.begin(), v.end(), r.volumeSlots.begin() + first * S);
+        }
         Device::guard("download", [&] {
             device.queue().enqueueReadBuffer(slots, CL_TRUE, 0, m * S * sizeof(PclPhoton), chunkSlots.data());
             device.queue().enqueueReadBuffer(counts, CL_TRUE, 0, m * sizeof(uint32_t), r.counts.data() + first);
@@ -74,6 +95,9 @@ PhotonTraceResult tracePhotonsOnDevice(Device& device, const SceneGeometry& geom
     }
     for (size_t i = 0; i < n; ++i)
         for (uint32_t k = r.counts[i]; k < S; ++k) r.slots[i * S + k] = PclPhoton{};
+    if (media)
+        for (size_t i = 0; i < n; ++i)
+            for (uint32_t k = r.volumeCounts[i]; k < S; ++k) r.volumeSlots[i * S + k] = PclPhoton{};
     return r;
 }
 

@@ -40,6 +40,9 @@ struct PhotonTraceResult {
                                    // k < counts[i]), whatever the device's layout
     std::vector<uint32_t> counts;  // records deposited per path
     std::vector<uint32_t> ends;    // bounce | PCL_END_* << 8 per path
+    // Volume photons (params.hasMedia; empty otherwise), path-major as slots.
+    std::vector<PclPhoton> volumeSlots;
+    std::vector<uint32_t> volumeCounts;
 };
 
 // Trace alone, for checks and tests: rays.size() must equal params.batchSize. Slots past a

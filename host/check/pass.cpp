@@ -82,10 +82,12 @@ PhotonCheckReport checkPhotonPass(Device& device, const SceneGeometry& geometry,
         const bool global = pass == PCL_PASS_GLOBAL;
         PhotonCheckRow row;
         row.pass = global ? "global" : "caustic";
-        std::vector<uint32_t> counts;
+        std::vector<uint32_t> counts, volumeCounts;
+        std::vector<PclPhoton> volume;
         ReferencePhotonStats stats;
         t = Clock::now();
-        std::vector<PclPhoton> map = referencePhotonMap(buffers, geometry, twin, pass, &stats, &counts);
+        std::vector<PclPhoton> map =
+            referencePhotonMap(buffers, geometry, twin, pass, &stats, &counts, &volume, &volumeCounts);
         report.hostSeconds += since(t);
         const std::vector<PclPhoton>& devMap = global ? devMaps.global : devMaps.caustic;
         const PhotonPassKindStats& ds = global ? devMaps.stats.global : devMaps.stats.caustic;
@@ -97,6 +99,17 @@ PhotonCheckReport checkPhotonPass(Device& device, const SceneGeometry& geometry,
         alignMaps(map, counts, devMap, row.slotsPerPath, radius, row);
         row.countMismatches = ds.emitted != stats.paths;  // paths emitted differ: fails
         report.rows.push_back(row);
+        if (buffers.hasMedia) {  // the pass's volume map, aligned the same way
+            PhotonCheckRow v;
+            v.pass = global ? "volume" : "vcaustic";
+            const std::vector<PclPhoton>& devVolume = global ? devMaps.volume : devMaps.volumeCaustic;
+            v.hostDeposits = volume.size();
+            v.deviceDeposits = devVolume.size();
+            v.deviceBatches = ds.batches;
+            v.slotsPerPath = options.maxDepth;
+            alignMaps(volume, volumeCounts, devVolume, v.slotsPerPath, radius, v);
+            report.rows.push_back(v);
+        }
     }
     return report;
 }

@@ -48,6 +48,30 @@ void comparePhotonPaths(const ReferencePhotonBatch& host, const PhotonTraceResul
             row.rgbeMismatches += rgbe;
             divergent |= pos || packed || rgbe;
         }
+        // Volume photons (scenes with media): the same count and records, path by path.
+        if (!host.volumeCounts.empty()) {
+            row.hostDeposits += host.volumeCounts[i];
+            row.deviceDeposits += dev.volumeCounts[i];
+            if (host.volumeCounts[i] != dev.volumeCounts[i]) {
+                row.countMismatches++;
+                divergent = true;
+            } else {
+                bool pos = false, packed = false, rgbe = false;
+                for (uint32_t k = 0; k < host.volumeCounts[i]; ++k) {
+                    const PclPhoton& a = host.volumeSlots[i * S + k];
+                    const PclPhoton& b = dev.volumeSlots[i * size_t(dev.slotsPerPath) + k];
+                    const double e = positionError({a.x, a.y, a.z}, {b.x, b.y, b.z}, radius);
+                    row.maxPositionError = std::max(row.maxPositionError, e);
+                    pos |= !(e <= kPositionTolerance);
+                    packed |= a.packed != b.packed;
+                    rgbe |= !rgbeClose(a.rgbe, b.rgbe);
+                }
+                row.positionMismatches += pos;
+                row.packedMismatches += packed;
+                row.rgbeMismatches += rgbe;
+                divergent |= pos || packed || rgbe;
+            }
+        }
         row.divergent += divergent;
     }
 }

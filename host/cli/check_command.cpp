@@ -46,7 +46,13 @@ Run addCheckCommand(CLI::App& app) {
     return [o] {
         if (o->device == "ref") throw InputError("check: --device ref has no kernels to check; pick an OpenCL device");
         const Scene scene = loadScene(o->scene);
-        refuseMediaWithoutPathTracer(scene, "check (the device stages)");
+        // The photon-pass stages trace media (volume photons); the eye-pass stages cannot read a
+        // volume map yet and keep refusing a scene with media.
+        const bool photonPassStage = o->stage == "emit" || o->stage == "trace_photons" || o->stage == "deposit" ||
+                                     o->stage == "pass";
+        if (!photonPassStage)
+            refuseMediaWithoutPathTracer(scene, "check --stage " + o->stage +
+                                                    " (only emit, trace_photons, deposit and pass trace media)");
         Device device = Device::open(o->device);
         applyBufferCap(device, o->maxBufferMib);
         std::printf("check %s on %s (%s)\n", o->scene.c_str(), device.info().name.c_str(),

@@ -6,6 +6,11 @@ DeviceScene::DeviceScene(Device& device, const SceneGeometry& g, const SceneBuff
     : geometry(device, g), materials(device.upload(b.materials, CL_MEM_READ_ONLY, "scene: materials")),
       primInfo(device.upload(b.primInfo, CL_MEM_READ_ONLY, "scene: primitive info")),
       lights(device.upload(b.lights, CL_MEM_READ_ONLY, "scene: lights")),
-      projCells(device.upload(b.projCells, CL_MEM_READ_ONLY, "scene: projection cells")) {}
+      projCells(device.upload(b.projCells, CL_MEM_READ_ONLY, "scene: projection cells")),
+      media(device.upload(b.hasMedia ? b.media : std::vector<PclMedium>(1), CL_MEM_READ_ONLY, "scene: media")),
+      primMedia(device.upload(b.hasMedia ? b.primMedia : std::vector<PclPrimMedium>(1), CL_MEM_READ_ONLY,
+                              "scene: primitive media")),
+      lightMedia(
+          device.upload(b.hasMedia ? b.lightMedia : std::vector<int32_t>(1), CL_MEM_READ_ONLY, "scene: light media")) {}
 
 }  // namespace pcl

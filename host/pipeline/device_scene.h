@@ -19,6 +19,9 @@ struct DeviceScene {
     DeviceScene(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers);
     DeviceGeometry geometry;
     cl::Buffer materials, primInfo, lights, projCells;
+    // Media (SceneBuffers::hasMedia); one zeroed placeholder each in a scene without media, which
+    // the kernels never read (PclPhotonParams::hasMedia = 0).
+    cl::Buffer media, primMedia, lightMedia;
 };
 
 }  // namespace pcl

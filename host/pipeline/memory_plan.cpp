@@ -120,6 +120,9 @@ private:
         add("scene", "scene: primitive info", s.primInfo, sizeof(PclPrimInfo));
         add("scene", "scene: lights", s.lights, sizeof(PclLight));
         add("scene", "scene: projection cells", s.projCells, sizeof(uint32_t));
+        add("scene", "scene: media", s.media, sizeof(PclMedium));
+        add("scene", "scene: primitive media", s.media ? s.primInfo : 0, sizeof(PclPrimMedium));
+        add("scene", "scene: light media", s.media ? s.lights : 0, sizeof(int32_t));
     }
 
     // runPhotonPass's buildMap: per batch emit → trace → deposit; the map buffer from
@@ -135,6 +138,12 @@ private:
         add(phase, "photon pass: ends", batch, sizeof(uint32_t), batches, batch);
         add(phase, "photon pass: " + std::string(map) + " map", initialMapCapacity(lim.maxAlloc, kind, paths),
             sizeof(PclPhoton));
+        // Volume photons: placeholders of one element without media.
+        add(phase, "photon pass: volume slots", req.media ? batch * slots : 0, sizeof(PclPhoton), batches, batch);
+        add(phase, "photon pass: volume counts", req.media ? batch : 0, sizeof(uint32_t), batches, batch);
+        if (req.media)
+            add(phase, "photon pass: " + std::string(map) + " volume map",
+                initialMapCapacity(lim.maxAlloc, kind, paths), sizeof(PclPhoton));
         const size_t groups = ceilDiv(batch, kScanGroup);
         add(phase, "deposit: offsets", batch, sizeof(uint32_t), batches, batch);
         add(phase, "deposit: group sums", groups, sizeof(uint32_t), batches, batch);
@@ -228,6 +237,7 @@ SceneBufferCounts sceneBufferCounts(const SceneGeometry& geometry, const SceneBu
     s.primInfo = buffers.primInfo.size();
     s.lights = buffers.lights.size();
     s.projCells = buffers.projCells.size();
+    s.media = buffers.hasMedia ? buffers.media.size() : 0;
     return s;
 }
 
@@ -241,6 +251,7 @@ MemoryRequest photonPassMemoryRequest(const SceneGeometry& geometry, const Scene
         r.causticPaths = lightFirstPhoton(buffers, options.causticPhotons, PCL_PASS_CAUSTIC).back();
     r.maxDepth = options.maxDepth;
     r.photonBatch = options.batchSize;
+    r.media = buffers.hasMedia;
     r.kdTree = false;
     return r;
 }
@@ -265,7 +276,10 @@ MemoryPlan planMemory(const MemoryRequest& request, const MemoryLimits& limits) 
     plan.budget = limits.globalMem ? size_t(double(limits.globalMem) * (1.0 - kMemoryHeadroom)) : SIZE_MAX;
     const bool gpu = (limits.type & CL_DEVICE_TYPE_GPU) != 0;
     const uint32_t slots = std::max<uint32_t>(request.maxDepth, 1);
-    plan.photonBatch = request.photonBatch ? request.photonBatch : defaultPhotonBatch(limits.maxAlloc, gpu, slots);
+    // With media the volume slots double the slot memory per path (as runPhotonPass sizes it).
+    plan.photonBatch = request.photonBatch
+                           ? request.photonBatch
+                           : defaultPhotonBatch(limits.maxAlloc, gpu, slots * (request.media ? 2u : 1u));
     plan.queryBatch = request.queryBatch ? request.queryBatch
                                          : knnQueryBatch(limits.maxAlloc, globalMem, std::max<uint32_t>(request.k, 1));
     Planner planner(request, limits, plan);

@@ -42,6 +42,7 @@ MemoryLimits memoryLimits(const DeviceInfo& info);
 // Elements of the scene buffers DeviceScene uploads.
 struct SceneBufferCounts {
     size_t nodes = 0, packets = 0, spheres = 0, materials = 0, primInfo = 0, lights = 0, projCells = 0;
+    size_t media = 0;  // media in the scene (0: DeviceScene uploads one-element placeholders)
 };
 SceneBufferCounts sceneBufferCounts(const SceneGeometry& geometry, const SceneBuffers& buffers);
 
@@ -50,6 +51,9 @@ struct MemoryRequest {
     uint32_t globalPaths = 0, causticPaths = 0;  // photon paths emitted per map; 0: no such map
     uint32_t maxDepth = 64;                      // slots per path
     uint32_t photonBatch = 0;                    // paths per launch; 0: defaultPhotonBatch under the limits
+    // A scene with media: each pass also fills volume slots (as many as its slots) and a volume
+    // map (initialMapCapacity, as the surface map); the batch is sized for both slot buffers.
+    bool media = false;
     // Records in each map once the pass is done; 0: one per emitted path (the least a map of
     // that many photons holds; the map buffer itself starts at initialMapCapacity and grows).
     size_t globalRecords = 0, causticRecords = 0;

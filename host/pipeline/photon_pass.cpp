@@ -30,9 +30,11 @@ void tallyEnds(const std::vector<uint32_t>& ends, PhotonPassKindStats& s) {
 }
 
 // One map: every batch of one pass kind through emit → trace → deposit.
+// A scene with media also fills `volume` with the pass's volume photons, deposited the same way.
 std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const SceneGeometry& geometry,
                                 const SceneBuffers& buffers, const PhotonPassOptions& options, uint32_t passKind,
-                                uint32_t photons, PhotonPassStats& stats, PhotonPassKindStats& s) {
+                                uint32_t photons, PhotonPassStats& stats, PhotonPassKindStats& s,
+                                std::vector<PclPhoton>& volume) {
     const std::vector<uint32_t> first = lightFirstPhoton(buffers, photons, passKind);
     const uint32_t total = first.back();  // 0 when no light has power (or no marked cell)
     if (total == 0) return {};
@@ -40,8 +42,9 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
     const uint64_t passSeed = photonPassSeed(options.seed, options.pass);
     PclPhotonParams params = makePhotonParams(geometry, buffers, passKind, passSeed, options.maxDepth, 0, 0);
     const uint32_t slotsPerPath = photonSlotsPerPath(params);
-    const uint32_t batch =
-        std::min(total, options.batchSize ? options.batchSize : defaultPhotonBatch(device, slotsPerPath));
+    const bool media = params.hasMedia != 0;
+    const uint32_t batch = std::min(
+        total, options.batchSize ? options.batchSize : defaultPhotonBatch(device, slotsPerPath * (media ? 2u : 1u)));
     s.batchSize = batch;
 
     cl::Buffer lightFirst = device.upload(first, CL_MEM_READ_ONLY, "photon pass: light offsets");
@@ -55,14 +58,33 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
         device,
         options.initialCapacity ? options.initialCapacity : initialMapCapacity(device.info().maxAlloc, passKind, total),
         "photon pass: " + mapName + " map");
+    // Volume photons: slots as the surface ones; placeholders the kernel never touches without media.
+    cl::Buffer volumeSlots = device.allocate<PclPhoton>(media ? size_t(batch) * slotsPerPath : 1, CL_MEM_READ_WRITE,
+                                                        "photon pass: volume slots");
+    cl::Buffer volumeCounts =
+        device.allocate<uint32_t>(media ? batch : 1, CL_MEM_READ_WRITE, "photon pass: volume counts");
+    DevicePhotonMap volumeMap;
+    if (media)
+        volumeMap = makeDevicePhotonMap(device,
+                                        options.initialCapacity
+                                            ? options.initialCapacity
+                                            : initialMapCapacity(device.info().maxAlloc, passKind, total),
+                                        "photon pass: " + mapName + " volume map");
 
     for (uint32_t firstPhoton = 0; firstPhoton < total; firstPhoton += batch) {
         params.firstPhoton = firstPhoton;
         params.batchSize = std::min(batch, total - firstPhoton);
         cl::Event emitted = emitPhotons(device, scene, lightFirst, params, rays);
-        cl::Event traced = tracePhotons(device, scene, params, rays, slots, counts, ends);
+        cl::Event traced = tracePhotons(device, scene, params, rays, slots, counts, ends, volumeSlots, volumeCounts);
         DepositTiming timing;
         depositPhotons(device, counts, slots, params.batchSize, map, &timing);
+        if (media) {
+            DepositTiming volumeTiming;
+            depositPhotons(device, volumeCounts, volumeSlots, params.batchSize, volumeMap, &volumeTiming);
+            timing.scanSeconds += volumeTiming.scanSeconds;
+            timing.growSeconds += volumeTiming.growSeconds;
+            timing.scatterSeconds += volumeTiming.scatterSeconds;
+        }
         tallyEnds(device.download<uint32_t>(ends, params.batchSize), s);
         const double emitS = Device::elapsedSeconds(emitted), traceS = Device::elapsedSeconds(traced);
         const double depositS = timing.scanSeconds + timing.growSeconds + timing.scatterSeconds;
@@ -76,6 +98,10 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
     s.deposits = map.count;
     s.growths = map.growths;
     s.capacity = map.capacity;
+    if (media) {
+        s.volumeDeposits = volumeMap.count;
+        volume = device.download<PclPhoton>(volumeMap.photons, volumeMap.count);
+    }
     return device.download<PclPhoton>(map.photons, map.count);
 }
 
@@ -97,7 +123,10 @@ std::string PhotonPassStats::summary() const {
             name, (unsigned long long)s.emitted, s.batches, s.batchSize, (unsigned long long)s.deposits, s.growths,
             (unsigned long long)s.escaped, (unsigned long long)s.absorbed, (unsigned long long)s.stored,
             (unsigned long long)s.maxDepth, s.emittedFlux[0], s.emittedFlux[1], s.emittedFlux[2]);
-        return std::string(l);
+        std::string text(l);
+        if (s.volumeDeposits > 0)  // scenes with media: the pass's volume map
+            text.insert(text.size() - 1, "; " + std::to_string(s.volumeDeposits) + " volume records");
+        return text;
     };
     std::snprintf(buf, sizeof buf,
                   "device seconds: emit %.4f, trace %.4f, deposit %.4f; longest launch %.4f; wall %.4f s\n",
@@ -114,10 +143,10 @@ PhotonMaps runPhotonPass(Device& device, const SceneGeometry& geometry, const Sc
     DeviceScene scene(device, geometry, buffers);
     if (options.buildGlobal && options.globalPhotons > 0)
         maps.global = buildMap(device, scene, geometry, buffers, options, PCL_PASS_GLOBAL, options.globalPhotons,
-                               maps.stats, maps.stats.global);
+                               maps.stats, maps.stats.global, maps.volume);
     if (options.buildCaustic && options.causticPhotons > 0)
         maps.caustic = buildMap(device, scene, geometry, buffers, options, PCL_PASS_CAUSTIC, options.causticPhotons,
-                                maps.stats, maps.stats.caustic);
+                                maps.stats, maps.stats.caustic, maps.volumeCaustic);
     maps.stats.wallSeconds = since(start);
     return maps;
 }

@@ -33,6 +33,7 @@ struct PhotonPassKindStats {
                                                                    // caustic paths ended at a hit they deposited at)
     uint64_t bounces = 0;                                          // Σ bounce field of ends: segments traced
     uint64_t deposits = 0;                                         // records in the map
+    uint64_t volumeDeposits = 0;                                   // records in the volume map (media)
     double emittedFlux[3] = {0, 0, 0};  // Σ flux of the emitted photons (computed as emit does)
     uint32_t batches = 0;
     uint32_t batchSize = 0;  // paths per batch (launch)
@@ -52,6 +53,9 @@ struct PhotonPassStats {
 
 struct PhotonMaps {
     std::vector<PclPhoton> global, caustic;
+    // Scenes with media: the volume photons of the global pass (L(S|D|V)*V) and of the caustic
+    // pass (the volume caustics L S+ V, Jensen & Christensen 1998), each its own map.
+    std::vector<PclPhoton> volume, volumeCaustic;
     PhotonPassStats stats;
 };
 

@@ -24,8 +24,11 @@ uint32_t photonSlotsPerPath(const PclPhotonParams& params);
 
 // Enqueues trace_photons_global or trace_photons_caustic (by params.pass) over
 // params.batchSize paths: rays in, slots (photonSlotsPerPath × batchSize, slot-major: record k of
-// path i at k*batchSize + i), counts and ends (batchSize each) out.
+// path i at k*batchSize + i), counts and ends (batchSize each) out; in a scene with media
+// (params.hasMedia) also the volume photons in volumeSlots/volumeCounts, laid out as slots/counts
+// (otherwise these are never touched and may be one-element placeholders).
 cl::Event tracePhotons(Device& device, const DeviceScene& scene, const PclPhotonParams& params, const cl::Buffer& rays,
-                       cl::Buffer& slots, cl::Buffer& counts, cl::Buffer& ends);
+                       cl::Buffer& slots, cl::Buffer& counts, cl::Buffer& ends, cl::Buffer& volumeSlots,
+                       cl::Buffer& volumeCounts);
 
 }  // namespace pcl

@@ -91,6 +91,7 @@ PclPhotonParams makePhotonParams(const SceneGeometry& geometry, const SceneBuffe
     p.maxDepth = maxDepth;
     p.pass = passKind;
     p.hasMotion = buffers.hasMotion ? 1u : 0u;
+    p.hasMedia = buffers.hasMedia ? 1u : 0u;
     p.storeGlobal = storeGlobal ? 1u : 0u;
     p.rayEpsilon = buffers.rayEpsilon;
     return p;

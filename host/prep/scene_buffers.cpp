@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "prep/medium_boundaries.h"
 
 namespace pcl {
 namespace {
@@ -30,6 +31,7 @@ PclMaterial toDevice(const Material& m) {
     }
     d.exponent = m.phongExponent;
     d.ior = m.ior;
+    d.flags = m.interface ? PCL_MATERIAL_INTERFACE : 0u;
     return d;
 }
 
@@ -139,6 +141,32 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
                 }
                 break;
             }
+        }
+    }
+
+    if (scene.hasMedia()) {
+        b.hasMedia = true;
+        for (const Medium& m : scene.media) {
+            PclMedium d{};
+            put(d.sigmaA, m.sigmaA);
+            put(d.sigmaS, m.sigmaS);
+            d.g = m.g;
+            b.media.push_back(d);
+        }
+        const MediumBoundaries sides = findMediumBoundaries(scene, geometry);
+        b.primMedia.resize(geometry.primitiveCount());
+        for (uint32_t prim = 0; prim < geometry.primitiveCount(); ++prim)
+            b.primMedia[prim] = {sides.inside[prim], sides.outside[prim]};
+        // The medium each light entry emits into: a triangle's emitting side is the one its
+        // normal (the geometric one, same winding) points to; a directional light comes from
+        // infinitely far, through all of a global medium: none of it arrives.
+        for (const PclLight& l : b.lights) {
+            int32_t medium = PCL_NO_MEDIUM;
+            if (l.type == PCL_LIGHT_DIRECTIONAL)
+                medium = scene.globalMedium >= 0 ? PCL_MEDIUM_UNREACHABLE : PCL_NO_MEDIUM;
+            else if (l.type == PCL_LIGHT_TRIANGLE) medium = sides.outside[l.prim];
+            else medium = mediumAt(scene, Vec3(l.p[0], l.p[1], l.p[2]));
+            b.lightMedia.push_back(medium);
         }
     }
     return b;

@@ -16,7 +16,14 @@ struct SceneBuffers {
     std::vector<PclPrimInfo> primInfo;  // by global primitive id
     std::vector<PclLight> lights;       // projFirst/projCount are 0 until projection maps are built
     std::vector<uint32_t> projCells;    // marked projection-map cells, per light [projFirst, +projCount)
-    Vec3 sceneCentre{0.0f};             // bounding sphere of the geometry over the shutter
+    // Participating media, filled only when the scene has one (hasMedia): the medium table, the
+    // medium on either side of every primitive (prep/medium_boundaries) and the medium each light
+    // entry emits into (PCL_NO_MEDIUM: vacuum).
+    bool hasMedia = false;
+    std::vector<PclMedium> media;
+    std::vector<PclPrimMedium> primMedia;  // by global primitive id
+    std::vector<int32_t> lightMedia;       // by light entry (PCL_MEDIUM_UNREACHABLE: directional in fog)
+    Vec3 sceneCentre{0.0f};                // bounding sphere of the geometry over the shutter
     float sceneRadius = 0.0f;
     float rayEpsilon = 1e-6f;  // spawn offset: 1e-4 of the bounds' diagonal, at least 1e-6
     bool hasMotion = false;

@@ -17,21 +17,32 @@ Vec3 transmittance(Vec3 sigmaT, float distance) {
             channelTransmittance(sigmaT.z, distance)};
 }
 
-FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float u, Vec3 beta) {
-    FreeFlight f;
+namespace {
+
+// The channel probabilities P (∝ max(β, 0)); false when β carries nothing.
+bool channelProbabilities(Vec3 beta, Vec3& P) {
     const Vec3 choice = vmax(beta, Vec3(0.0f));
     const float total = choice.x + choice.y + choice.z;
-    if (!(total > 0.0f) || !std::isfinite(total)) return f;
-    const Vec3 P = choice / total;  // channel probabilities
-    // The channel whose share of [0, 1) holds u, and u's place within it.
+    if (!(total > 0.0f) || !std::isfinite(total)) return false;
+    P = choice / total;
+    return true;
+}
+
+// The channel whose share of [0, 1) holds u; `below` receives the shares before it.
+int pickChannel(const Vec3& P, float u, float& below) {
     int channel = 0;
-    float below = 0.0f;
+    below = 0.0f;
     while (channel < 2 && (P[channel] == 0.0f || u >= below + P[channel])) {
         below += P[channel];
         ++channel;
     }
     while (P[channel] == 0.0f) --channel;  // rounding pushed u past the last share; total > 0 ends it
-    const float uDistance = std::clamp((u - below) / P[channel], 0.0f, 0x1.fffffep-1f);
+    return channel;
+}
+
+// t = −ln(1 − uDistance)/σt[channel], then the event's or the segment end's weight.
+FreeFlight flight(const Medium& medium, float tMax, const Vec3& P, int channel, float uDistance) {
+    FreeFlight f;
     const Vec3 sigmaT = medium.sigmaT();
     const float sigmaC = sigmaT[channel];
     f.t = sigmaC > 0.0f ? -std::log1p(-uDistance) / sigmaC : std::numeric_limits<float>::infinity();
@@ -49,6 +60,25 @@ FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float u, Vec3 beta
     const float probability = dot(P, tr);
     f.weight = probability > 0.0f ? tr / probability : Vec3(0.0f);
     return f;
+}
+
+}  // namespace
+
+FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float u, Vec3 beta) {
+    Vec3 P;
+    if (!channelProbabilities(beta, P)) return FreeFlight{};
+    float below;
+    const int channel = pickChannel(P, u, below);
+    const float uDistance = std::clamp((u - below) / P[channel], 0.0f, 0x1.fffffep-1f);
+    return flight(medium, tMax, P, channel, uDistance);
+}
+
+FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float uChannel, float uDistance, Vec3 beta) {
+    Vec3 P;
+    if (!channelProbabilities(beta, P)) return FreeFlight{};
+    float below;
+    const int channel = pickChannel(P, uChannel, below);
+    return flight(medium, tMax, P, channel, std::clamp(uDistance, 0.0f, 0x1.fffffep-1f));
 }
 
 float henyeyGreenstein(float cosScatter, float g) {

@@ -34,6 +34,11 @@ struct FreeFlight {
 // uniform number u in [0, 1): where it falls among the channels' probabilities picks the
 // channel, its place within that share (rescaled to [0, 1)) the distance t = −ln(1 − u′)/σt[c].
 FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float u, Vec3 beta);
+// The same from two numbers, one for the channel and one for the distance (the photon pass,
+// kernels/shared/medium.h): the distance then depends on uDistance alone, not on the last bits
+// of the channel probabilities, so a kernel and its twin whose powers differ by an ulp still
+// place a long flight's end at the same point (one number: 1 − u′ near 0 amplifies them).
+FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float uChannel, float uDistance, Vec3 beta);
 
 // Henyey–Greenstein phase function (Henyey & Greenstein 1941) of the scattering angle's cosine
 // μ (between the direction of travel before and after; g > 0 scatters forward):

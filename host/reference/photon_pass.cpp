@@ -24,6 +24,7 @@ PclPhotonParams referencePhotonParams(const SceneBuffers& buffers, const SceneGe
     p.hasMotion = buffers.hasMotion ? 1u : 0u;
     p.storeGlobal = storeGlobal ? 1u : 0u;
     p.rayEpsilon = buffers.rayEpsilon;
+    p.hasMedia = buffers.hasMedia ? 1u : 0u;
     return p;
 }
 
@@ -33,7 +34,8 @@ std::vector<uint32_t> referenceLightFirstPhoton(const SceneBuffers& buffers, uin
 
 std::vector<PclPhoton> referencePhotonMap(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                           const ReferencePhotonPassSettings& settings, uint32_t pass,
-                                          ReferencePhotonStats* stats, std::vector<uint32_t>* pathCounts) {
+                                          ReferencePhotonStats* stats, std::vector<uint32_t>* pathCounts,
+                                          std::vector<PclPhoton>* volume, std::vector<uint32_t>* volumePathCounts) {
     const uint32_t photons = pass == PCL_PASS_CAUSTIC ? settings.causticPhotons : settings.globalPhotons;
     const std::vector<uint32_t> first = referenceLightFirstPhoton(buffers, pass, photons);
     const uint32_t total = first.back();  // 0 when no light has power (or no marked cells)
@@ -46,6 +48,10 @@ std::vector<PclPhoton> referencePhotonMap(const SceneBuffers& buffers, const Sce
         const std::vector<PclPhotonRay> rays = emitPhotonsReference(buffers, first, params, settings.threads);
         const ReferencePhotonBatch batch = tracePhotonsReference(buffers, geometry, params, rays, settings.threads);
         depositPhotonsReference(batch.counts, batch.slots, batch.slotsPerPath, map);
+        if (volume && params.hasMedia)
+            depositPhotonsReference(batch.volumeCounts, batch.volumeSlots, batch.slotsPerPath, *volume);
+        if (volumePathCounts && params.hasMedia)
+            volumePathCounts->insert(volumePathCounts->end(), batch.volumeCounts.begin(), batch.volumeCounts.end());
         if (pathCounts) pathCounts->insert(pathCounts->end(), batch.counts.begin(), batch.counts.end());
         if (stats) {
             stats->paths += n;
@@ -60,9 +66,11 @@ ReferencePhotonMaps runPhotonPassReference(const SceneBuffers& buffers, const Sc
                                            const ReferencePhotonPassSettings& settings) {
     ReferencePhotonMaps maps;
     if (settings.globalPhotons > 0)
-        maps.global = referencePhotonMap(buffers, geometry, settings, PCL_PASS_GLOBAL, &maps.globalStats);
+        maps.global =
+            referencePhotonMap(buffers, geometry, settings, PCL_PASS_GLOBAL, &maps.globalStats, nullptr, &maps.volume);
     if (settings.causticPhotons > 0)
-        maps.caustic = referencePhotonMap(buffers, geometry, settings, PCL_PASS_CAUSTIC, &maps.causticStats);
+        maps.caustic = referencePhotonMap(buffers, geometry, settings, PCL_PASS_CAUSTIC, &maps.causticStats, nullptr,
+                                          &maps.volumeCaustic);
     return maps;
 }
 

@@ -32,6 +32,7 @@ struct ReferencePhotonStats {
 
 struct ReferencePhotonMaps {
     std::vector<PclPhoton> global, caustic;
+    std::vector<PclPhoton> volume, volumeCaustic;  // scenes with media: the passes' volume photons
     ReferencePhotonStats globalStats, causticStats;
 };
 
@@ -45,10 +46,14 @@ std::vector<uint32_t> referenceLightFirstPhoton(const SceneBuffers& buffers, uin
 
 // One map: emit, trace and deposit `photons` paths of the pass in batches.
 // pathCounts, when given, receives every path's deposit count (for checks that align maps by path).
+// In a scene with media `volume` receives the pass's volume photons and volumePathCounts their
+// count per path.
 std::vector<PclPhoton> referencePhotonMap(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                           const ReferencePhotonPassSettings& settings, uint32_t pass,
                                           ReferencePhotonStats* stats = nullptr,
-                                          std::vector<uint32_t>* pathCounts = nullptr);
+                                          std::vector<uint32_t>* pathCounts = nullptr,
+                                          std::vector<PclPhoton>* volume = nullptr,
+                                          std::vector<uint32_t>* volumePathCounts = nullptr);
 
 ReferencePhotonMaps runPhotonPassReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                            const ReferencePhotonPassSettings& settings);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "reference/bsdf.h"
+#include "reference/medium.h"
 #include "reference/parallel_for.h"
 #include "reference/sampling.h"
 #include "shared/rng.h"
@@ -128,7 +129,8 @@ uint32_t referenceEncodeNormal(Vec3 n) {
 // ---- One path ---------------------------------------------------------------------------
 uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                   const PclPhotonParams& params, const PclPhotonRay& ray, uint32_t i, PclPhoton* slots,
-                                  uint32_t& count, std::vector<ReferencePhotonHit>* hits) {
+                                  uint32_t& count, std::vector<ReferencePhotonHit>* hits, PclPhoton* volumeSlots,
+                                  uint32_t* volumeCount) {
     const bool caustic = params.pass == PCL_PASS_CAUSTIC;
     const uint64_t seed = uint64_t(params.seedLo) | (uint64_t(params.seedHi) << 32);
     const uint32_t j = params.firstPhoton + i;
@@ -139,6 +141,11 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
     Vec3 power{ray.power[0], ray.power[1], ray.power[2]};
     uint32_t flags = 0;  // AFTER_SPECULAR / AFTER_DIFFUSE: the path so far
     count = 0;
+    uint32_t volumes = 0;
+    if (volumeCount) *volumeCount = 0;
+    int32_t mediumId = params.hasMedia ? buffers.lightMedia[ray.light] : PCL_NO_MEDIUM;
+    uint32_t segment = 0;  // invisible boundaries crossed within this bounce: the random block 1 + segment
+    if (mediumId == PCL_MEDIUM_UNREACHABLE) return 1 | PCL_END_ABSORBED << 8;  // a directional light in fog
 
     auto deposit = [&](Vec3 p, Vec3 nf, uint32_t b, uint32_t extra) {
         PclPhoton& ph = slots[count++];
@@ -150,7 +157,7 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         ph.normal = referenceEncodeNormal(nf);
     };
 
-    for (uint32_t b = 1;; ++b) {
+    for (uint32_t b = 1;;) {
         PclRay r{};
         r.ox = o.x;
         r.oy = o.y;
@@ -162,7 +169,58 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         r.tmax = INFINITY;
         r.time = time;
         PclHit hit;
-        if (!geometry.intersect(r, hit)) return b | PCL_END_ESCAPED << 8;
+        const bool found = geometry.intersect(r, hit);
+        if (mediumId != PCL_NO_MEDIUM) {
+            // A free flight through the medium: a scattering event before the surface, or the
+            // transmittance weight up to it (reference/medium.h, spectral MIS by power).
+            const PclMedium& pm = buffers.media[size_t(mediumId)];
+            Medium medium;
+            medium.sigmaA = vec(pm.sigmaA);
+            medium.sigmaS = vec(pm.sigmaS);
+            medium.g = pm.g;
+            uint32_t v[4];
+            rng_block(seed, j, b, 1 + segment, stream, v);
+            const FreeFlight flight =
+                sampleFreeFlight(medium, found ? hit.t : INFINITY, rng_u01(v[0]), rng_u01(v[1]), power);
+            if (flight.scattered) {
+                const Vec3 x = o + d * flight.t;
+                const Vec3 scattered = power * flight.weight;  // ΔΦ: the power scattered at x
+                const bool store = caustic ? (flags & PCL_PHOTON_AFTER_SPECULAR) && !(flags & PCL_PHOTON_AFTER_DIFFUSE)
+                                           : params.storeGlobal != 0;
+                if (store) {
+                    if (volumeSlots) {
+                        PclPhoton& ph = volumeSlots[volumes];
+                        ph.x = x.x;
+                        ph.y = x.y;
+                        ph.z = x.z;
+                        ph.rgbe = referenceEncodeRgbe(scattered);
+                        ph.packed = referenceEncodeDirection(-d) | (b - 1) << PCL_PHOTON_BOUNCE_SHIFT | flags |
+                                    PCL_PHOTON_VOLUME | (caustic ? PCL_PHOTON_CAUSTIC : 0u);
+                        ph.normal = 0;
+                    }
+                    ++volumes;
+                    if (volumeCount) *volumeCount = volumes;
+                }
+                // The caustic pass keeps L S+ V and nothing past a medium event.
+                if (caustic) return b | (store ? PCL_END_STORED : PCL_END_ABSORBED) << 8;
+                // Roulette on the scattered share: q = the single-scattering albedo when grey.
+                const float q =
+                    std::min(1.0f, maxComponent(power) > 0.0f ? maxComponent(scattered) / maxComponent(power) : 0.0f);
+                rng_block(seed, j, b, 0, stream, v);  // block 0: no surface event at this bounce
+                if (!(rng_u01(v[0]) < q)) return b | PCL_END_ABSORBED << 8;
+                power = scattered / Vec3(q);
+                flags |= PCL_PHOTON_AFTER_DIFFUSE;
+                if (b >= params.maxDepth) return b | PCL_END_MAX_DEPTH << 8;
+                d = sampleHenyeyGreenstein(-d, medium.g, rng_u01(v[2]), rng_u01(v[3]));
+                o = x;
+                segment = 0;
+                ++b;
+                continue;
+            }
+            power = power * flight.weight;
+            if (!(maxComponent(power) > 0.0f)) return b | (found ? PCL_END_ABSORBED : PCL_END_ESCAPED) << 8;
+        }
+        if (!found) return b | PCL_END_ESCAPED << 8;
 
         const Vec3 p = o + d * hit.t;
         const PclPrimInfo& info = buffers.primInfo[hit.prim];
@@ -172,6 +230,17 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
                                  info.radius;
         const PclMaterial& m = buffers.materials[info.material];
         const Vec3 nf = dot(d, n) < 0.0f ? n : -n;  // the side the photon arrives on
+        if (params.hasMedia) {
+            if (m.flags & PCL_MATERIAL_INTERFACE) {
+                // An invisible medium boundary: straight on in the medium beyond, same bounce.
+                const PclPrimMedium& sides = buffers.primMedia[hit.prim];
+                mediumId = dot(d, n) < 0.0f ? sides.inside : sides.outside;
+                o = p - nf * params.rayEpsilon;
+                if (++segment >= PCL_MAX_SEGMENTS) return b | PCL_END_MAX_DEPTH << 8;
+                continue;
+            }
+            segment = 0;
+        }
 
         // 1. Deposit at a diffuse surface: global map L(S|D)*D, caustic map LS+D. A caustic
         //    path is only ever specular so far (it stops at its first diffuse bounce), so LS+D
@@ -201,10 +270,17 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         power = s.power;
         if (b >= params.maxDepth) return b | PCL_END_MAX_DEPTH << 8;
 
+        // Through the surface (refraction): the medium on the other side.
+        if (params.hasMedia && dot(s.direction, n) * dot(d, n) > 0.0f) {
+            const PclPrimMedium& sides = buffers.primMedia[hit.prim];
+            mediumId = dot(d, n) < 0.0f ? sides.inside : sides.outside;
+        }
+
         // 3. Spawn on the side the new direction leaves from.
         const Vec3 ns = dot(s.direction, nf) > 0.0f ? nf : -nf;
         o = p + ns * params.rayEpsilon;
         d = s.direction;
+        ++b;
     }
 }
 
@@ -217,9 +293,15 @@ ReferencePhotonBatch tracePhotonsReference(const SceneBuffers& buffers, const Sc
     out.slots.assign(n * out.slotsPerPath, PclPhoton{});
     out.counts.assign(n, 0u);
     out.ends.assign(n, 0u);
+    if (params.hasMedia) {
+        out.volumeSlots.assign(n * out.slotsPerPath, PclPhoton{});
+        out.volumeCounts.assign(n, 0u);
+    }
     referenceParallelFor(n, threads, [&](size_t i) {
         out.ends[i] = tracePhotonPathReference(buffers, geometry, params, rays[i], static_cast<uint32_t>(i),
-                                               &out.slots[i * out.slotsPerPath], out.counts[i]);
+                                               &out.slots[i * out.slotsPerPath], out.counts[i], nullptr,
+                                               params.hasMedia ? &out.volumeSlots[i * out.slotsPerPath] : nullptr,
+                                               params.hasMedia ? &out.volumeCounts[i] : nullptr);
     });
     return out;
 }

@@ -17,6 +17,10 @@ struct ReferencePhotonBatch {
     std::vector<PclPhoton> slots;  // path i owns [i S, i S + S); the first counts[i] are used
     std::vector<uint32_t> counts;  // deposits per path
     std::vector<uint32_t> ends;    // bounce | cause << 8
+    // Volume photons (scenes with media; empty otherwise): S slots per path as above, at most
+    // one per bounce (a scattering event in a medium).
+    std::vector<PclPhoton> volumeSlots;
+    std::vector<uint32_t> volumeCounts;
 };
 
 // What happened at one hit, for tests (energy along a path).
@@ -48,10 +52,14 @@ uint32_t referenceEncodeDirection(Vec3 w);  // θ | φ << 8
 uint32_t referenceEncodeNormal(Vec3 n);     // octahedral u | v << 16, snorm16 each
 
 // Traces path i of the batch (global photon index params.firstPhoton + i) from `ray`; writes
-// its slots (S of them) and returns the end word. `hits`, when given, receives every hit.
+// its slots (S of them) and returns the end word. `hits`, when given, receives every surface hit.
+// In a scene with media the path samples free flights (as kernels/trace_photons.cl, media) and
+// writes its volume photons to `volumeSlots` (S of them, when given) and their number to
+// `volumeCount`.
 uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                   const PclPhotonParams& params, const PclPhotonRay& ray, uint32_t i, PclPhoton* slots,
-                                  uint32_t& count, std::vector<ReferencePhotonHit>* hits = nullptr);
+                                  uint32_t& count, std::vector<ReferencePhotonHit>* hits = nullptr,
+                                  PclPhoton* volumeSlots = nullptr, uint32_t* volumeCount = nullptr);
 
 ReferencePhotonBatch tracePhotonsReference(const SceneBuffers& buffers, const SceneGeometry& geometry,
                                            const PclPhotonParams& params, const std::vector<PclPhotonRay>& rays,

@@ -15,6 +15,8 @@
     X(PclSphere)              \
     X(PclMaterial)            \
     X(PclPrimInfo)            \
+    X(PclMedium)              \
+    X(PclPrimMedium)          \
     X(PclLight)               \
     X(PclPhotonRay)           \
     X(PclPhoton)              \

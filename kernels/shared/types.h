@@ -79,6 +79,7 @@ PCL_STATIC_ASSERT(sizeof(PclSphere) == 32, PclSphere_size);
 #define PCL_SPECULAR_GLOSSY 2u
 #define PCL_SPECULAR_DIELECTRIC 3u
 
+#define PCL_MATERIAL_INTERFACE 1u /* an invisible medium boundary: paths pass straight through */
 typedef struct PclMaterial {
     pcl_f32 rhoD[4];      /* diffuse reflectance rgb, [3] = 0 */
     pcl_f32 rhoS[4];      /* specular reflectance rgb, [3] = 0 */
@@ -86,7 +87,7 @@ typedef struct PclMaterial {
     pcl_u32 specular;     /* PCL_SPECULAR_* */
     pcl_f32 exponent;     /* glossy: normalised Phong exponent */
     pcl_f32 ior;          /* dielectric: index inside (outside 1) */
-    pcl_u32 pad0;
+    pcl_u32 flags;        /* PCL_MATERIAL_*; 0 for an ordinary surface */
 } PclMaterial;
 PCL_STATIC_ASSERT(sizeof(PclMaterial) == 64, PclMaterial_size);
 
@@ -98,6 +99,28 @@ typedef struct PclPrimInfo {
     pcl_f32 radius;    /* sphere radius; 0 for triangles */
 } PclPrimInfo;
 PCL_STATIC_ASSERT(sizeof(PclPrimInfo) == 32, PclPrimInfo_size);
+
+/* ---- Participating media (homogeneous; prep/medium_boundaries decides the sides) -------- */
+
+#define PCL_NO_MEDIUM -1 /* vacuum */
+/* lightMedia of a directional light in a global medium: its light crosses infinitely much of it
+ * and arrives with nothing (as the reference path tracer's shadow rays find); the path ends at
+ * once, ABSORBED, with no record. */
+#define PCL_MEDIUM_UNREACHABLE -2
+typedef struct PclMedium {
+    pcl_f32 sigmaA[4];  /* absorption rgb in 1/m, [3] = 0 */
+    pcl_f32 sigmaS[4];  /* scattering rgb in 1/m, [3] = 0 */
+    pcl_f32 g;          /* Henyey-Greenstein asymmetry, |g| < 1 */
+    pcl_f32 pad0, pad1, pad2;
+} PclMedium;
+PCL_STATIC_ASSERT(sizeof(PclMedium) == 48, PclMedium_size);
+
+/* Per global primitive: the medium on either side (PclMedium index or PCL_NO_MEDIUM). A path
+ * leaving the primitive against its geometric normal (d.n < 0) is in `inside`, else `outside`. */
+typedef struct PclPrimMedium {
+    pcl_i32 inside, outside;
+} PclPrimMedium;
+PCL_STATIC_ASSERT(sizeof(PclPrimMedium) == 8, PclPrimMedium_size);
 
 /* ---- Lights: one entry per point/spot/directional light and per emitting triangle -------- */
 
@@ -149,7 +172,10 @@ PCL_STATIC_ASSERT(sizeof(PclPhotonRay) == 48, PclPhotonRay_size);
 #define PCL_PHOTON_BOUNCE_SHIFT 16      /* bounces before this hit (0: straight from the light) */
 #define PCL_PHOTON_CAUSTIC 0x01000000u  /* stored in the caustic map */
 #define PCL_PHOTON_AFTER_SPECULAR 0x02000000u /* the path had a specular bounce */
-#define PCL_PHOTON_AFTER_DIFFUSE 0x04000000u  /* the path had a diffuse bounce */
+#define PCL_PHOTON_AFTER_DIFFUSE 0x04000000u  /* the path had a diffuse bounce (or a medium scattering event) */
+#define PCL_PHOTON_VOLUME 0x20000000u         /* a volume photon: stored at a scattering event in a medium;
+                                                  its rgbe is the power scattered there (Φ σs Tr/p), its
+                                                  normal 0 (kernels/trace_photons.cl, media) */
 typedef struct PclPhoton {
     pcl_f32 x, y, z;
     pcl_u32 rgbe;     /* r | g << 8 | b << 16 | e << 24 */
@@ -165,6 +191,10 @@ PCL_STATIC_ASSERT(sizeof(PclPhoton) == 24, PclPhoton_size);
 #define PCL_END_MAX_DEPTH 3u  /* reached maxDepth bounces */
 #define PCL_END_STORED 4u     /* caustic pass: ended (diffuse lobe or absorbed) at a hit it deposited at */
 
+/* Media: a photon path crosses at most this many invisible medium boundaries within one bounce
+ * (it ends with PCL_END_MAX_DEPTH past them); each crossing starts a new random-number block. */
+#define PCL_MAX_SEGMENTS 64u
+
 #define PCL_PASS_GLOBAL 0u
 #define PCL_PASS_CAUSTIC 1u
 
@@ -179,7 +209,7 @@ typedef struct PclPhotonParams {
     pcl_u32 hasMotion;       /* 0: every photon at time 0 (no time sampling) */
     pcl_u32 storeGlobal;     /* global pass: deposit into the global map */
     pcl_f32 rayEpsilon;      /* spawn offset along the normal, scaled to the scene */
-    pcl_u32 pad0;
+    pcl_u32 hasMedia;        /* 0: no medium anywhere (the media buffers are placeholders) */
 } PclPhotonParams;
 PCL_STATIC_ASSERT(sizeof(PclPhotonParams) == 48, PclPhotonParams_size);
 

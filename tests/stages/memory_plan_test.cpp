@@ -174,6 +174,49 @@ TEST(MemoryPlan, PredictedBytesEqualAllocatedBytesForEveryBuffer) {
     std::printf("[figure] %zu buffers planned, %zu allocations observed\n", plan.buffers.size(), log.count);
 }
 
+// A scene with media: the media buffers, the volume slots and counts and each pass's volume map
+// are planned to the byte as allocated (a volume map that outgrows its first capacity is
+// allocated again larger: at least the planned bytes), and the batch is sized for both slot
+// buffers.
+TEST(MemoryPlan, PhotonPassWithMediaPlansTheVolumeBuffers) {
+    const BuiltScene s = buildScene(std::string(PHOTONCL_SOURCE_DIR) + "/scenes/media/cornell-fog.json");
+    ASSERT_TRUE(s.buffers.hasMedia);
+    Device device = test::testDevice();
+    AllocationLog log;
+    log.observe(device);
+    PhotonPassOptions o;
+    o.globalPhotons = 20000;
+    o.causticPhotons = 20000;
+    o.maxDepth = 16;
+    for (bool global : {true, false}) {
+        PhotonPassOptions one = o;
+        one.buildGlobal = global;
+        one.buildCaustic = !global;
+        log.phase = global ? "global photon pass" : "caustic photon pass";
+        PhotonMaps m = runPhotonPass(device, s.geometry, s.buffers, one);
+        ASSERT_GT((global ? m.volume : m.volumeCaustic).size(), 0u);
+    }
+    device.setAllocationObserver(nullptr);
+
+    MemoryRequest req = photonPassMemoryRequest(s.geometry, s.buffers, o);
+    EXPECT_TRUE(req.media);
+    const MemoryPlan plan = planMemory(req, memoryLimits(device.info()));
+    EXPECT_EQ(plan.photonBatch, defaultPhotonBatch(device, 2 * o.maxDepth));
+    size_t volumeBuffers = 0;
+    for (const PlannedBuffer& b : plan.buffers) {
+        auto it = log.largest.find({b.phase, b.what});
+        ASSERT_NE(it, log.largest.end()) << b.phase << " / " << b.what << " was planned but never allocated";
+        const bool grows = b.what.find(" map") != std::string::npos;  // maps may outgrow the first capacity
+        if (grows) EXPECT_GE(it->second, b.bytes) << b.phase << " / " << b.what;
+        else EXPECT_EQ(it->second, b.bytes) << b.phase << " / " << b.what;
+        volumeBuffers += b.what.find("volume") != std::string::npos || b.what.find("media") != std::string::npos;
+    }
+    for (const auto& [key, bytes] : log.largest)
+        EXPECT_NE(plan.find(key.first, key.second), nullptr)
+            << key.first << " / " << key.second << " (" << bytes << " bytes) was allocated but not planned";
+    EXPECT_EQ(volumeBuffers, 3u + 2u * 3u);  // scene: 3; per pass: slots, counts, map
+}
+
 // A map large enough that the kd-tree's top levels are split a level at a time (the chunk-count
 // buffer): predicted as built.
 TEST(MemoryPlan, LargeKdTreeBuildIsPredictedWithItsChunkCounts) {
