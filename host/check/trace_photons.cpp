@@ -29,14 +29,19 @@ void comparePhotonPaths(const ReferencePhotonBatch& host, const PhotonTraceResul
             row.bounceMismatches++;
             divergent = true;
         }
-        if (host.counts[i] != dev.counts[i]) {
-            row.countMismatches++;
-            divergent = true;
-        } else {
+        // One path's records, surface or volume: the same count, then each record's position,
+        // packed direction and flags, and power.
+        auto compareRecords = [&](uint32_t hostCount, uint32_t devCount, const std::vector<PclPhoton>& hostSlots,
+                                  const std::vector<PclPhoton>& devSlots) {
+            if (hostCount != devCount) {
+                row.countMismatches++;
+                divergent = true;
+                return;
+            }
             bool pos = false, packed = false, rgbe = false;
-            for (uint32_t k = 0; k < host.counts[i]; ++k) {
-                const PclPhoton& a = host.slots[i * S + k];
-                const PclPhoton& b = dev.slots[i * size_t(dev.slotsPerPath) + k];
+            for (uint32_t k = 0; k < hostCount; ++k) {
+                const PclPhoton& a = hostSlots[i * S + k];
+                const PclPhoton& b = devSlots[i * size_t(dev.slotsPerPath) + k];
                 const double e = positionError({a.x, a.y, a.z}, {b.x, b.y, b.z}, radius);
                 row.maxPositionError = std::max(row.maxPositionError, e);
                 pos |= !(e <= kPositionTolerance);
@@ -47,30 +52,13 @@ void comparePhotonPaths(const ReferencePhotonBatch& host, const PhotonTraceResul
             row.packedMismatches += packed;
             row.rgbeMismatches += rgbe;
             divergent |= pos || packed || rgbe;
-        }
+        };
+        compareRecords(host.counts[i], dev.counts[i], host.slots, dev.slots);
         // Volume photons (scenes with media): the same count and records, path by path.
         if (!host.volumeCounts.empty()) {
             row.hostDeposits += host.volumeCounts[i];
             row.deviceDeposits += dev.volumeCounts[i];
-            if (host.volumeCounts[i] != dev.volumeCounts[i]) {
-                row.countMismatches++;
-                divergent = true;
-            } else {
-                bool pos = false, packed = false, rgbe = false;
-                for (uint32_t k = 0; k < host.volumeCounts[i]; ++k) {
-                    const PclPhoton& a = host.volumeSlots[i * S + k];
-                    const PclPhoton& b = dev.volumeSlots[i * size_t(dev.slotsPerPath) + k];
-                    const double e = positionError({a.x, a.y, a.z}, {b.x, b.y, b.z}, radius);
-                    row.maxPositionError = std::max(row.maxPositionError, e);
-                    pos |= !(e <= kPositionTolerance);
-                    packed |= a.packed != b.packed;
-                    rgbe |= !rgbeClose(a.rgbe, b.rgbe);
-                }
-                row.positionMismatches += pos;
-                row.packedMismatches += packed;
-                row.rgbeMismatches += rgbe;
-                divergent |= pos || packed || rgbe;
-            }
+            compareRecords(host.volumeCounts[i], dev.volumeCounts[i], host.volumeSlots, dev.volumeSlots);
         }
         row.divergent += divergent;
     }
