@@ -53,18 +53,7 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
 }
 
 PclRay spawnRay(Vec3 p, Vec3 n, Vec3 d, float time, float tmax) {
-    Vec3 o = p + n * (dot(n, d) >= 0.0f ? offsetScale(p) : -offsetScale(p));
-    PclRay r{};
-    r.ox = o.x;
-    r.oy = o.y;
-    r.oz = o.z;
-    r.dx = d.x;
-    r.dy = d.y;
-    r.dz = d.z;
-    r.tmin = 0.0f;
-    r.tmax = tmax;
-    r.time = time;
-    return r;
+    return makeRay(p + n * (dot(n, d) >= 0.0f ? offsetScale(p) : -offsetScale(p)), d, time, tmax);
 }
 
 PclRay spawnShadowRay(Vec3 p, Vec3 n, Vec3 target, Vec3 targetN, float time) {

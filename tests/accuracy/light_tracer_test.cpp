@@ -51,15 +51,6 @@ Image lightTraced(const Scene& scene, const SceneGeometry& geometry, uint32_t pa
     return film.resolve();
 }
 
-void setCamera(Scene& scene, Vec3 pos, Vec3 at, Vec3 up, float vfov, int w, int h) {
-    scene.camera.position = pos;
-    scene.camera.lookAt = at;
-    scene.camera.up = up;
-    scene.camera.vfovDegrees = vfov;
-    scene.camera.width = w;
-    scene.camera.height = h;
-}
-
 }  // namespace
 
 // A spot light at height h under a mirror ceiling at height H, pointing up: its mirror image is

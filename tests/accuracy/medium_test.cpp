@@ -77,12 +77,7 @@ void addSphere(Scene& scene, Vec3 c, float r, int material, int medium) {
     scene.spheres.push_back(s);
 }
 void setCamera(Scene& scene, Vec3 pos, Vec3 at, float vfov, int w, int h) {
-    scene.camera.position = pos;
-    scene.camera.lookAt = at;
-    scene.camera.up = Vec3(0, 1, 0);
-    scene.camera.vfovDegrees = vfov;
-    scene.camera.width = w;
-    scene.camera.height = h;
+    test_scenes::setCamera(scene, pos, at, Vec3(0, 1, 0), vfov, w, h);
 }
 
 uint64_t testSeed(uint64_t seed) {

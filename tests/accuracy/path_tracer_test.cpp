@@ -20,6 +20,7 @@ using test_scenes::addEmitter;
 using test_scenes::addMaterial;
 using test_scenes::pinholeDirection;
 using test_scenes::pixelAverageOnGround;
+using test_scenes::setCamera;
 
 namespace {
 
@@ -43,15 +44,6 @@ void addQuad(Scene& scene, int material, Vec3 c, Vec3 n, float hu, float hv, Vec
 void addInwardBox(Scene& scene, int material) {
     const Vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (Vec3 n : axes) addQuad(scene, material, -n, n, 1.0f, 1.0f);
-}
-
-void setCamera(Scene& scene, Vec3 pos, Vec3 at, Vec3 up, float vfov, int w, int h) {
-    scene.camera.position = pos;
-    scene.camera.lookAt = at;
-    scene.camera.up = up;
-    scene.camera.vfovDegrees = vfov;
-    scene.camera.width = w;
-    scene.camera.height = h;
 }
 
 Image render(const Scene& scene, int spp, int maxDepth = 64, int threads = 2, uint64_t seed = 7) {

@@ -68,6 +68,16 @@ inline int addEmitter(Scene& s, Vec3 rhoD, Vec3 emission) {
     return addMaterial(s, rhoD, Vec3(0.0f), SpecularKind::None, emission);
 }
 
+// A pinhole camera at pos looking at `at`, vfov degrees, w × h pixels.
+inline void setCamera(Scene& scene, Vec3 pos, Vec3 at, Vec3 up, float vfov, int w, int h) {
+    scene.camera.position = pos;
+    scene.camera.lookAt = at;
+    scene.camera.up = up;
+    scene.camera.vfovDegrees = vfov;
+    scene.camera.width = w;
+    scene.camera.height = h;
+}
+
 // The pinhole ray through film position (fx, fy) ∈ [0,1)² of pixel (x, y), from the camera's
 // definition, independently of reference/camera.cpp.
 inline Vec3 pinholeDirection(const Camera& cam, int x, int y, float fx, float fy) {
