@@ -346,6 +346,22 @@ typedef struct PclEyeParams {
 } PclEyeParams;
 PCL_STATIC_ASSERT(sizeof(PclEyeParams) == 48, PclEyeParams_size);
 
+/* One eye segment inside a scattering medium (eye_paths → volume_estimate): the in-scattered
+ * radiance the eye receives along it is throughput × ∫_0^length Tr(t) σs ∫ p L dω dt. Stored
+ * slot-major like the photon slots: segments[k * sampleCount + i] for k < segmentCounts[i], at
+ * most PclEyeParams.volumeSegments per record. A segment lies in one medium (an invisible
+ * boundary starts a new one) and is finite: a ray that leaves the scene ends at the scene's
+ * bounding sphere, beyond which there are no photons. */
+typedef struct PclVolumeSegment {
+    pcl_f32 ox, oy, oz, length;  /* start and length along the unit direction */
+    pcl_f32 dx, dy, dz, time;    /* unit direction of travel (away from the eye); shutter time */
+    pcl_f32 throughput[4];       /* the eye path's weight at the start (transmittance before it included), rgb */
+    pcl_i32 medium;              /* index into the medium table (PclMedium[]) */
+    pcl_u32 record;              /* the eye record i of the chunk it belongs to */
+    pcl_u32 pad0, pad1;
+} PclVolumeSegment;
+PCL_STATIC_ASSERT(sizeof(PclVolumeSegment) == 64, PclVolumeSegment_size);
+
 #define PCL_EYE_DIFFUSE 1u   /* the record holds a diffuse hit (prim != PCL_NO_HIT) */
 
 /* One eye sample after its specular chain (eye_paths.cl). */
