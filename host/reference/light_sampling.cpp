@@ -81,9 +81,16 @@ size_t LightSampler::choose(float u, float& probability) const {
 bool LightSampler::sampleLi(Vec3 p, float time, float uSelect, float u1, float u2, LightSample& out) const {
     if (emitters_.empty()) return false;
     float choice;
-    const Emitter& e = emitters_[choose(uSelect, choice)];
+    const size_t index = choose(uSelect, choice);
+    return sampleLiFrom(index, p, time, u1, u2, out);
+}
+
+bool LightSampler::sampleLiFrom(size_t index, Vec3 p, float time, float u1, float u2, LightSample& out) const {
+    const float choice = probability_[index];
     if (choice <= 0.0f) return false;
+    const Emitter& e = emitters_[index];
     out = LightSample{};
+    out.emitter = index;
     if (e.kind == Kind::Triangle || e.kind == Kind::Sphere) {
         const Material* mat;
         if (e.kind == Kind::Triangle) {

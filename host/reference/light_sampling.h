@@ -21,6 +21,7 @@ struct LightSample {
     float pdf = 0.0f;   // solid-angle density incl. the light choice; delta lights: the choice probability
     bool delta = false;
     bool infinite = false;  // directional: the shadow ray runs to infinity
+    size_t emitter = 0;     // which emitter (LightSampler's index) the sample came from
 };
 
 class LightSampler {
@@ -33,6 +34,17 @@ public:
     // Samples a light as seen from p at shutter time `time`; false if nothing reaches p
     // (the back of a one-sided emitter, outside a spot cone, no lights).
     bool sampleLi(Vec3 p, float time, float uSelect, float u1, float u2, LightSample& out) const;
+
+    // The same from a given emitter (no choice: out.pdf is the emitter's choice probability times
+    // the point's density, as sampleLi would report it).
+    bool sampleLiFrom(size_t emitter, Vec3 p, float time, float u1, float u2, LightSample& out) const;
+
+    // Point and spot lights: the ones with one position (equiangular sampling in media aims at it).
+    bool isPositional(size_t emitter) const {
+        return emitters_[emitter].kind == Kind::Point || emitters_[emitter].kind == Kind::Spot;
+    }
+    float probability(size_t emitter) const { return probability_[emitter]; }
+    Vec3 positionOf(size_t emitter) const { return scene_.lights[emitters_[emitter].object].position; }
 
     // The density sampleLi gives to the emitter point pl (normal nl) of primitive `prim` as
     // seen from p, in solid angle (for MIS when a BSDF-sampled ray hits an emitter).

@@ -81,6 +81,51 @@ FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float uChannel, fl
     return flight(medium, tMax, P, channel, std::clamp(uDistance, 0.0f, 0x1.fffffep-1f));
 }
 
+float freeFlightPdf(const Medium& medium, float t, Vec3 beta) {
+    Vec3 P;
+    if (!channelProbabilities(beta, P)) return 0.0f;
+    const Vec3 sigmaT = medium.sigmaT();
+    return dot(P, sigmaT * transmittance(sigmaT, t));
+}
+
+namespace {
+
+// The ray's closest approach to the light: Δ along the ray, D off it, and the angles of the
+// interval's ends as seen from the light (θ = atan((t − Δ)/D)).
+struct EquiangularFrame {
+    float delta = 0.0f, D = 0.0f, thetaA = 0.0f, thetaB = 0.0f;
+};
+
+bool equiangularFrame(Vec3 origin, Vec3 dir, float tMax, Vec3 light, EquiangularFrame& f) {
+    const Vec3 toLight = light - origin;
+    f.delta = dot(toLight, dir);
+    f.D = length(toLight - dir * f.delta);
+    if (!(f.D > 1e-7f * std::max(1.0f, std::abs(f.delta))) || !(tMax > 0.0f)) return false;
+    f.thetaA = std::atan2(-f.delta, f.D);
+    f.thetaB = std::isinf(tMax) ? 0.5f * kPi : std::atan2(tMax - f.delta, f.D);
+    return f.thetaB > f.thetaA;
+}
+
+}  // namespace
+
+bool sampleEquiangular(Vec3 origin, Vec3 dir, float tMax, Vec3 light, float u, float& t, float& pdf) {
+    EquiangularFrame f;
+    if (!equiangularFrame(origin, dir, tMax, light, f)) return false;
+    // θ stays below π/2 by a hair so tan θ is finite for an infinite segment.
+    const float theta = std::min(f.thetaA + u * (f.thetaB - f.thetaA), 0.5f * kPi * 0x1.fffffep-1f);
+    t = std::clamp(f.delta + f.D * std::tan(theta), 0.0f, tMax);
+    const float x = t - f.delta;
+    pdf = f.D / ((f.thetaB - f.thetaA) * (f.D * f.D + x * x));
+    return pdf > 0.0f && std::isfinite(t);
+}
+
+float equiangularPdf(Vec3 origin, Vec3 dir, float tMax, Vec3 light, float t) {
+    EquiangularFrame f;
+    if (!(t >= 0.0f && t <= tMax) || !equiangularFrame(origin, dir, tMax, light, f)) return 0.0f;
+    const float x = t - f.delta;
+    return f.D / ((f.thetaB - f.thetaA) * (f.D * f.D + x * x));
+}
+
 float henyeyGreenstein(float cosScatter, float g) {
     const float denom = 1.0f + g * g - 2.0f * g * cosScatter;
     return (1.0f - g * g) / (4.0f * kPi * denom * std::sqrt(std::max(denom, 0.0f)));

@@ -40,6 +40,19 @@ FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float u, Vec3 beta
 // place a long flight's end at the same point (one number: 1 − u′ near 0 amplifies them).
 FreeFlight sampleFreeFlight(const Medium& medium, float tMax, float uChannel, float uDistance, Vec3 beta);
 
+// The density sampleFreeFlight gives a scattering event at distance t < tMax for a path of
+// throughput beta: Σ_c P(c) σt[c] e^{−σt[c] t} (0 when beta carries nothing).
+float freeFlightPdf(const Medium& medium, float t, Vec3 beta);
+
+// Equiangular sampling (Kulla & Fajardo 2012) of a distance t in [0, tMax] along the ray
+// origin + t dir (dir unit, tMax may be infinite) toward the point `light`: uniform in the angle
+// the light subtends, p(t) = D / ((θb − θa)(D² + (t − Δ)²)) with Δ the light's projection on the
+// ray and D its distance from it, which cancels the 1/r² of a point light's irradiance. False
+// when the light lies on the ray's line (D = 0) or the interval is empty.
+bool sampleEquiangular(Vec3 origin, Vec3 dir, float tMax, Vec3 light, float u, float& t, float& pdf);
+// Its density at t (0 where sampleEquiangular would return false or t is outside [0, tMax]).
+float equiangularPdf(Vec3 origin, Vec3 dir, float tMax, Vec3 light, float t);
+
 // Henyey–Greenstein phase function (Henyey & Greenstein 1941) of the scattering angle's cosine
 // μ (between the direction of travel before and after; g > 0 scatters forward):
 //   p(μ) = (1 − g²) / (4π (1 + g² − 2gμ)^{3/2}),   ∫ p dω = 1,   E[μ] = g.

@@ -21,6 +21,21 @@ PathTracer::PathTracer(const Scene& scene, const SceneGeometry& geometry, PathTr
     : scene_(scene), geometry_(geometry), settings_(std::move(settings)), camera_(scene.camera),
       lights_(scene, geometry), hasMedia_(scene.hasMedia()) {
     if (hasMedia_) boundaries_ = findMediumBoundaries(scene, geometry);
+    if (hasMedia_ && settings_.equiangular && settings_.lightSampling) {
+        float total = 0.0f;
+        for (size_t e = 0; e < lights_.count(); ++e)
+            if (lights_.isPositional(e) && lights_.probability(e) > 0.0f) {
+                positional_.push_back(e);
+                positionalCdf_.push_back(total += lights_.probability(e));
+            }
+        for (float& c : positionalCdf_) c /= total;
+    }
+}
+
+float PathTracer::equiangularChoice(size_t emitter) const {
+    for (size_t i = 0; i < positional_.size(); ++i)
+        if (positional_[i] == emitter) return positionalCdf_[i] - (i > 0 ? positionalCdf_[i - 1] : 0.0f);
+    return 0.0f;
 }
 
 namespace {
@@ -81,22 +96,58 @@ Vec3 PathTracer::sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3
     return fCos * ls.Li * (weight / ls.pdf) * tr;
 }
 
-// Next-event estimation at a scattering event at p in `medium`: the phase function in place of
-// f cos θ, MIS against phase sampling for area lights.
-Vec3 PathTracer::sampleDirectInMedium(Vec3 p, Vec3 wo, float time, int32_t medium, Sampler& sampler,
-                                      uint32_t vertex) const {
+// Next-event estimation at a scattering event at distance t along `segment` in `medium`: the
+// phase function in place of f cos θ, MIS against phase sampling for area lights and against the
+// segment's equiangular sample for positional lights (the same (light, t) pair, found by two
+// densities: choice × free flight here, equiangular choice × equiangular distance there).
+Vec3 PathTracer::sampleDirectInMedium(Vec3 p, Vec3 wo, float time, int32_t medium, const MediumSegment& segment,
+                                      float t, Sampler& sampler, uint32_t vertex) const {
     LightSample ls;
     if (!lights_.sampleLi(p, time, sampler.vertex(vertex, PathVertexDims::kLightSelect),
                           sampler.vertex(vertex, PathVertexDims::kLightPoint),
                           sampler.vertex(vertex, PathVertexDims::kLightPoint + 1), ls))
         return Vec3(0.0f);
-    const float phase = henyeyGreenstein(dot(-wo, ls.wi), scene_.media[size_t(medium)].g);
+    const Medium& m = scene_.media[size_t(medium)];
+    const float phase = henyeyGreenstein(dot(-wo, ls.wi), m.g);
     PclRay shadow = ls.infinite ? spawnRay(p, Vec3(0.0f), ls.wi, time, std::numeric_limits<float>::infinity())
                                 : spawnShadowRay(p, Vec3(0.0f), ls.point, ls.normal, time);
     const Vec3 tr = shadowTransmittance(shadow, medium);
     if (maxComponent(tr) <= 0.0f) return Vec3(0.0f);
-    const float weight = ls.delta ? 1.0f : powerHeuristic(ls.pdf, phase);
+    float weight = ls.delta ? 1.0f : powerHeuristic(ls.pdf, phase);
+    if (const float choice = equiangularChoice(ls.emitter); choice > 0.0f)
+        weight = powerHeuristic(ls.pdf * freeFlightPdf(m, t, segment.beta),
+                                choice * equiangularPdf(segment.origin, segment.dir, segment.length, ls.point, t));
     return ls.Li * tr * (phase * weight / ls.pdf);
+}
+
+// The other half of that pair: a positional light chosen by power, a distance t on the segment
+// by equiangular sampling toward it, and the light it sends to the eye from there: σs Tr(t) p Li
+// Tr(shadow) over the density, MIS-weighted. Returned per unit of the segment's throughput.
+Vec3 PathTracer::sampleEquiangular(const MediumSegment& segment, float time, int32_t medium, Sampler& sampler,
+                                   uint32_t vertex) const {
+    if (positional_.empty()) return Vec3(0.0f);
+    const Medium& m = scene_.media[size_t(medium)];
+    if (!(maxComponent(m.sigmaS) > 0.0f)) return Vec3(0.0f);
+    const float u = sampler.vertex(vertex, 0);
+    size_t i = std::upper_bound(positionalCdf_.begin(), positionalCdf_.end(), u) - positionalCdf_.begin();
+    i = std::min(i, positional_.size() - 1);
+    const size_t emitter = positional_[i];
+    const float choice = equiangularChoice(emitter);
+    float t, pdf;
+    if (!(choice > 0.0f) || !pcl::sampleEquiangular(segment.origin, segment.dir, segment.length,
+                                                    lights_.positionOf(emitter), sampler.vertex(vertex, 1), t, pdf))
+        return Vec3(0.0f);
+    const Vec3 p = segment.origin + segment.dir * t;
+    LightSample ls;
+    if (!lights_.sampleLiFrom(emitter, p, time, 0.0f, 0.0f, ls)) return Vec3(0.0f);
+    const float phase = henyeyGreenstein(dot(segment.dir, ls.wi), m.g);
+    const Vec3 tr = shadowTransmittance(spawnShadowRay(p, Vec3(0.0f), ls.point, ls.normal, time), medium);
+    if (maxComponent(tr) <= 0.0f) return Vec3(0.0f);
+    const float pdfEquiangular = choice * pdf;
+    // The free flight finds (emitter, t) only as a scattering event before the segment's end.
+    const float pdfFlight = t < segment.length ? ls.pdf * freeFlightPdf(m, t, segment.beta) : 0.0f;
+    const float weight = powerHeuristic(pdfEquiangular, pdfFlight);
+    return m.sigmaS * pcl::transmittance(m.sigmaT(), t) * ls.Li * tr * (phase * weight / pdfEquiangular);
 }
 
 // The path integral estimator of pbrt-v4 §13.4 (PathIntegrator), with media as in its
@@ -113,7 +164,8 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
     float prevPdf = 0.0f;
     Vec3 prevP;
     int32_t medium = hasMedia_ ? boundaries_.cameraMedium : -1;  // the medium the ray travels in
-    int depth = 0;                                               // scattering events so far (surfaces and media)
+    Sampler equiangular = sampler.withStream(PCL_RNG_STREAM_EQUIANGULAR);
+    int depth = 0;  // scattering events so far (surfaces and media)
     // Where the current medium began along the ray (its parameter): past an invisible boundary the
     // ray goes on from the boundary, and the search for the next hit from just beyond it.
     float segmentStart = 0.0f;
@@ -124,16 +176,21 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
             const Medium& m = scene_.media[size_t(medium)];
             const Vec3 d = rayDirection(ray);
             const float length = pcl::length(d);
+            const MediumSegment segment{
+                rayOrigin(ray) + d * segmentStart, d / length,
+                found ? (hit.t - segmentStart) * length : std::numeric_limits<float>::infinity(), beta};
+            if (!positional_.empty() && depth < settings_.maxDepth)
+                L += beta * sampleEquiangular(segment, ray.time, medium, equiangular, vertex);
             const FreeFlight flight =
-                sampleFreeFlight(m, found ? (hit.t - segmentStart) * length : std::numeric_limits<float>::infinity(),
-                                 sampler.vertex(vertex, PathVertexDims::kFreeFlight), beta);
+                sampleFreeFlight(m, segment.length, sampler.vertex(vertex, PathVertexDims::kFreeFlight), beta);
             beta *= flight.weight;
             if (!(maxComponent(beta) > 0.0f)) break;
             if (flight.scattered) {
                 if (depth >= settings_.maxDepth) break;
-                const Vec3 wo = -d / length;
-                const Vec3 p = rayOrigin(ray) + d * segmentStart - wo * flight.t;
-                if (settings_.lightSampling) L += beta * sampleDirectInMedium(p, wo, ray.time, medium, sampler, vertex);
+                const Vec3 wo = -segment.dir;
+                const Vec3 p = segment.origin + segment.dir * flight.t;
+                if (settings_.lightSampling)
+                    L += beta * sampleDirectInMedium(p, wo, ray.time, medium, segment, flight.t, sampler, vertex);
                 // The phase function is sampled exactly: the weight p/pdf is 1.
                 const Vec3 wi = sampleHenyeyGreenstein(wo, m.g, sampler.vertex(vertex, PathVertexDims::kDirection),
                                                        sampler.vertex(vertex, PathVertexDims::kDirection + 1));

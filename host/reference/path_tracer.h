@@ -11,6 +11,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "geometry/scene_geometry.h"
 #include "image/film.h"
@@ -37,6 +38,10 @@ struct PathTracerSettings {
     // false: BSDF sampling only, no light sampling and no MIS; delta lights then contribute
     // nothing. An independent estimator of the same image, for tests of the MIS weights.
     bool lightSampling = true;
+    // In media, single scattering from point and spot lights also by equiangular sampling (Kulla &
+    // Fajardo 2012) on every segment, MIS-combined (power heuristic) with the light sample at
+    // free-flight events: light shafts converge far faster. false: free-flight events alone.
+    bool equiangular = true;
     // Called with the fraction done (0..1] after each tile, from worker threads but never two at
     // once. Keep it cheap: it runs under the tiles' lock.
     std::function<void(double)> progress;
@@ -67,7 +72,20 @@ public:
 private:
     Vec3 sampleDirect(const SurfacePoint& s, const MixedBsdf& bsdf, Vec3 wo, int32_t medium, Sampler& sampler,
                       uint32_t vertex) const;
-    Vec3 sampleDirectInMedium(Vec3 p, Vec3 wo, float time, int32_t medium, Sampler& sampler, uint32_t vertex) const;
+    // A straight stretch of a path inside one medium: unit direction, length (may be infinite)
+    // and the throughput the free flight along it was sampled for.
+    struct MediumSegment {
+        Vec3 origin, dir;
+        float length;
+        Vec3 beta;
+    };
+    Vec3 sampleDirectInMedium(Vec3 p, Vec3 wo, float time, int32_t medium, const MediumSegment& segment, float t,
+                              Sampler& sampler, uint32_t vertex) const;
+    // Single scattering along the segment from one positional light, at an equiangular distance.
+    Vec3 sampleEquiangular(const MediumSegment& segment, float time, int32_t medium, Sampler& sampler,
+                           uint32_t vertex) const;
+    // The density with which the equiangular strategy picks emitter e (0: not positional).
+    float equiangularChoice(size_t emitter) const;
     // What reaches the end of a shadow ray that starts in `medium`: 0 when a surface blocks it,
     // else the transmittance of the media it passes (1 in a scene without media).
     Vec3 shadowTransmittance(PclRay shadow, int32_t medium) const;
@@ -79,6 +97,10 @@ private:
     LightSampler lights_;
     bool hasMedia_ = false;
     MediumBoundaries boundaries_;  // filled only when the scene has media
+    // Equiangular sampling's lights: the positional emitters and their cumulative choice
+    // probabilities (∝ the light sampler's), empty without media or positional lights.
+    std::vector<size_t> positional_;
+    std::vector<float> positionalCdf_;
 };
 
 }  // namespace pcl

@@ -12,6 +12,8 @@
 // (light choice and point, direction, roulette); kFreeFlight is the free-flight distance drawn on
 // the segment that ends at the vertex (only in a medium), so it never meets the slots the vertex
 // itself uses once it knows what it is.
+// In a medium, each segment's equiangular sample (path_tracer.cpp) takes vertex slots 0 (which
+// light) and 1 (the distance) of the segment's vertex on stream EQUIANGULAR.
 // The light tracer (light_tracer.h) uses the same vertex slots on stream LIGHT_PATH, path = light
 // path, bounce = pass.
 #pragma once
@@ -42,6 +44,14 @@ public:
             rng_block(rng_.seed, rng_.path, rng_.bounce, block_, rng_.stream, words_);
         }
         return rng_u01(words_[dim & 3u]);
+    }
+    // The same pixel and sample on another stream: numbers a path draws besides its vertex slots
+    // (the equiangular samples in media, PCL_RNG_STREAM_EQUIANGULAR, one vertex's worth per segment).
+    Sampler withStream(uint32_t stream) const {
+        Sampler other = *this;
+        other.rng_.stream = stream;
+        other.block_ = 0xFFFFFFFFu;
+        return other;
     }
     // Dimension `k` of path vertex `vertex` (0: the camera ray's first hit).
     float vertex(uint32_t vertexIndex, uint32_t k) {
