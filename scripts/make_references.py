@@ -43,7 +43,7 @@ SCENES = [
     ("furnace-0.8.json", 32, 4096),
     # Participating media (scenes/media/): only the path tracer renders them for now.
     ("media/cornell-fog.json", 64, 8192),
-    ("media/hazy-room.json", 64, 8192),
+    ("media/hazy-room.json", 64, 16384),
 ]
 
 

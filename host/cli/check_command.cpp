@@ -10,6 +10,7 @@
 #include "cli/memory_option.h"
 #include "core/error.h"
 #include "device/device.h"
+#include "prep/environment_map.h"
 #include "prep/media_support.h"
 #include "prep/prepared_scene.h"
 #include "scene/load_scene.h"
@@ -46,6 +47,7 @@ Run addCheckCommand(CLI::App& app) {
     return [o] {
         if (o->device == "ref") throw InputError("check: --device ref has no kernels to check; pick an OpenCL device");
         const Scene scene = loadScene(o->scene);
+        refuseEnvironmentWithoutPathTracer(scene, "check --stage " + o->stage);
         // The photon-pass stages trace media (volume photons); the eye-pass stages cannot read a
         // volume map yet and keep refusing a scene with media.
         const bool photonPassStage = o->stage == "emit" || o->stage == "trace_photons" || o->stage == "deposit" ||

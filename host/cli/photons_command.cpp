@@ -12,6 +12,7 @@
 #include "pipeline/memory_plan.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/photon_ply.h"
+#include "prep/environment_map.h"
 #include "prep/media_support.h"
 #include "prep/prepared_scene.h"
 #include "scene/load_scene.h"
@@ -36,6 +37,7 @@ int runPhotons(const PhotonsOptions& o) {
 
     Scene scene = loadScene(o.scene);
     refuseMediaWithoutPathTracer(scene, "photons (the photon pass)");
+    refuseEnvironmentWithoutPathTracer(scene, "photons (the photon pass)");
     const PreparedScene prepared = prepareScene(scene, o.settings);
     const SceneGeometry& geometry = prepared.geometry;
     const SceneBuffers& buffers = prepared.buffers;

@@ -22,6 +22,7 @@
 #include "image/image_io.h"
 #include "pipeline/memory_plan.h"
 #include "pipeline/photon_pass.h"
+#include "prep/environment_map.h"
 #include "prep/media_support.h"
 #include "prep/prepared_scene.h"
 #include "render/auto_method.h"
@@ -285,6 +286,7 @@ int runRender(const RenderOptions& o) {
                      o.scene.c_str(), scene.triangleCount(), scene.spheres.size(), scene.lights.size(),
                      prepared.geometry.stats().nodes, prepared.geometry.stats().buildSeconds);
     if (!path) refuseMediaWithoutPathTracer(scene, "--method " + q.method);
+    if (!path) refuseEnvironmentWithoutPathTracer(scene, "--method " + q.method);
     if (q.method == "auto") return runAutoMethod(o, scene, prepared, output, start);
     if (!path) return runPhotonRender(o, scene, prepared, output, start);
     if (!o.quiet)

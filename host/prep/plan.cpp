@@ -292,6 +292,10 @@ std::string formatPlan(const Scene& scene, const LightPaths& lp, const RenderPla
                   scene.path.c_str(), lp.lights, lp.lights == 1 ? "y" : "ies", lp.areaTriangles, lp.diffusePrims,
                   lp.specularPrims, lp.pureSpecularPrims, lp.glossyPrims);
     out += buf;
+    if (scene.environment.active())
+        out += "environment light: " +
+               (scene.environment.imagePath.empty() ? std::string("a constant sky") : scene.environment.imagePath) +
+               " (rendered only by --method path for now: the light paths below leave it out)\n";
     out += "light paths (L light, D diffuse, S specular, V scattering in a medium, E eye):\n";
     for (const LightPath& p : lp.list) {
         std::snprintf(buf, sizeof buf, "  %-19s %-3s %-40s %s\n", p.notation.c_str(), p.present ? "yes" : "no",

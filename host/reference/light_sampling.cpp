@@ -55,6 +55,13 @@ LightSampler::LightSampler(const Scene& scene, const SceneGeometry& geometry) : 
             case LightType::Area: break;  // its mesh's emissive triangles are already in the list
         }
     }
+    // The sky: the power it sends through the scene's cross-section, π R² ∫ L dω.
+    environment_ = EnvironmentMap(scene.environment);
+    if (environment_.active()) {
+        environmentEmitter_ = int32_t(emitters_.size());
+        emitters_.push_back({Kind::Environment, 0, 0, 0.0f});
+        power.push_back(kPi * radius * radius * luminance(environment_.integral()));
+    }
     double total = 0.0;
     for (double& p : power) total += p = std::max(p, 0.0);
     if (!(total > 0.0)) {
@@ -117,6 +124,14 @@ bool LightSampler::sampleLiFrom(size_t index, Vec3 p, float time, float u1, floa
         // Area density converted to solid angle: p_ω = p_A r² / cos θ_light (pbrt-v4 eq. 4.9).
         out.pdf = choice / e.area * dist2 / cosLight;
         return true;
+    }
+    if (e.kind == Kind::Environment) {
+        float pdf;
+        if (!environment_.sample(u1, u2, out.wi, pdf)) return false;
+        out.Li = environment_.radiance(out.wi);
+        out.pdf = choice * pdf;
+        out.infinite = true;
+        return maxComponent(out.Li) > 0.0f;
     }
     const Light& light = scene_.lights[e.object];
     out.delta = true;

@@ -1,6 +1,7 @@
 // Light sampling for next-event estimation. Every emitting surface is a light — each triangle
 // of an emissive mesh (area lights) and each emissive sphere — sampled uniformly by area; point,
-// spot and directional lights are delta lights. One light is chosen per sample with probability
+// spot and directional lights are delta lights; the sky (scene.environment) is one more emitter,
+// sampled by its map (prep/environment_map.h). One light is chosen per sample with probability
 // proportional to an estimate of its power (any positive choice stays unbiased; power keeps
 // the variance low). Emission is one-sided: radiance leaves the geometric-normal side only.
 #pragma once
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "geometry/scene_geometry.h"
+#include "prep/environment_map.h"
 #include "reference/surface.h"
 #include "scene/scene.h"
 
@@ -50,13 +52,20 @@ public:
     // seen from p, in solid angle (for MIS when a BSDF-sampled ray hits an emitter).
     float pdfLi(uint32_t prim, Vec3 p, Vec3 pl, Vec3 nl) const;
 
+    // The sky (scene.environment): radiance arriving from direction w (0 without one), and the
+    // density sampleLi gives w, light choice included (for MIS when a path escapes).
+    Vec3 environmentRadiance(Vec3 w) const { return environment_.radiance(w); }
+    float pdfEnvironment(Vec3 w) const {
+        return environmentEmitter_ >= 0 ? probability_[size_t(environmentEmitter_)] * environment_.pdf(w) : 0.0f;
+    }
+
     // Radiance a surface point emits toward w (one-sided).
     static Vec3 emitted(const SurfacePoint& s, Vec3 w) {
         return (s.material->emits() && dot(s.ng, w) > 0.0f) ? s.material->emission : Vec3(0.0f);
     }
 
 private:
-    enum class Kind { Triangle, Sphere, Point, Spot, Directional };
+    enum class Kind { Triangle, Sphere, Point, Spot, Directional, Environment };
     struct Emitter {
         Kind kind;
         uint32_t object;  // mesh, sphere or light index
@@ -70,6 +79,8 @@ private:
     std::vector<double> cdf_;             // cumulative power, normalised to end at 1
     std::vector<float> probability_;      // per emitter
     std::vector<int32_t> emitterOfPrim_;  // global primitive id → emitter, -1 if it does not emit
+    EnvironmentMap environment_;          // inactive without a sky
+    int32_t environmentEmitter_ = -1;     // its emitter index, -1 without a sky
 };
 
 }  // namespace pcl

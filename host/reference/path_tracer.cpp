@@ -208,7 +208,17 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
                 continue;
             }
         }
-        if (!found) break;  // no environment light: nothing arrives from outside
+        if (!found) {  // the sky, if any, MIS-weighted against its light samples like an emitter
+            const Vec3 dir = normalize(rayDirection(ray));
+            const Vec3 Le = lights_.environmentRadiance(dir);
+            if (maxComponent(Le) > 0.0f) {
+                const float weight = !specularBounce && settings_.lightSampling
+                                         ? powerHeuristic(prevPdf, lights_.pdfEnvironment(dir))
+                                         : 1.0f;
+                L += beta * Le * weight;
+            }
+            break;
+        }
         SurfacePoint s = surfaceAt(scene_, geometry_, ray, hit);
         Vec3 wo = -normalize(rayDirection(ray));
         if (s.material->interface) {

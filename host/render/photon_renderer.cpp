@@ -1,4 +1,5 @@
 #include "render/photon_renderer.h"
+#include "prep/environment_map.h"
 #include "prep/media_support.h"
 
 #include <algorithm>
@@ -453,6 +454,7 @@ void requirePhotonRender(const PhotonRenderSettings& settings, const Scene& scen
         throw InternalError("renderPhotonMapped: the path tracer is render/path_render.h, not a photon method");
     validateRenderSettings(settings);
     refuseMediaWithoutPathTracer(scene, std::string("--method ") + renderMethodName(settings.method));
+    refuseEnvironmentWithoutPathTracer(scene, std::string("--method ") + renderMethodName(settings.method));
 }
 
 }  // namespace

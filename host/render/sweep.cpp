@@ -16,6 +16,7 @@
 #include "image/film.h"
 #include "image/image_io.h"
 #include "image/metrics.h"
+#include "prep/environment_map.h"
 #include "prep/media_support.h"
 #include "prep/prepared_scene.h"
 #include "reference/path_tracer.h"
@@ -174,6 +175,7 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
     Scene scene = loadScene(o.scenePath);
     // Refused before any curve runs, not after the path tracer's.
     refuseMediaWithoutPathTracer(scene, "sweep (its photon-method curves)");
+    refuseEnvironmentWithoutPathTracer(scene, "sweep (its photon-method curves)");
     Camera& cam = scene.camera;
     // The reference's size sets the render's; a different aspect ratio is a different image.
     const double camAspect = double(cam.width) / cam.height, refAspect = double(reference.width) / reference.height;

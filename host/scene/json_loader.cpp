@@ -4,12 +4,14 @@
 #include "scene/json_loader.h"
 #include "core/math.h"
 
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <optional>
 
 #include <nlohmann/json.hpp>
 
+#include "image/image_io.h"
 #include "scene/json_parse.h"
 #include "scene/scene_error.h"
 #include "scene/scene_paths.h"
@@ -41,7 +43,9 @@ public:
     explicit JsonSceneReader(std::string file) : file_(std::move(file)) { scene_.path = file_; }
 
     Scene read(const json& root) {
-        checkObject(root, "", {"comment", "camera", "materials", "media", "medium", "shapes", "lights", "include"});
+        checkObject(root, "",
+                    {"comment", "camera", "materials", "media", "medium", "shapes", "lights", "environment",
+                     "include"});
         if (auto* v = optional(root, "comment")) text(*v, "comment");
         if (auto* v = optional(root, "media")) {
             for (size_t i = 0; i < array(*v, "media").size(); ++i) readMedium((*v)[i], indexPath("media", i));
@@ -56,6 +60,7 @@ public:
         if (auto* v = optional(root, "lights")) {
             for (size_t i = 0; i < array(*v, "lights").size(); ++i) readLight((*v)[i], indexPath("lights", i));
         }
+        if (auto* v = optional(root, "environment")) readEnvironment(*v, "environment");
         if (auto* v = optional(root, "include")) readIncludes(*v, "include");
         if (auto* v = optional(root, "camera")) {
             readCamera(*v, "camera");
@@ -248,6 +253,65 @@ private:
         } else {
             fail(keyPath(path, "kind"), "one of mirror, glossy, dielectric", value["kind"]);
         }
+    }
+
+    // ---- Environment -----------------------------------------------------------------------
+
+    // {"radiance": [r,g,b]} (constant), or {"image": "sky.exr", "scale": s | [r,g,b], "rotation":
+    // degrees about +y}: an equirectangular linear image (EXR, HDR, PFM) beside the scene file.
+    void readEnvironment(const json& value, const std::string& path) {
+        checkObject(value, path, {"radiance", "image", "scale", "rotation"});
+        Environment& env = scene_.environment;
+        auto* image = optional(value, "image");
+        auto* radiance = optional(value, "radiance");
+        if ((image != nullptr) == (radiance != nullptr))
+            failInput(file_, path, "either \"radiance\" (a constant sky) or \"image\" (an equirectangular map)",
+                      image ? "both" : "neither");
+        if (radiance) {
+            if (optional(value, "scale"))
+                failInput(file_, keyPath(path, "scale"), "no scale with a constant radiance (give the radiance)",
+                          "a scale");
+            env.scale = lightAmount(*radiance, keyPath(path, "radiance"));
+        } else {
+            const std::string field = keyPath(path, "image");
+            const std::string name = text(*image, field);
+            const std::string lower = [&] {
+                std::string l = name;
+                for (char& c : l) c = char(std::tolower(static_cast<unsigned char>(c)));
+                return l;
+            }();
+            if (!endsWith(lower, ".exr") && !endsWith(lower, ".hdr") && !endsWith(lower, ".pfm"))
+                failInput(file_, field, "a linear HDR image (.exr, .hdr or .pfm)", "\"" + name + "\"");
+            env.imagePath = resolveInsideFolder(file_, field, name);
+            try {
+                env.image = readImage(env.imagePath);
+            } catch (const std::exception& e) {
+                failInput(file_, field, "a readable image", std::string("\"") + name + "\" (" + e.what() + ")");
+            }
+            if (env.image.width < 1 || env.image.height < 1)
+                failInput(file_, field, "an image of at least 1x1 texels",
+                          std::to_string(env.image.width) + "x" + std::to_string(env.image.height));
+            for (size_t i = 0; i < env.image.rgb.size(); ++i)
+                if (!std::isfinite(env.image.rgb[i]) || env.image.rgb[i] < 0.0f) {
+                    const size_t texel = i / 3;
+                    failInput(file_, field, "finite texels >= 0",
+                              std::to_string(env.image.rgb[i]) + " at texel (" +
+                                  std::to_string(texel % size_t(env.image.width)) + ", " +
+                                  std::to_string(texel / size_t(env.image.width)) + ")");
+                }
+            env.scale = Vec3(1.0f);
+            if (auto* k = optional(value, "scale")) {
+                const std::string expected = "a number > 0 or 3 numbers >= 0, not all zero";
+                env.scale = k->is_number() ? Vec3(float(number(*k, keyPath(path, "scale"), 0.0, kFloatMax, expected)))
+                                           : lightAmount(*k, keyPath(path, "scale"));
+                if (!env.active()) fail(keyPath(path, "scale"), expected, *k);
+            }
+            bool emits = false;
+            for (float x : env.image.rgb) emits = emits || x > 0.0f;
+            if (!emits) failInput(file_, field, "an image with some light in it", "all texels zero");
+        }
+        if (auto* r = optional(value, "rotation"))
+            env.rotationDegrees = float(number(*r, keyPath(path, "rotation"), -1e6, 1e6, "a number of degrees"));
     }
 
     // ---- Media ---------------------------------------------------------------------------

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/vec3.h"
+#include "image/image.h"
 
 namespace pcl {
 
@@ -76,6 +77,18 @@ struct Light {
     int mesh = -1;          // Area: index into Scene::meshes; radiance is that mesh's material emission
 };
 
+// Light arriving from infinitely far away in every direction: a sky. Radiance scale × the
+// equirectangular image's texel the direction falls in (prep/environment_map.h has the mapping),
+// or the scale alone when there is no image (a constant environment). Turned by
+// `rotationDegrees` about +y.
+struct Environment {
+    Vec3 scale{0.0f};       // W m^-2 sr^-1 per unit of the image (constant radiance without one)
+    std::string imagePath;  // the file it came from ("" for a constant environment)
+    Image image;            // linear RGB, every texel finite and >= 0; empty for a constant one
+    float rotationDegrees = 0.0f;
+    bool active() const { return scale.x > 0 || scale.y > 0 || scale.z > 0; }
+};
+
 enum class CameraModel { Pinhole, ThinLens };
 
 struct Camera {
@@ -97,7 +110,8 @@ struct Scene {
     std::vector<Sphere> spheres;
     std::vector<Light> lights;
     std::vector<Medium> media;
-    int globalMedium = -1;  // index into media filling all space outside the shapes with their own (fog), or -1
+    int globalMedium = -1;    // index into media filling all space outside the shapes with their own (fog), or -1
+    Environment environment;  // inactive (scale 0) unless the file names one
     Camera camera;
     size_t droppedDegenerateTriangles = 0;
 

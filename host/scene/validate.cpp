@@ -158,7 +158,8 @@ void linkEmitters(Scene& s) {
 }
 
 void checkLights(const Scene& s) {
-    if (s.lights.empty()) failInput(s.path, "lights", "at least one light or emissive surface", "none");
+    if (s.lights.empty() && !s.environment.active())
+        failInput(s.path, "lights", "at least one light, emissive surface or environment", "none");
     std::vector<int> areaLightsPerMesh(s.meshes.size(), 0);
     for (size_t i = 0; i < s.lights.size(); ++i) {
         const Light& l = s.lights[i];

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "accuracy/accuracy_common.h"
+#include "accuracy/pixel_stats.h"
 #include "common/test_scenes.h"
 #include "core/error.h"
 #include "geometry/scene_geometry.h"
@@ -25,12 +26,6 @@ using namespace pcl;
 using namespace pcl::test_scenes;
 
 namespace {
-
-uint64_t testSeed(uint64_t seed) {
-    // To tell noise from bias: PHOTONCL_TEST_SEED=3 accuracy_tests --gtest_filter='LightTracer*'
-    if (const char* s = std::getenv("PHOTONCL_TEST_SEED")) seed += std::strtoull(s, nullptr, 10) * 1000;
-    return seed;
-}
 
 // The light tracer's estimate alone, as an image: `passes` passes of width × height paths.
 Image lightTraced(const Scene& scene, const SceneGeometry& geometry, uint32_t passes, uint64_t seed,

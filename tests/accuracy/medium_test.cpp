@@ -15,6 +15,7 @@
 #include <functional>
 #include <vector>
 
+#include "accuracy/pixel_stats.h"
 #include "common/test_scenes.h"
 #include "core/math.h"
 #include "geometry/scene_geometry.h"
@@ -78,55 +79,6 @@ void addSphere(Scene& scene, Vec3 c, float r, int material, int medium) {
 }
 void setCamera(Scene& scene, Vec3 pos, Vec3 at, float vfov, int w, int h) {
     test_scenes::setCamera(scene, pos, at, Vec3(0, 1, 0), vfov, w, h);
-}
-
-uint64_t testSeed(uint64_t seed) {
-    if (const char* s = std::getenv("PHOTONCL_TEST_SEED")) return std::strtoull(s, nullptr, 10);
-    return seed;
-}
-int testSpp(int spp) {
-    if (const char* scale = std::getenv("PHOTONCL_TEST_SPP_SCALE")) spp *= std::max(1, std::atoi(scale));
-    return spp;
-}
-
-// Per-pixel mean and standard error of the path tracer's estimate, sample by sample as
-// PathTracer::render draws them.
-struct PixelStats {
-    std::vector<Vec3> mean, stdError;
-};
-PixelStats renderWithErrors(const Scene& scene, const PathTracerSettings& settings) {
-    SceneGeometry geometry = SceneGeometry::build(scene);
-    PathTracer tracer(scene, geometry, settings);
-    RayCamera camera(scene.camera);
-    const int w = scene.camera.width, h = scene.camera.height, n = settings.samplesPerPixel;
-    PixelStats out;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
-            for (int i = 0; i < n; ++i) {
-                Sampler sampler(settings.seed, uint32_t(y * w + x), uint32_t(i));
-                CameraSample cs;
-                cs.filmX = sampler.get(CameraDims::kFilm);
-                cs.filmY = sampler.get(CameraDims::kFilm + 1);
-                cs.lensU = sampler.get(CameraDims::kLens);
-                cs.lensV = sampler.get(CameraDims::kLens + 1);
-                cs.time = sampler.get(CameraDims::kTime);
-                const Vec3 L = tracer.Li(camera.generateRay(x, y, cs), sampler);
-                for (int c = 0; c < 3; ++c) {
-                    sum[c] += L[c];
-                    sum2[c] += double(L[c]) * L[c];
-                }
-            }
-            Vec3 mean, se;
-            for (int c = 0; c < 3; ++c) {
-                const double m = sum[c] / n;
-                mean[c] = float(m);
-                se[c] = float(std::sqrt(std::max(0.0, sum2[c] / n - m * m) / (n - 1)));
-            }
-            out.mean.push_back(mean);
-            out.stdError.push_back(se);
-        }
-    return out;
 }
 
 // Adaptive Simpson quadrature of f over [a, b] to absolute tolerance eps.

@@ -372,7 +372,8 @@ TEST_F(SceneLoaderTest, ZeroAreaLight) {
 TEST_F(SceneLoaderTest, NoLightAndNoEmitter) {
     json scene = baseScene();
     scene["lights"] = json::array();
-    expectError(write("bad.json", scene.dump()), {"lights", "at least one light or emissive surface", "none"});
+    expectError(write("bad.json", scene.dump()),
+                {"lights", "at least one light, emissive surface or environment", "none"});
 }
 
 TEST_F(SceneLoaderTest, IncludeLeavingFolderRefused) {

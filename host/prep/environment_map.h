@@ -1,0 +1,60 @@
+// The environment light ("sky", scene.h Environment) as the renderers read it: radiance by
+// direction, and directions sampled in proportion to it.
+//
+// Mapping (Mitsuba 3's envmap, so the same file means the same sky there): a direction w in the
+// environment's own frame (the world turned back by rotationDegrees about +y) falls in texel
+//   u = atan2(w.x, −w.z) / 2π  (wrapped to [0, 1)),   v = acos(w.y) / π  (row 0 looks up),
+// and its radiance is scale × that texel: nearest texel, so the sky is constant over each texel.
+// That makes exact importance sampling simple: choose a texel by its share of ∫ L dω (its
+// average channel times its solid angle (2π/W)(cos θ0 − cos θ1)), then a direction uniformly in
+// its solid angle (φ uniform, cos θ uniform): the density is exactly proportional to the texel's
+// channel average. A constant sky is one texel covering the sphere: uniform directions.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace pcl {
+
+class EnvironmentMap {
+public:
+    EnvironmentMap() = default;
+    explicit EnvironmentMap(const Environment& environment);
+
+    bool active() const { return !rowCdf_.empty(); }
+
+    // Radiance arriving from direction w (unit, pointing toward the sky).
+    Vec3 radiance(Vec3 w) const;
+    // A direction toward the sky from two uniform numbers, and its solid-angle density; false
+    // only for an inactive map.
+    bool sample(float u1, float u2, Vec3& w, float& pdf) const;
+    // The density sample() gives direction w.
+    float pdf(Vec3 w) const;
+    // ∫ L dω over the sphere, per channel (4π L for a constant sky).
+    Vec3 integral() const { return integral_; }
+
+private:
+    Vec3 toLocal(Vec3 w) const;
+    Vec3 toWorld(Vec3 w) const;
+    void texelOf(Vec3 local, int& x, int& y) const;
+    Vec3 texel(int x, int y) const;
+    float rowSolidAngle(int y) const;
+
+    Vec3 scale_{0.0f};
+    const Image* image_ = nullptr;  // null: constant
+    int width_ = 1, height_ = 1;
+    float cosRot_ = 1.0f, sinRot_ = 0.0f;
+    std::vector<double> rowCdf_;     // height + 1 entries, 0 .. 1
+    std::vector<double> columnCdf_;  // per row, width + 1 entries, 0 .. 1
+    std::vector<float> texelProbability_;
+    Vec3 integral_{0.0f};
+};
+
+// The photon methods and the device stages do not read the sky yet (no environment photons, no
+// sky lookups in the eye pass): they refuse a scene with one instead of rendering it dark.
+// Throws InputError "SCENE: environment: expected a scene without an environment light for WHAT
+// (...), got ..." when scene.environment is active.
+void refuseEnvironmentWithoutPathTracer(const Scene& scene, const std::string& what);
+
+}  // namespace pcl

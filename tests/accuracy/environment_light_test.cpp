@@ -1,0 +1,149 @@
+// The reference path tracer under an environment light ("sky", prep/environment_map.h) against
+// closed forms, with light sampling (MIS between the sky's samples and BSDF samples) and without
+// (BSDF samples alone):
+//  * a diffuse sphere alone under a constant sky: it never sees itself, so every point receives
+//    E = π L and leaves ρ L; the background is L;
+//  * a diffuse plane under a map dark but for one texel: E = L ∫_texel cos θ dω exactly, the
+//    same within 1 % as a directional light of irradiance L Ω_texel from the texel's centre.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "accuracy/pixel_stats.h"
+#include "common/test_scenes.h"
+#include "core/math.h"
+#include "reference/camera.h"
+
+using namespace pcl;
+using test_scenes::addMaterial;
+using test_scenes::addQuad;
+using test_scenes::addSphere;
+
+namespace {
+
+struct ZSummary {
+    double worstZ = 0.0, meanRatio = 0.0;
+    int count = 0;
+};
+
+// Pixels for which `expected` returns a value ≥ 0 (−1: skip), every channel.
+template <class F>
+ZSummary compare(const PixelStats& px, int width, int height, F expected) {
+    ZSummary z;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const Vec3 e = expected(x, y);
+            if (e.x < 0.0f) continue;
+            const size_t p = size_t(y * width + x);
+            for (int c = 0; c < 3; ++c) {
+                const double se = std::max(double(px.stdError[p][c]), 1e-7 * e[c]);
+                z.worstZ = std::max(z.worstZ, std::abs(px.mean[p][c] - e[c]) / se);
+                z.meanRatio += px.mean[p][c] / e[c];
+                ++z.count;
+            }
+        }
+    z.meanRatio /= std::max(1, z.count);
+    return z;
+}
+
+// Whether the whole footprint of pixel (x, y) sees the sphere (all four corners and the centre
+// hit it) or misses it (none do): edge pixels mix the two and are skipped.
+int coverage(const Scene& scene, int x, int y) {
+    const RayCamera camera(scene.camera);
+    const Sphere& s = scene.spheres[0];
+    int hits = 0;
+    for (float fx : {0.0f, 0.5f, 1.0f})
+        for (float fy : {0.0f, 0.5f, 1.0f}) {
+            CameraSample cs;
+            cs.filmX = fx;
+            cs.filmY = fy;
+            const PclRay r = camera.generateRay(x, y, cs);
+            const Vec3 o(r.ox, r.oy, r.oz), d = normalize(Vec3(r.dx, r.dy, r.dz));
+            const Vec3 oc = o - s.centre;
+            const float b = dot(oc, d), c = dot(oc, oc) - s.radius * s.radius;
+            hits += b * b - c > 0.0f && -b > 0.0f;
+        }
+    return hits == 9 ? 1 : (hits == 0 ? 0 : -1);
+}
+
+}  // namespace
+
+TEST(EnvironmentLight, DiffuseSphereUnderAConstantSkyReflectsRhoL) {
+    Scene scene;
+    const Vec3 rho(0.2f, 0.5f, 0.8f), L(1.0f, 2.0f, 0.5f);
+    addSphere(scene, Vec3(0.0f), 1.0f, addMaterial(scene, rho));
+    scene.environment.scale = L;
+    test_scenes::setCamera(scene, Vec3(0, 0.5f, 4), Vec3(0.0f), Vec3(0, 1, 0), 40.0f, 16, 16);
+    for (bool lightSampling : {true, false}) {
+        PathTracerSettings settings;
+        settings.samplesPerPixel = testSpp(256);
+        settings.seed = testSeed(21);
+        settings.lightSampling = lightSampling;
+        const PixelStats px = renderWithErrors(scene, settings);
+        const ZSummary sphere =
+            compare(px, 16, 16, [&](int x, int y) { return coverage(scene, x, y) == 1 ? rho * L : Vec3(-1.0f); });
+        const ZSummary sky =
+            compare(px, 16, 16, [&](int x, int y) { return coverage(scene, x, y) == 0 ? L : Vec3(-1.0f); });
+        std::printf("constant sky, light sampling %d: sphere %d pixel-channels worst |z| %.2f mean ratio %.4f; sky %d "
+                    "mean ratio %.6f\n",
+                    int(lightSampling), sphere.count, sphere.worstZ, sphere.meanRatio, sky.count, sky.meanRatio);
+        ASSERT_GT(sphere.count, 60);
+        ASSERT_GT(sky.count, 60);
+        EXPECT_LT(sphere.worstZ, 4.5);
+        EXPECT_NEAR(sphere.meanRatio, 1.0, 0.01);
+        EXPECT_NEAR(sky.meanRatio, 1.0, 1e-6);  // seen directly: exact
+    }
+}
+
+TEST(EnvironmentLight, OneBrightTexelLightsAPlaneLikeADirectionalLight) {
+    const int W = 32, H = 16, tx = 5, ty = 3;
+    const float V = 500.0f, rho = 0.5f;
+    Scene scene;
+    addQuad(scene, Vec3(-50, 0, -50), Vec3(0, 0, 100), Vec3(100, 0, 0), addMaterial(scene, Vec3(rho)));
+    test_scenes::setCamera(scene, Vec3(0, 1, 0), Vec3(0.01f, 0, 0), Vec3(0, 0, -1), 30.0f, 8, 8);
+    scene.environment.scale = Vec3(1.0f);
+    scene.environment.image = Image(W, H);
+    scene.environment.image.set(tx, ty, Vec3(V));
+    scene.environment.rotationDegrees = 25.0f;
+    // E = V (2π/W) ∫ cos θ sin θ dθ over the texel's rows = V (π/W)(sin²θ1 − sin²θ0).
+    const double theta0 = kPiD * ty / H, theta1 = kPiD * (ty + 1) / H;
+    const double E = V * kPiD / W * (std::sin(theta1) * std::sin(theta1) - std::sin(theta0) * std::sin(theta0));
+    const float expected = float(rho / kPiD * E);
+
+    for (bool lightSampling : {true, false}) {
+        PathTracerSettings settings;
+        settings.samplesPerPixel = testSpp(lightSampling ? 64 : 4096);
+        settings.seed = testSeed(22);
+        settings.lightSampling = lightSampling;
+        const PixelStats px = renderWithErrors(scene, settings);
+        const ZSummary z = compare(px, 8, 8, [&](int, int) { return Vec3(expected); });
+        std::printf("one bright texel, light sampling %d: %d pixel-channels worst |z| %.2f mean ratio %.5f\n",
+                    int(lightSampling), z.count, z.worstZ, z.meanRatio);
+        EXPECT_LT(z.worstZ, 4.5);
+        EXPECT_NEAR(z.meanRatio, 1.0, lightSampling ? 0.005 : 0.05);  // BSDF samples alone rarely find the texel
+    }
+
+    // A directional light of irradiance V Ω_texel from the texel's centre direction.
+    Scene sun = scene;
+    sun.environment = Environment{};
+    const double omega = 2.0 * kPiD / W * (std::cos(theta0) - std::cos(theta1));
+    const double thetaC = 0.5 * (theta0 + theta1), phiC = 2.0 * kPiD * (tx + 0.5) / W;
+    const Vec3 local(float(std::sin(thetaC) * std::sin(phiC)), float(std::cos(thetaC)),
+                     float(-std::sin(thetaC) * std::cos(phiC)));
+    const double a = 25.0 * kPiD / 180.0;
+    const Vec3 towardSky(float(std::cos(a) * local.x + std::sin(a) * local.z), local.y,
+                         float(-std::sin(a) * local.x + std::cos(a) * local.z));
+    Light light;
+    light.type = LightType::Directional;
+    light.direction = -towardSky;
+    light.irradiance = Vec3(float(V * omega));
+    sun.lights.push_back(light);
+    PathTracerSettings settings;
+    settings.samplesPerPixel = 4;
+    const PixelStats px = renderWithErrors(sun, settings);
+    const ZSummary z = compare(px, 8, 8, [&](int, int) { return Vec3(expected); });
+    std::printf("directional light of the texel's irradiance: mean ratio to the texel's closed form %.5f\n",
+                z.meanRatio);
+    EXPECT_NEAR(z.meanRatio, 1.0, 0.01);
+}
