@@ -19,6 +19,8 @@ from host/reference/{camera,bsdf,light_sampling,path_tracer}.cpp and host/scene/
 - lights: point -> `point` (intensity; power / 4 pi), directional -> `directional` (irradiance),
   area -> an emissive one-sided `area` emitter on the triangles (front = cross(u, v), as
   photoncl), radiance or power / (pi A); the lamp's surface is black, as in photoncl.
+- environment: a constant sky -> `constant` (radiance); an image sky is refused (photoncl reads the
+  nearest texel, Mitsuba's `envmap` interpolates).
 - shapes: sphere -> `sphere`; quad -> the two triangles photoncl makes (c, c+u, c+u+v, c+v);
   inline mesh -> a Mitsuba mesh with the same triangles and winding.
 - media: `homogeneous` with sigma_t = sigma_a + sigma_s (an RGB in [0, 1] times `scale` = its
@@ -279,6 +281,13 @@ class _Converter:
             return self.mesh_with(l.get("name", field), positions, faces, black, radiance, None, self.global_medium)
         self.refuse(field + ".type", f"unknown light type {t!r}")
 
+    def environment(self, e):
+        # photoncl reads the nearest texel, Mitsuba's envmap interpolates bilinearly: only a
+        # constant sky is the same light in both.
+        if "image" in e:
+            self.refuse("environment.image", "an image sky (photoncl: nearest texel; Mitsuba: bilinear)")
+        return {"type": "constant", "radiance": {"type": "rgb", "value": [float(x) for x in e["radiance"]]}}
+
     def check_outside_dielectrics(self, p, field):
         for centre, radius, sphere in self.dielectric_spheres:
             if _norm(_sub(p, centre)) <= radius:
@@ -342,6 +351,8 @@ class _Converter:
             scene[f"shape_{i}"] = self.shape(i, s)
         for i, l in enumerate(d.get("lights", [])):
             scene[f"light_{i}"] = self.light(i, l)
+        if "environment" in d:
+            scene["environment"] = self.environment(d["environment"])
         if "camera" not in d:
             self.refuse("camera", "no camera")
         scene["sensor"] = self.camera(d["camera"])
