@@ -7,6 +7,12 @@
  *      hits[i]                 PclEyeHit (eye_paths)
  *      nodes, packets, spheres the BVH; primInfo, materials, lights[]
  *      areaCdf[l]              the triangle lights' cumulative choice probability (host table)
+ *      histograms              the gather's importance tables (histogramCells > 0)
+ *      media[], primMedia[prim] participating media (read only when params.hasMedia): every
+ *                              shadow ray carries the transmittance of the media and invisible
+ *                              boundaries it crosses (shared/eye_medium.h), starting in the
+ *                              medium on the record's side of its surface (primMedia: outside
+ *                              when n_f is the outside normal)
  * out: radiance[i]             PclRadiance: throughput × ρd/π × Σ (0 without a diffuse hit)
  *
  * Point, spot, directional lights: every one, one exact shadow ray each. Triangle lights: M
@@ -17,6 +23,7 @@
 #include "shared/sampling.h"
 #include "shared/bvh.h"
 #include "shared/eye.h"
+#include "shared/eye_medium.h"
 #include "shared/light_sample.h"
 
 #pragma OPENCL FP_CONTRACT OFF
@@ -26,6 +33,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
                            __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,
                            __global const PclMaterial* materials, __global const PclLight* lights,
                            __global const float* areaCdf, __global const float* histograms,
+                           __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                            __global PclRadiance* radiance) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
@@ -43,15 +51,29 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
     const float eps = params.rayEpsilon;
     const PclV3 o = eye_add_scaled(p, nf, eps);
     float sum[3] = {0.0f, 0.0f, 0.0f};
+    EyeMedia em;
+    em.primInfo = primInfo;
+    em.materials = materials;
+    em.media = media;
+    em.primMedia = primMedia;
+    em.triangleCount = params.triangleCount;
+    em.hasMedia = params.hasMedia;
+    em.eps = eps;
+    int medium = PCL_NO_MEDIUM;
+    if (params.hasMedia) {
+        const PclV3 n = eye_normal(primInfo, h.prim, params.triangleCount, p, tau);
+        medium = sampling_dot(nf, n) > 0.0f ? primMedia[h.prim].outside : primMedia[h.prim].inside;
+    }
 
     /* Delta lights: exact. */
     for (uint l = 0u; l < params.lightCount; ++l) {
         const PclLight L = lights[l];
         if (L.type == PCL_LIGHT_TRIANGLE) continue;
         PclV3 wi;
-        const float g = light_delta(nodes, packets, spheres, L, p, nf, o, tau, &wi);
+        float tr[3];
+        const float g = light_delta(nodes, packets, spheres, em, medium, L, p, nf, o, tau, &wi, tr);
         if (!(g > 0.0f)) continue;
-        for (int c = 0; c < 3; ++c) sum[c] = sum[c] + L.power[c] * g;
+        for (int c = 0; c < 3; ++c) sum[c] = sum[c] + L.power[c] * g * tr[c];
     }
 
     /* Triangle lights: M samples by area, MIS (power heuristic) against N cosine samples. */
@@ -63,7 +85,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
             rng_block(seed, h.pixel, h.sample * M + m, 0u, PCL_RNG_STREAM_LIGHT, w);
             PclV3 wi;
             float pdfL, cosS, le[3];
-            if (!light_area_sample(nodes, packets, spheres, primInfo, materials, lights, areaCdf, params.lightCount,
+            if (!light_area_sample(nodes, packets, spheres, em, medium, primInfo, materials, lights, areaCdf, params.lightCount,
                                    params.areaPowerTotal, p, nf, o, eps, tau, rng_u01(w[0]), rng_u01(w[1]),
                                    rng_u01(w[2]), &wi, &pdfL, &cosS, le))
                 continue;

@@ -1,6 +1,7 @@
 #include "check/check_stages.h"
 
 #include "check/estimate.h"
+#include "check/eye_stages.h"
 #include "check/knn.h"
 #include "check/maps.h"
 #include "check/photon_stages.h"
@@ -82,6 +83,22 @@ std::vector<CheckReport> estimate(Device& device, const Scene& scene, const Prep
                           checkPrecomputedIrradiance(device, scene, prepared.geometry, prepared.buffers, irradiance))};
 }
 
+RenderCheckOptions eyeOptions(const CheckOptions& o) {
+    RenderCheckOptions options;
+    options.seed = o.seed;
+    return options;
+}
+
+std::vector<CheckReport> eyePaths(Device& device, const Scene& scene, const PreparedScene& prepared,
+                                  const CheckOptions& o) {
+    return {toCheckReport("eye_paths", checkEyePathsStage(device, scene, prepared, eyeOptions(o)))};
+}
+
+std::vector<CheckReport> directLight(Device& device, const Scene& scene, const PreparedScene& prepared,
+                                     const CheckOptions& o) {
+    return {toCheckReport("direct_light", checkDirectLightStage(device, scene, prepared, eyeOptions(o)))};
+}
+
 std::vector<CheckReport> render(Device& device, const Scene& scene, const PreparedScene& prepared,
                                 const CheckOptions& o) {
     RenderCheckOptions options;
@@ -106,6 +123,12 @@ const std::vector<CheckStage>& checkStages() {
          "the filtered irradiance estimate (every filter, both structures, with and without the visibility test) "
          "and the precomputed irradiance lookup",
          "CPU twin", estimate},
+        {"eye_paths",
+         "eye paths (specular chains; in media the transmittance, single scattering and the medium segments), "
+         "record by record on a small image",
+         "CPU twin", eyePaths},
+        {"direct_light", "direct light at the eye records (shadow rays through media), record by record", "CPU twin",
+         directLight},
         {"render",
          "the eye pass (camera, eye paths, direct light, caustics, final gather, direct visualisation) per stage and "
          "per pixel on a small image",

@@ -380,7 +380,8 @@ std::vector<PclRay> cameraRaysOnDevice(Device& device, const PclCameraParams& pa
 // ---- eye paths ----------------------------------------------------------------------------------
 
 std::vector<PclEyeHit> eyePathsOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                        const std::vector<PclRay>& rays, const PclEyeParams& params) {
+                                        const std::vector<PclRay>& rays, const PclEyeParams& params,
+                                        EyeVolumeSegments* segments) {
     if (rays.size() != params.sampleCount)
         throw InternalError("eyePathsOnDevice: " + std::to_string(rays.size()) + " rays for " +
                             std::to_string(params.sampleCount) + " samples");
@@ -388,8 +389,18 @@ std::vector<PclEyeHit> eyePathsOnDevice(Device& device, const SceneGeometry& geo
     const DeviceAreaLights lights(device, buildAreaLightTable(buffers, geometry.primitiveCount()));
     cl::Buffer rayBuf = device.upload(rays, CL_MEM_READ_ONLY, "eye paths: rays");
     cl::Buffer hits = device.allocate<PclEyeHit>(rays.size(), CL_MEM_READ_WRITE, "eye paths: hits");
-    traceEyePaths(device, scene, lights, params, rayBuf, hits);
-    return device.download<PclEyeHit>(hits, rays.size());
+    const size_t n = rays.size(), S = params.volumeSegments;
+    cl::Buffer segBuf =
+        device.allocate<PclVolumeSegment>(std::max<size_t>(1, S * n), CL_MEM_READ_WRITE, "eye paths: segments");
+    cl::Buffer countBuf = device.allocate<uint32_t>(S > 0 ? n : 1, CL_MEM_READ_WRITE, "eye paths: segment counts");
+    traceEyePaths(device, scene, lights, params, rayBuf, hits, segBuf, countBuf);
+    std::vector<PclEyeHit> out = device.download<PclEyeHit>(hits, n);
+    if (segments) {
+        segments->perRecord = params.volumeSegments;
+        segments->segments = S > 0 ? device.download<PclVolumeSegment>(segBuf, S * n) : std::vector<PclVolumeSegment>{};
+        segments->counts = S > 0 ? device.download<uint32_t>(countBuf, n) : std::vector<uint32_t>(n, 0);
+    }
+    return out;
 }
 
 // ---- direct light -------------------------------------------------------------------------------

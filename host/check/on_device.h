@@ -22,6 +22,7 @@
 #include "prep/estimate_settings.h"
 #include "prep/knn_structure.h"
 #include "prep/scene_buffers.h"
+#include "reference/eye_paths.h"
 #include "shared/types.h"
 
 namespace pcl {
@@ -179,9 +180,11 @@ std::vector<PclRay> cameraRaysOnDevice(Device& device, const PclCameraParams& pa
 
 // ---- eye paths (pipeline/eye_paths.h) ------------------------------------------------------
 
-// For tests: upload rays (rays.size() == params.sampleCount), trace, download.
+// For tests: upload rays (rays.size() == params.sampleCount), trace, download; the medium
+// segments (scenes with media, params.volumeSegments > 0) into *segments when given.
 std::vector<PclEyeHit> eyePathsOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                        const std::vector<PclRay>& rays, const PclEyeParams& params);
+                                        const std::vector<PclRay>& rays, const PclEyeParams& params,
+                                        EyeVolumeSegments* segments = nullptr);
 
 // ---- direct light (pipeline/direct_light.h) ------------------------------------------------
 

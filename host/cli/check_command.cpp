@@ -48,13 +48,16 @@ Run addCheckCommand(CLI::App& app) {
         if (o->device == "ref") throw InputError("check: --device ref has no kernels to check; pick an OpenCL device");
         const Scene scene = loadScene(o->scene);
         refuseEnvironmentWithoutPathTracer(scene, "check --stage " + o->stage);
-        // The photon-pass stages trace media (volume photons); the eye-pass stages cannot read a
-        // volume map yet and keep refusing a scene with media.
-        const bool photonPassStage = o->stage == "emit" || o->stage == "trace_photons" || o->stage == "deposit" ||
-                                     o->stage == "pass";
-        if (!photonPassStage)
+        // The photon-pass stages trace media (volume photons), eye_paths and direct_light handle
+        // them (transmittance, single scattering, the medium segments); the other eye-pass stages
+        // (estimates, final gather, render) cannot read a volume map yet and keep refusing a
+        // scene with media.
+        const bool mediaStage = o->stage == "emit" || o->stage == "trace_photons" || o->stage == "deposit" ||
+                                o->stage == "pass" || o->stage == "eye_paths" || o->stage == "direct_light";
+        if (!mediaStage)
             refuseMediaWithoutPathTracer(scene, "check --stage " + o->stage +
-                                                    " (only emit, trace_photons, deposit and pass trace media)");
+                                                    " (only emit, trace_photons, deposit, pass, eye_paths and "
+                                                    "direct_light handle media)");
         Device device = Device::open(o->device);
         applyBufferCap(device, o->maxBufferMib);
         std::printf("check %s on %s (%s)\n", o->scene.c_str(), device.info().name.c_str(),

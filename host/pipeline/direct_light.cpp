@@ -22,6 +22,7 @@ PclDirectParams directParams(const PclEyeParams& eye, const SceneGeometry& geome
     p.gatherRays = gatherRays;
     p.areaPowerTotal = table.total;
     p.rayEpsilon = buffers.rayEpsilon;
+    p.hasMedia = buffers.hasMedia ? 1u : 0u;
     return p;
 }
 
@@ -38,11 +39,12 @@ cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceArea
                       const PclDirectParams& params, const cl::Buffer& hits, const cl::Buffer& histograms,
                       cl::Buffer& radiance) {
     auto kernel = device.kernel<PclDirectParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>("direct_light", "direct_light",
-                                                                                scene.geometry.programOptions());
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+        "direct_light", "direct_light", scene.geometry.programOptions());
     return device.launchLocal("direct_light", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, hits, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
-                              scene.primInfo, scene.materials, scene.lights, lights.cdf, histograms, radiance);
+                              scene.primInfo, scene.materials, scene.lights, lights.cdf, histograms, scene.media,
+                              scene.primMedia, radiance);
 }
 
 }  // namespace pcl

@@ -5,7 +5,9 @@
 // the N cosine-sampled gather rays of final_gather, which add an emitter's Le with the
 // complementary weight (misWeightBsdf): the two halves together count each area light once.
 // With N = 0 (direct visualisation, or no gather) light sampling alone counts, weight 1.
-// Radiance = throughput × ρd/π × Σ. The twin is host/reference/direct_light.h.
+// In a scene with media (params.hasMedia) every shadow ray carries the transmittance of the media
+// and invisible boundaries it crosses. Radiance = throughput × ρd/π × Σ. The twin is
+// host/reference/direct_light.h.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -26,7 +28,8 @@ struct DeviceAreaLights {
 };
 
 // Parameters for records [0, sampleCount) of a pass (seed and samples per pixel from the eye
-// parameters). lightSamples: M; gatherRays: the N of final_gather (0: light sampling alone).
+// parameters). lightSamples: M; gatherRays: the N of final_gather (0: light sampling alone);
+// hasMedia from the buffers.
 PclDirectParams directParams(const PclEyeParams& eye, const SceneGeometry& geometry, const SceneBuffers& buffers,
                              const AreaLightTable& table, uint32_t lightSamples, uint32_t gatherRays);
 

@@ -154,6 +154,7 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
             b.media.push_back(d);
         }
         const MediumBoundaries sides = findMediumBoundaries(scene, geometry);
+        b.cameraMedium = sides.cameraMedium;
         b.primMedia.resize(geometry.primitiveCount());
         for (uint32_t prim = 0; prim < geometry.primitiveCount(); ++prim)
             b.primMedia[prim] = {sides.inside[prim], sides.outside[prim]};

@@ -23,6 +23,7 @@ struct SceneBuffers {
     std::vector<PclMedium> media;
     std::vector<PclPrimMedium> primMedia;  // by global primitive id
     std::vector<int32_t> lightMedia;       // by light entry (PCL_MEDIUM_UNREACHABLE: directional in fog)
+    int32_t cameraMedium = PCL_NO_MEDIUM;  // the medium at the camera position (the eye rays start in it)
     Vec3 sceneCentre{0.0f};                // bounding sphere of the geometry over the shutter
     float sceneRadius = 0.0f;
     float rayEpsilon = 1e-6f;  // spawn offset: 1e-4 of the bounds' diagonal, at least 1e-6

@@ -18,13 +18,20 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
     const Vec3 p(h.x, h.y, h.z), nf(h.nx, h.ny, h.nz);
     const float eps = params.rayEpsilon, tau = h.time;
     const Vec3 o = p + nf * eps;
+    // Shadow rays start in the medium on the record's side of its surface.
+    ShadowMedium sm;
+    sm.hasMedia = params.hasMedia != 0;
+    if (sm.hasMedia) {
+        const Vec3 n = eyeNormalAt(buffers, h.prim, params.triangleCount, p, tau);
+        sm.medium = dot(nf, n) > 0.0f ? buffers.primMedia[h.prim].outside : buffers.primMedia[h.prim].inside;
+    }
     Vec3 sum(0.0f);
     for (uint32_t l = 0; l < params.lightCount; ++l) {
         const PclLight& L = buffers.lights[l];
         if (L.type == PCL_LIGHT_TRIANGLE) continue;
-        Vec3 wi;
-        const float g = lightDelta(geometry, L, p, nf, o, tau, wi);
-        if (g > 0.0f) sum = sum + eyeVec(L.power) * g;
+        Vec3 wi, tr;
+        const float g = lightDelta(geometry, buffers, sm, L, p, nf, o, tau, wi, tr);
+        if (g > 0.0f) sum = sum + eyeVec(L.power) * g * tr;
     }
     const uint32_t M = params.lightSamples;
     if (params.areaPowerTotal > 0.0f && M > 0) {
@@ -35,8 +42,8 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
             rng_block(seed, h.pixel, h.sample * M + m, 0, PCL_RNG_STREAM_LIGHT, w);
             Vec3 wi, le;
             float pdfL, cosS;
-            if (!lightAreaSample(geometry, buffers, table, params.lightCount, params.areaPowerTotal, p, nf, o, eps, tau,
-                                 rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), wi, pdfL, cosS, le))
+            if (!lightAreaSample(geometry, buffers, table, sm, params.lightCount, params.areaPowerTotal, p, nf, o, eps,
+                                 tau, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), wi, pdfL, cosS, le))
                 continue;
             float pdfB = cosS / kPi;
             if (params.histogramCells > 0 && cdf) {

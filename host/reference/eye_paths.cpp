@@ -3,18 +3,103 @@
 #include <cmath>
 #include <limits>
 
+#include "reference/eye_medium.h"
 #include "reference/eye_scatter.h"
 #include "reference/light_sample.h"
+#include "reference/medium.h"
 #include "reference/parallel_for.h"
 #include "reference/sampler.h"
 
 namespace pcl {
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// Single scattering along o + t d, t ∈ [0, tEnd] (+∞ when the ray leaves the scene), in medium
+// `medium`, before the path throughput (kernels/README.md, "Eye pass: media"): per delta light
+// one distance (equiangular toward point and spot lights, exponential in the channels' mean σt
+// for directional ones), one triangle-light sample with an equiangular distance toward its
+// point; Σ Tr(t) σs p(d·wi) Li tr_shadow / pdf(t).
+Vec3 singleScatter(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
+                   const PclEyeParams& params, int32_t medium, Vec3 o, Vec3 d, float tEnd, float tau, uint64_t seed,
+                   uint32_t pixel, uint32_t k, uint32_t segment) {
+    const PclMedium& m = buffers.media[size_t(medium)];
+    const Vec3 sigmaS = eyeVec(m.sigmaS);
+    Vec3 Ls(0.0f);
+    const uint32_t base = segment * (params.lightCount + 1);
+    for (uint32_t l = 0; l < params.lightCount; ++l) {
+        const PclLight& L = buffers.lights[l];
+        if (L.type == PCL_LIGHT_TRIANGLE) continue;
+        uint32_t w[4];
+        rng_block(seed, pixel, k, base + 1 + l, PCL_RNG_STREAM_EYE_MEDIUM, w);
+        const float u = rng_u01(w[0]);
+        float t, pdf, scale;
+        Vec3 wi, tr;
+        if (L.type == PCL_LIGHT_DIRECTIONAL) {
+            const float sbar =
+                ((m.sigmaA[0] + m.sigmaS[0]) + (m.sigmaA[1] + m.sigmaS[1]) + (m.sigmaA[2] + m.sigmaS[2])) / 3.0f;
+            if (!(sbar > 0.0f)) continue;
+            const float mass = tEnd < kInfinity ? -std::expm1(-sbar * tEnd) : 1.0f;  // P(t ≤ tEnd)
+            if (!(mass > 0.0f)) continue;
+            t = std::min(-std::log1p(-u * mass) / sbar, tEnd);
+            pdf = sbar * std::exp(-sbar * t) / mass;
+            if (!(pdf > 0.0f)) continue;
+            wi = -eyeVec(L.axis);
+            tr = eyeShadowTransmittance(geometry, buffers, true, medium, o + d * t, wi, kInfinity, tau);
+            if (!(maxComponent(tr) > 0.0f)) continue;
+            scale = 1.0f / (kPi * L.radius * L.radius);  // E = Φ/(πR²)
+        } else {
+            const Vec3 c = eyeVec(L.p);
+            if (!eyeEquiangular(o, d, c, tEnd, u, t, pdf)) continue;
+            const Vec3 x = o + d * t;
+            const Vec3 toL = c - x;
+            const float d2 = dot(toL, toL);
+            if (!(d2 > 0.0f)) continue;
+            const float dist = std::sqrt(d2);
+            wi = Vec3(toL.x / dist, toL.y / dist, toL.z / dist);
+            scale = lightIntensityScale(L, wi) / d2;  // I/(Φ d²)
+            if (!(scale > 0.0f)) continue;
+            tr = eyeShadowTransmittance(geometry, buffers, true, medium, x, toL, 1.0f, tau);
+            if (!(maxComponent(tr) > 0.0f)) continue;
+        }
+        const float f = henyeyGreenstein(dot(d, wi), m.g) * scale / pdf;
+        Ls = Ls + eyeMediumTransmittance(m, t) * sigmaS * eyeVec(L.power) * tr * Vec3(f);
+    }
+    if (!(params.areaPowerTotal > 0.0f)) return Ls;
+    uint32_t w[4];
+    rng_block(seed, pixel, k, base, PCL_RNG_STREAM_EYE_MEDIUM, w);
+    const PclLight* chosen = nullptr;
+    Vec3 q;
+    if (!lightAreaPoint(buffers, table, params.lightCount, tau, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), chosen, q))
+        return Ls;
+    const PclLight& L = *chosen;
+    float t, pdf;
+    if (!eyeEquiangular(o, d, q, tEnd, rng_u01(w[3]), t, pdf)) return Ls;
+    const Vec3 x = o + d * t;
+    const Vec3 toL = q - x;
+    const float d2 = dot(toL, toL);
+    if (!(d2 > 0.0f)) return Ls;
+    const float dist = std::sqrt(d2);
+    const Vec3 wi(toL.x / dist, toL.y / dist, toL.z / dist);
+    const float pdfL = eyeAreaLightPdf(L, params.areaPowerTotal, wi, d2);
+    if (!(pdfL > 0.0f)) return Ls;
+    const Vec3 end = q + eyeVec(L.axis) * params.rayEpsilon;
+    const Vec3 tr = eyeShadowTransmittance(geometry, buffers, true, medium, x, end - x, 1.0f, tau);
+    if (!(maxComponent(tr) > 0.0f)) return Ls;
+    const Vec3 le = eyeVec(buffers.materials[buffers.primInfo[L.prim].material].emission);
+    const float f = henyeyGreenstein(dot(d, wi), m.g) / (pdfL * pdf);
+    return Ls + eyeMediumTransmittance(m, t) * sigmaS * le * tr * Vec3(f);
+}
+
+}  // namespace
 
 PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
-                           const PclEyeParams& params, const PclRay& ray, uint32_t i) {
+                           const PclEyeParams& params, const PclRay& ray, uint32_t i,
+                           std::vector<PclVolumeSegment>* segments) {
     const uint32_t s = params.firstSample + i;
     const uint32_t pixel = s / params.samplesPerPixel, k = s % params.samplesPerPixel;
-    Sampler sampler(uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32, pixel, k);
+    const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
+    Sampler sampler(seed, pixel, k);
     PclEyeHit h{};
     h.time = ray.time;
     h.prim = PCL_NO_HIT;
@@ -23,15 +108,65 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
     Vec3 o(ray.ox, ray.oy, ray.oz), d(ray.dx, ray.dy, ray.dz);
     Vec3 T(1.0f), Le(0.0f);
     float pdfLobe = 0.0f;  // the density with which the last hit's glossy lobe chose d; 0 if not glossy
+    const bool hasMedia = params.volumeSegments > 0;
+    int32_t medium = hasMedia ? params.cameraMedium : PCL_NO_MEDIUM;
+    std::vector<PclVolumeSegment> recorded;
+    uint32_t crossings = 0;
     for (uint32_t v = 0; v < params.maxDepth; ++v) {
         PclHit hit;
-        if (!geometry.intersect(eyeRay(o, d, std::numeric_limits<float>::infinity(), ray.time), hit)) break;
+        const bool found = geometry.intersect(eyeRay(o, d, kInfinity, ray.time), hit);
+        if (medium >= 0) {
+            // The segment to the hit (or out of the scene) in this medium.
+            const PclMedium& med = buffers.media[size_t(medium)];
+            const float tEnd = found ? hit.t : kInfinity;
+            if (maxComponent(eyeVec(med.sigmaS)) > 0.0f) {
+                if (recorded.size() >= params.volumeSegments) {
+                    h.flags = PCL_EYE_TRUNCATED;
+                    break;
+                }
+                PclVolumeSegment sg{};
+                sg.ox = o.x;
+                sg.oy = o.y;
+                sg.oz = o.z;
+                const Vec3 centre(params.sceneCentre[0], params.sceneCentre[1], params.sceneCentre[2]);
+                sg.length = found ? hit.t : eyeSphereExit(o, d, centre, params.sceneRadius);
+                sg.dx = d.x;
+                sg.dy = d.y;
+                sg.dz = d.z;
+                sg.time = ray.time;
+                sg.throughput[0] = T.x;
+                sg.throughput[1] = T.y;
+                sg.throughput[2] = T.z;
+                sg.medium = medium;
+                sg.record = i;
+                Le = Le + T * singleScatter(geometry, buffers, table, params, medium, o, d, tEnd, ray.time, seed, pixel,
+                                            k, uint32_t(recorded.size()));
+                recorded.push_back(sg);
+            }
+            T = T * eyeMediumTransmittance(med, tEnd);
+        }
+        if (!found) break;
         const Vec3 p = o + d * hit.t;
         const Vec3 n = eyeNormalAt(buffers, hit.prim, params.triangleCount, p, ray.time);
         const float dn = dot(d, n);
         const Vec3 nf = dn < 0.0f ? n : -n;
         const uint32_t mat = buffers.primInfo[hit.prim].material;
         const PclMaterial& m = buffers.materials[mat];
+        if (hasMedia) {
+            if (m.flags & PCL_MATERIAL_INTERFACE) {
+                // An invisible boundary: straight on in the medium beyond, not a hit of the chain.
+                medium = dn < 0.0f ? buffers.primMedia[hit.prim].inside : buffers.primMedia[hit.prim].outside;
+                o = p + nf * -params.rayEpsilon;
+                if (++crossings >= PCL_MAX_SEGMENTS) {
+                    h.flags = PCL_EYE_TRUNCATED;
+                    break;
+                }
+                --v;  // the loop's ++v
+                continue;
+            }
+            crossings = 0;
+        }
+        const ShadowMedium sm{hasMedia, medium};
         if (dn < 0.0f) {  // a triangle light found by a glossy lobe: MIS with that hit's light sample
             float wE = 1.0f;
             const uint32_t l = table.lightOfPrim[hit.prim];
@@ -49,14 +184,14 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
             for (uint32_t l = 0; l < params.lightCount; ++l) {
                 const PclLight& L = buffers.lights[l];
                 if (L.type == PCL_LIGHT_TRIANGLE) continue;
-                Vec3 wi;
-                const float g = lightDelta(geometry, L, p, nf, lifted, ray.time, wi);
-                if (g > 0.0f) sum = sum + eyeVec(L.power) * (g * eyePhongCosPower(d, nf, wi, e));
+                Vec3 wi, tr;
+                const float g = lightDelta(geometry, buffers, sm, L, p, nf, lifted, ray.time, wi, tr);
+                if (g > 0.0f) sum = sum + eyeVec(L.power) * (g * eyePhongCosPower(d, nf, wi, e)) * tr;
             }
             Vec3 wi, le;
             float pdfL, cosS;
             if (params.areaPowerTotal > 0.0f &&
-                lightAreaSample(geometry, buffers, table, params.lightCount, params.areaPowerTotal, p, nf, lifted,
+                lightAreaSample(geometry, buffers, table, sm, params.lightCount, params.areaPowerTotal, p, nf, lifted,
                                 buffers.rayEpsilon, ray.time, sampler.vertex(v, PathVertexDims::kLightSelect),
                                 sampler.vertex(v, PathVertexDims::kLightPoint),
                                 sampler.vertex(v, PathVertexDims::kLightPoint + 1), wi, pdfL, cosS, le)) {
@@ -92,6 +227,9 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
         if (!eyeSpecularScatter(m, d, n, sampler.vertex(v, 7), sampler.vertex(v, PathVertexDims::kDirection),
                                 sampler.vertex(v, PathVertexDims::kDirection + 1), dNew, w))
             break;
+        // Through the surface (refraction): the medium on the other side.
+        if (hasMedia && dot(dNew, n) * dn > 0.0f)
+            medium = dn < 0.0f ? buffers.primMedia[hit.prim].inside : buffers.primMedia[hit.prim].outside;
         T = T * w / Vec3(1.0f - pd);
         pdfLobe = m.specular == PCL_SPECULAR_GLOSSY
                       ? (1.0f - pd) * ((m.exponent + 1.0f) / (2.0f * kPi)) * eyePhongCosPower(d, nf, dNew, m.exponent)
@@ -104,20 +242,35 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
     h.emitted[2] = Le.z;
     bool finite = true;
     for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(h.throughput[c]) && std::isfinite(h.emitted[c]);
+    for (const PclVolumeSegment& sg : recorded)
+        for (int c = 0; c < 3; ++c) finite = finite && std::isfinite(sg.throughput[c]);
     if (!finite) {
         for (int c = 0; c < 4; ++c) h.throughput[c] = h.emitted[c] = 0.0f;
         h.prim = PCL_NO_HIT;
         h.flags = 0;
+        recorded.clear();
     }
+    if (segments) *segments = std::move(recorded);
     return h;
 }
 
 std::vector<PclEyeHit> referenceEyePaths(const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                         const std::vector<PclRay>& rays, const PclEyeParams& params) {
+                                         const std::vector<PclRay>& rays, const PclEyeParams& params,
+                                         EyeVolumeSegments* segments) {
     const AreaLightTable table = buildAreaLightTable(buffers, geometry.primitiveCount());
-    std::vector<PclEyeHit> out(rays.size());
-    parallelForEveryThread(rays.size(), [&](size_t i) {
-        out[i] = referenceEyePath(geometry, buffers, table, params, rays[i], uint32_t(i));
+    const size_t n = rays.size();
+    std::vector<PclEyeHit> out(n);
+    if (segments) {
+        segments->perRecord = params.volumeSegments;
+        segments->segments.assign(size_t(params.volumeSegments) * n, PclVolumeSegment{});
+        segments->counts.assign(n, 0);
+    }
+    parallelForEveryThread(n, [&](size_t i) {
+        std::vector<PclVolumeSegment> own;
+        out[i] = referenceEyePath(geometry, buffers, table, params, rays[i], uint32_t(i), segments ? &own : nullptr);
+        if (!segments) return;
+        segments->counts[i] = uint32_t(own.size());
+        for (size_t c = 0; c < own.size(); ++c) segments->segments[c * n + i] = own[c];
     });
     return out;
 }

@@ -10,9 +10,20 @@
 
 namespace pcl {
 
+// The medium segments of a chunk's records (scenes with media), laid out as the kernel's:
+// segments[c · records + i] for c < counts[i] ≤ perRecord.
+struct EyeVolumeSegments {
+    uint32_t perRecord = 0;  // PclEyeParams::volumeSegments
+    std::vector<PclVolumeSegment> segments;
+    std::vector<uint32_t> counts;
+};
+
+// Record i of the chunk; its medium segments, in order, in *segments when given.
 PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
-                           const PclEyeParams& params, const PclRay& ray, uint32_t i);
+                           const PclEyeParams& params, const PclRay& ray, uint32_t i,
+                           std::vector<PclVolumeSegment>* segments = nullptr);
 std::vector<PclEyeHit> referenceEyePaths(const SceneGeometry& geometry, const SceneBuffers& buffers,
-                                         const std::vector<PclRay>& rays, const PclEyeParams& params);
+                                         const std::vector<PclRay>& rays, const PclEyeParams& params,
+                                         EyeVolumeSegments* segments = nullptr);
 
 }  // namespace pcl

@@ -1,7 +1,7 @@
 // Next-event estimation at a shading point, the twin of kernels/shared/light_sample.h: shared by
 // the direct-light twin (the diffuse record, ρd/π) and the eye-path twin (glossy chain hits, the
-// Phong lobe). The light's incident contribution before the BRDF (kernels/README.md, "direct
-// light").
+// Phong lobe, single scattering in media). The light's incident contribution before the BRDF
+// (kernels/README.md, "direct light"); shadow rays carry the transmittance of media.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -10,20 +10,40 @@
 #include "geometry/scene_geometry.h"
 #include "prep/area_light_table.h"
 #include "prep/scene_buffers.h"
+#include "reference/eye_medium.h"
 #include "reference/eye_scatter.h"
 #include "reference/sampling.h"
 
 namespace pcl {
 
-// A point, spot or directional light seen from p (facing normal nf, o = p lifted): wi and the
-// factor g with contribution Φ g (times the BRDF); 0 when unlit or occluded.
-inline float lightDelta(const SceneGeometry& geometry, const PclLight& L, Vec3 p, Vec3 nf, Vec3 o, float tau,
-                        Vec3& wi) {
+// Where a shadow ray starts and how it is traced: in `medium`, through media and invisible
+// boundaries when hasMedia (reference/eye_medium.h), else a plain occlusion test.
+struct ShadowMedium {
+    bool hasMedia = false;
+    int32_t medium = PCL_NO_MEDIUM;
+};
+
+// I/Φ of a point or spot light seen from a receiver in the unit direction wi: 1/(4π), or the
+// spot's fall-off over its normaliser (0 outside the cone).
+inline float lightIntensityScale(const PclLight& L, Vec3 wi) {
+    if (L.type == PCL_LIGHT_POINT) return 1.0f / (4.0f * kPi);
+    const float falloff = smoothstep(L.cosOuter, L.cosInner, -dot(eyeVec(L.axis), wi));
+    if (!(falloff > 0.0f)) return 0.0f;
+    return falloff / (2.0f * kPi * ((1.0f - L.cosInner) + 0.5f * (L.cosInner - L.cosOuter)));
+}
+
+// A point, spot or directional light seen from p (facing normal nf, o = p lifted): wi, the
+// shadow ray's transmittance tr and the factor g with contribution Φ g tr (times the BRDF); 0
+// when unlit or occluded.
+inline float lightDelta(const SceneGeometry& geometry, const SceneBuffers& buffers, ShadowMedium sm, const PclLight& L,
+                        Vec3 p, Vec3 nf, Vec3 o, float tau, Vec3& wi, Vec3& tr) {
     if (L.type == PCL_LIGHT_DIRECTIONAL) {
         wi = -eyeVec(L.axis);
         const float cosS = dot(nf, wi);
-        if (!(cosS > 0.0f) || geometry.occluded(eyeRay(o, wi, std::numeric_limits<float>::infinity(), tau)))
-            return 0.0f;
+        if (!(cosS > 0.0f)) return 0.0f;
+        tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, wi,
+                                    std::numeric_limits<float>::infinity(), tau);
+        if (!(maxComponent(tr) > 0.0f)) return 0.0f;
         return cosS / (kPi * L.radius * L.radius);  // E = Φ/(πR²), × cosθ
     }
     const Vec3 toL = eyeVec(L.p) - p;
@@ -33,23 +53,17 @@ inline float lightDelta(const SceneGeometry& geometry, const PclLight& L, Vec3 p
     wi = Vec3(toL.x / dist, toL.y / dist, toL.z / dist);
     const float cosS = dot(nf, wi);
     if (!(cosS > 0.0f)) return 0.0f;
-    float scale;  // I/Φ with the spot's falloff
-    if (L.type == PCL_LIGHT_POINT) {
-        scale = 1.0f / (4.0f * kPi);
-    } else {
-        const float falloff = smoothstep(L.cosOuter, L.cosInner, -dot(eyeVec(L.axis), wi));
-        if (!(falloff > 0.0f)) return 0.0f;
-        scale = falloff / (2.0f * kPi * ((1.0f - L.cosInner) + 0.5f * (L.cosInner - L.cosOuter)));
-    }
-    if (geometry.occluded(eyeRay(o, eyeVec(L.p) - o, 1.0f, tau))) return 0.0f;
+    const float scale = lightIntensityScale(L, wi);  // I/Φ with the spot's falloff
+    if (!(scale > 0.0f)) return 0.0f;
+    tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, eyeVec(L.p) - o, 1.0f, tau);
+    if (!(maxComponent(tr) > 0.0f)) return 0.0f;
     return scale * cosS / d2;
 }
 
-// One triangle-light sample: u0 chooses the light (the table's cdf), (u1, u2) the point. On
-// success wi, the solid-angle density pdfL, cosθ at p and the light's radiance le.
-inline bool lightAreaSample(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
-                            uint32_t lightCount, float areaPowerTotal, Vec3 p, Vec3 nf, Vec3 o, float eps, float tau,
-                            float u0, float u1, float u2, Vec3& wi, float& pdfL, float& cosS, Vec3& le) {
+// Triangle light choice and point: u0 chooses the light (the table's cdf), (u1, u2) a point q
+// uniform in its area at shutter time tau; false when the entry chosen is not a triangle light.
+inline bool lightAreaPoint(const SceneBuffers& buffers, const AreaLightTable& table, uint32_t lightCount, float tau,
+                           float u0, float u1, float u2, const PclLight*& chosen, Vec3& q) {
     // The first light whose cumulative probability exceeds u0.
     const size_t l =
         std::min<size_t>(std::upper_bound(table.cdf.begin(), table.cdf.end(), u0) - table.cdf.begin(), lightCount - 1);
@@ -58,7 +72,21 @@ inline bool lightAreaSample(const SceneGeometry& geometry, const SceneBuffers& b
     float b0, b1;
     sampleUniformTriangle(u1, u2, b0, b1);
     const float b2 = 1.0f - b0 - b1;
-    const Vec3 q = eyeVec(L.p) + eyeVec(L.e1) * b1 + eyeVec(L.e2) * b2 + eyeVec(L.motion) * tau;
+    q = eyeVec(L.p) + eyeVec(L.e1) * b1 + eyeVec(L.e2) * b2 + eyeVec(L.motion) * tau;
+    chosen = &L;
+    return true;
+}
+
+// One triangle-light sample (lightAreaPoint). On success wi, the solid-angle density pdfL, cosθ
+// at p and the light's radiance times the shadow ray's transmittance, le.
+inline bool lightAreaSample(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
+                            ShadowMedium sm, uint32_t lightCount, float areaPowerTotal, Vec3 p, Vec3 nf, Vec3 o,
+                            float eps, float tau, float u0, float u1, float u2, Vec3& wi, float& pdfL, float& cosS,
+                            Vec3& le) {
+    const PclLight* chosen = nullptr;
+    Vec3 q;
+    if (!lightAreaPoint(buffers, table, lightCount, tau, u0, u1, u2, chosen, q)) return false;
+    const PclLight& L = *chosen;
     const Vec3 toL = q - p;
     const float d2 = dot(toL, toL);
     if (!(d2 > 0.0f)) return false;
@@ -69,8 +97,9 @@ inline bool lightAreaSample(const SceneGeometry& geometry, const SceneBuffers& b
     pdfL = eyeAreaLightPdf(L, areaPowerTotal, wi, d2);
     if (!(pdfL > 0.0f)) return false;
     const Vec3 end = q + eyeVec(L.axis) * eps;
-    if (geometry.occluded(eyeRay(o, end - o, 1.0f, tau))) return false;
-    le = eyeVec(buffers.materials[buffers.primInfo[L.prim].material].emission);
+    const Vec3 tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, end - o, 1.0f, tau);
+    if (!(maxComponent(tr) > 0.0f)) return false;
+    le = eyeVec(buffers.materials[buffers.primInfo[L.prim].material].emission) * tr;
     return true;
 }
 

@@ -1,5 +1,6 @@
 #include "render/device_stages.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <stdexcept>
@@ -79,7 +80,16 @@ void DeviceRenderStages::buildMaps(const PassMapSpec& spec) {
 void DeviceRenderStages::cameraRays(const PclCameraParams& params) { generateCameraRays(device_, params, rays_); }
 
 void DeviceRenderStages::eyePaths(const PclEyeParams& params) {
-    traceEyePaths(device_, dscene_, lights_, params, rays_, hits_);
+    // Media: the chunk's segment slots (for the volume estimate), allocated at the first chunk
+    // that needs them; one-element placeholders otherwise.
+    const size_t slots = std::max<size_t>(1, size_t(params.volumeSegments) * chunk_);
+    if (!segmentCounts_() || slots > segmentSlots_) {
+        segments_ = device_.allocate<PclVolumeSegment>(slots, CL_MEM_READ_WRITE, "render: eye segments");
+        segmentCounts_ = device_.allocate<uint32_t>(params.volumeSegments > 0 ? chunk_ : 1, CL_MEM_READ_WRITE,
+                                                    "render: eye segment counts");
+        segmentSlots_ = slots;
+    }
+    traceEyePaths(device_, dscene_, lights_, params, rays_, hits_, segments_, segmentCounts_);
 }
 
 void DeviceRenderStages::gatherHistograms(const PclGatherParams& params) {

@@ -46,6 +46,8 @@ private:
     DeviceAreaLights lights_;
     size_t chunk_ = 0;
     cl::Buffer rays_, hits_, directRad_, causticRad_, indirectRad_, histograms_;
+    cl::Buffer segments_, segmentCounts_;  // media: the eye records' medium segments (eyePaths)
+    size_t segmentSlots_ = 0;
     std::unique_ptr<Maps> maps_;
 };
 

@@ -70,7 +70,7 @@ std::vector<Vec3> TwinRenderStages::irradiance(const MapSpec& m, const std::vect
 void TwinRenderStages::cameraRays(const PclCameraParams& params) { rays_ = referenceCameraRays(scene_.camera, params); }
 
 void TwinRenderStages::eyePaths(const PclEyeParams& params) {
-    hits_ = referenceEyePaths(geometry_, buffers_, rays_, params);
+    hits_ = referenceEyePaths(geometry_, buffers_, rays_, params, &segments_);
 }
 
 void TwinRenderStages::gatherHistograms(const PclGatherParams& params) {

@@ -8,6 +8,7 @@
 
 #include "geometry/scene_geometry.h"
 #include "prep/scene_buffers.h"
+#include "reference/eye_paths.h"
 #include "render/render_stages.h"
 #include "scene/scene.h"
 
@@ -42,6 +43,7 @@ private:
     std::vector<float> cover_;
     std::vector<PclRay> rays_;
     std::vector<PclEyeHit> hits_;
+    EyeVolumeSegments segments_;  // media: the records' medium segments (eyePaths)
     std::vector<float> histograms_;
     std::vector<PclRadiance> direct_, caustic_, indirect_;
 };

@@ -1,6 +1,10 @@
 /* light_sample.h: next-event estimation at a shading point, shared by direct_light (at the
- * diffuse eye record, BRDF ρd/π) and eye_paths (at glossy chain hits, the Phong lobe): the
- * light's incident contribution before the BRDF. Rules: kernels/README.md, "direct light". */
+ * diffuse eye record, BRDF ρd/π) and eye_paths (at glossy chain hits, the Phong lobe; the
+ * single scattering along medium segments): the light's incident contribution before the BRDF.
+ * In a scene with media (EyeMedia.hasMedia) the shadow rays carry the transmittance of media and
+ * invisible boundaries (shared/eye_medium.h); without, they are the plain visibility tests, and
+ * the transmittance 1 they report leaves every product bit-identical. Rules: kernels/README.md,
+ * "direct light". */
 #ifndef PCL_LIGHT_SAMPLE_H
 #define PCL_LIGHT_SAMPLE_H
 #ifdef __OPENCL_VERSION__
@@ -9,6 +13,7 @@
 #include "sampling.h"
 #include "bvh.h"
 #include "eye.h"
+#include "eye_medium.h"
 
 /* Unoccluded segment from o (already lifted) to o + dir·t, t in (0, tmax). */
 inline bool light_visible(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
@@ -18,6 +23,18 @@ inline bool light_visible(__global const PclBvhNode* nodes, __global const PclTr
     return !bvh_trace(nodes, packets, spheres, r, true, &hit);
 }
 
+/* The shadow segment o + dir·t, t in (0, tmax), starting in `medium`: tr[3] its transmittance
+ * (1 or 0 without media); false when nothing arrives. */
+inline bool light_shadow(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
+                         __global const PclSphere* spheres, const EyeMedia em, int medium, PclV3 o, PclV3 dir,
+                         float tmax, float tau, float tr[3]) {
+    if (em.hasMedia)
+        return eye_shadow_transmittance(nodes, packets, spheres, em, medium, o, dir, tmax, tau, tr);
+    const bool visible = light_visible(nodes, packets, spheres, o, dir, tmax, tau);
+    tr[0] = tr[1] = tr[2] = visible ? 1.0f : 0.0f;
+    return visible;
+}
+
 inline float light_smoothstep(float e0, float e1, float x) {
     if (e1 <= e0) return x >= e1 ? 1.0f : 0.0f;
     float t = (x - e0) / (e1 - e0);
@@ -25,17 +42,28 @@ inline float light_smoothstep(float e0, float e1, float x) {
     return t * t * (3.0f - 2.0f * t);
 }
 
-/* A point, spot or directional light L seen from p (facing normal nf; o = p lifted): the unit
- * direction *wi to it and the factor g with contribution Φ ⊙ g (times the BRDF): cosθ/(πR²)
- * (directional), I/Φ · cosθ/d² (point, spot with its fall-off); 0 when unlit or occluded. */
+/* I/Φ of a point or spot light L toward a receiver that sees it in the unit direction wi:
+ * 1/(4π), or the spot's fall-off over its normaliser (0 outside the cone). */
+inline float light_intensity_scale(const PclLight L, PclV3 wi) {
+    if (L.type == PCL_LIGHT_POINT) return 1.0f / (4.0f * PCL_PI_F);
+    const float cosAxis = -(L.axis[0] * wi.x + L.axis[1] * wi.y + L.axis[2] * wi.z);
+    const float falloff = light_smoothstep(L.cosOuter, L.cosInner, cosAxis);
+    if (!(falloff > 0.0f)) return 0.0f;
+    return falloff / (2.0f * PCL_PI_F * ((1.0f - L.cosInner) + 0.5f * (L.cosInner - L.cosOuter)));
+}
+
+/* A point, spot or directional light L seen from p (facing normal nf; o = p lifted; the shadow
+ * ray starts in `medium`): the unit direction *wi to it, the shadow ray's transmittance tr[3]
+ * and the factor g with contribution Φ ⊙ g ⊙ tr (times the BRDF): cosθ/(πR²) (directional),
+ * I/Φ · cosθ/d² (point, spot with its fall-off); 0 when unlit or occluded. */
 inline float light_delta(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
-                         __global const PclSphere* spheres, const PclLight L, PclV3 p, PclV3 nf, PclV3 o, float tau,
-                         PclV3* wi) {
+                         __global const PclSphere* spheres, const EyeMedia em, int medium, const PclLight L, PclV3 p,
+                         PclV3 nf, PclV3 o, float tau, PclV3* wi, float tr[3]) {
     if (L.type == PCL_LIGHT_DIRECTIONAL) {
         *wi = sampling_v3(-L.axis[0], -L.axis[1], -L.axis[2]);
         const float cosS = sampling_dot(nf, *wi);
         if (!(cosS > 0.0f)) return 0.0f;
-        if (!light_visible(nodes, packets, spheres, o, *wi, INFINITY, tau)) return 0.0f;
+        if (!light_shadow(nodes, packets, spheres, em, medium, o, *wi, INFINITY, tau, tr)) return 0.0f;
         return cosS / (PCL_PI_F * L.radius * L.radius);  /* E = Φ / (π R²) */
     }
     const PclV3 toL = sampling_v3(L.p[0] - p.x, L.p[1] - p.y, L.p[2] - p.z);
@@ -45,30 +73,18 @@ inline float light_delta(__global const PclBvhNode* nodes, __global const PclTri
     *wi = sampling_v3(toL.x / dist, toL.y / dist, toL.z / dist);
     const float cosS = sampling_dot(nf, *wi);
     if (!(cosS > 0.0f)) return 0.0f;
-    float scale;  /* I / Φ × falloff */
-    if (L.type == PCL_LIGHT_POINT) {
-        scale = 1.0f / (4.0f * PCL_PI_F);
-    } else {
-        const float cosAxis = -(L.axis[0] * wi->x + L.axis[1] * wi->y + L.axis[2] * wi->z);
-        const float falloff = light_smoothstep(L.cosOuter, L.cosInner, cosAxis);
-        if (!(falloff > 0.0f)) return 0.0f;
-        scale = falloff / (2.0f * PCL_PI_F * ((1.0f - L.cosInner) + 0.5f * (L.cosInner - L.cosOuter)));
-    }
+    const float scale = light_intensity_scale(L, *wi); /* I / Φ × falloff */
+    if (!(scale > 0.0f)) return 0.0f;
     const PclV3 seg = sampling_v3(L.p[0] - o.x, L.p[1] - o.y, L.p[2] - o.z);
-    if (!light_visible(nodes, packets, spheres, o, seg, 1.0f, tau)) return 0.0f;
+    if (!light_shadow(nodes, packets, spheres, em, medium, o, seg, 1.0f, tau, tr)) return 0.0f;
     return scale * cosS / d2;
 }
 
-/* One triangle-light sample for p: u0 chooses the light (the first l with u0 < areaCdf[l]),
- * (u1, u2) a point uniform in its area. On success: *wi, the solid-angle density *pdfL, cosθ at
- * p (*cosS) and the light's radiance le[3]; false when the sample is below the surface, on the
- * light's back or occluded. */
-inline bool light_area_sample(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
-                              __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,
-                              __global const PclMaterial* materials, __global const PclLight* lights,
-                              __global const float* areaCdf, uint lightCount, float areaPowerTotal, PclV3 p,
-                              PclV3 nf, PclV3 o, float eps, float tau, float u0, float u1, float u2, PclV3* wi,
-                              float* pdfL, float* cosS, float le[3]) {
+/* Triangle light choice and point: u0 chooses the light (the first l with u0 < areaCdf[l]),
+ * (u1, u2) a point *q uniform in its area (at shutter time tau); false when the entry chosen is
+ * not a triangle light. */
+inline bool light_area_point(__global const PclLight* lights, __global const float* areaCdf, uint lightCount,
+                             float tau, float u0, float u1, float u2, PclLight* chosen, PclV3* q) {
     uint l = 0u;
     while (l + 1u < lightCount && !(u0 < areaCdf[l])) ++l;
     const PclLight L = lights[l];
@@ -76,9 +92,26 @@ inline bool light_area_sample(__global const PclBvhNode* nodes, __global const P
     float b0, b1;
     sampling_uniform_triangle(u1, u2, &b0, &b1);
     const float b2 = 1.0f - b0 - b1;
-    const PclV3 q = sampling_v3(L.p[0] + L.e1[0] * b1 + L.e2[0] * b2 + L.motion[0] * tau,
-                                L.p[1] + L.e1[1] * b1 + L.e2[1] * b2 + L.motion[1] * tau,
-                                L.p[2] + L.e1[2] * b1 + L.e2[2] * b2 + L.motion[2] * tau);
+    *q = sampling_v3(L.p[0] + L.e1[0] * b1 + L.e2[0] * b2 + L.motion[0] * tau,
+                     L.p[1] + L.e1[1] * b1 + L.e2[1] * b2 + L.motion[1] * tau,
+                     L.p[2] + L.e1[2] * b1 + L.e2[2] * b2 + L.motion[2] * tau);
+    *chosen = L;
+    return true;
+}
+
+/* One triangle-light sample for p (light_area_point): on success *wi, the solid-angle density
+ * *pdfL, cosθ at p (*cosS) and the light's radiance times the shadow ray's transmittance le[3]
+ * (the ray starts in `medium`); false when the sample is below the surface, on the light's back
+ * or occluded. */
+inline bool light_area_sample(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
+                              __global const PclSphere* spheres, const EyeMedia em, int medium,
+                              __global const PclPrimInfo* primInfo, __global const PclMaterial* materials,
+                              __global const PclLight* lights, __global const float* areaCdf, uint lightCount,
+                              float areaPowerTotal, PclV3 p, PclV3 nf, PclV3 o, float eps, float tau, float u0,
+                              float u1, float u2, PclV3* wi, float* pdfL, float* cosS, float le[3]) {
+    PclLight L;
+    PclV3 q;
+    if (!light_area_point(lights, areaCdf, lightCount, tau, u0, u1, u2, &L, &q)) return false;
     const PclV3 toL = sampling_v3(q.x - p.x, q.y - p.y, q.z - p.z);
     const float d2 = sampling_dot(toL, toL);
     if (!(d2 > 0.0f)) return false;
@@ -90,9 +123,10 @@ inline bool light_area_sample(__global const PclBvhNode* nodes, __global const P
     if (!(*pdfL > 0.0f)) return false;
     const PclV3 end = sampling_v3(q.x + L.axis[0] * eps, q.y + L.axis[1] * eps, q.z + L.axis[2] * eps);
     const PclV3 seg = sampling_v3(end.x - o.x, end.y - o.y, end.z - o.z);
-    if (!light_visible(nodes, packets, spheres, o, seg, 1.0f, tau)) return false;
+    float tr[3];
+    if (!light_shadow(nodes, packets, spheres, em, medium, o, seg, 1.0f, tau, tr)) return false;
     const PclMaterial E = materials[primInfo[L.prim].material];
-    for (int c = 0; c < 3; ++c) le[c] = E.emission[c];
+    for (int c = 0; c < 3; ++c) le[c] = E.emission[c] * tr[c];
     return true;
 }
 

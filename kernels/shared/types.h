@@ -342,9 +342,13 @@ typedef struct PclEyeParams {
     pcl_f32 rayEpsilon;       /* spawn offset along the normal */
     pcl_u32 lightCount;       /* lights[] entries (next-event estimation at glossy hits) */
     pcl_f32 areaPowerTotal;   /* Σ scalar power of the triangle lights (their choice density) */
-    pcl_u32 pad0, pad1;
+    pcl_i32 cameraMedium;     /* media: the medium the camera rays start in (PCL_NO_MEDIUM: vacuum) */
+    pcl_u32 volumeSegments;   /* media: PclVolumeSegment slots per record (≥ 1); 0 in a scene without
+                                 media, whose media buffers are placeholders the kernel never reads */
+    pcl_f32 sceneCentre[3];   /* the scene's bounding sphere (SceneBuffers): a segment that leaves the */
+    pcl_f32 sceneRadius;      /* scene is recorded up to where the ray leaves it */
 } PclEyeParams;
-PCL_STATIC_ASSERT(sizeof(PclEyeParams) == 48, PclEyeParams_size);
+PCL_STATIC_ASSERT(sizeof(PclEyeParams) == 64, PclEyeParams_size);
 
 /* One eye segment inside a scattering medium (eye_paths → volume_estimate): the in-scattered
  * radiance the eye receives along it is throughput × ∫_0^length Tr(t) σs ∫ p L dω dt. Stored
@@ -363,6 +367,8 @@ typedef struct PclVolumeSegment {
 PCL_STATIC_ASSERT(sizeof(PclVolumeSegment) == 64, PclVolumeSegment_size);
 
 #define PCL_EYE_DIFFUSE 1u   /* the record holds a diffuse hit (prim != PCL_NO_HIT) */
+#define PCL_EYE_TRUNCATED 2u /* media: the chain ended early, its segment slots (volumeSegments) full or
+                                PCL_MAX_SEGMENTS invisible boundaries crossed at one hit (never silently) */
 
 /* One eye sample after its specular chain (eye_paths.cl). */
 typedef struct PclEyeHit {
@@ -373,7 +379,9 @@ typedef struct PclEyeHit {
     pcl_u32 pixel;            /* y * width + x */
     pcl_f32 throughput[4];    /* rgb weight of the chain up to the hit, the lobe choice included */
     pcl_f32 albedo[4];        /* ρd rgb at the hit */
-    pcl_f32 emitted[4];       /* Σ throughput × Le over the chain's hits (LE, LS+E); rgb */
+    pcl_f32 emitted[4];       /* the light the chain collects before its diffuse hit, rgb: Σ throughput ×
+                                 Le over its hits (LE, LS+E), the glossy hits' direct light and, in
+                                 media, the single-scattered light along its segments */
     pcl_u32 sample;           /* k: the sample within the pixel's pass */
     pcl_u32 material;         /* material index at the hit (0 when none) */
     pcl_u32 depth;            /* specular bounces before the hit */
@@ -398,7 +406,7 @@ typedef struct PclDirectParams {
     pcl_f32 areaPowerTotal;   /* Σ scalar power of the triangle lights (the choice's normaliser) */
     pcl_f32 rayEpsilon;
     pcl_u32 histogramCells;   /* G of the gather's importance histograms (MIS density); 0: cosine */
-    pcl_u32 pad0;
+    pcl_u32 hasMedia;         /* 1: shadow rays carry the transmittance of media and invisible boundaries */
 } PclDirectParams;
 PCL_STATIC_ASSERT(sizeof(PclDirectParams) == 48, PclDirectParams_size);
 
