@@ -7,6 +7,7 @@
 #include "check/precomputed_irradiance.h"
 #include "check/render.h"
 #include "check/trace.h"
+#include "check/volume_estimate.h"
 
 namespace pcl {
 namespace {
@@ -82,6 +83,15 @@ std::vector<CheckReport> estimate(Device& device, const Scene& scene, const Prep
                           checkPrecomputedIrradiance(device, scene, prepared.geometry, prepared.buffers, irradiance))};
 }
 
+std::vector<CheckReport> volumeEstimate(Device& device, const Scene& scene, const PreparedScene& prepared,
+                                        const CheckOptions& o) {
+    VolumeEstimateCheckOptions options;
+    options.photons = o.photons;
+    options.seed = o.seed;
+    return {toCheckReport("volume_estimate",
+                          checkVolumeEstimate(device, scene, prepared.geometry, prepared.buffers, options))};
+}
+
 std::vector<CheckReport> render(Device& device, const Scene& scene, const PreparedScene& prepared,
                                 const CheckOptions& o) {
     RenderCheckOptions options;
@@ -106,6 +116,10 @@ const std::vector<CheckStage>& checkStages() {
          "the filtered irradiance estimate (every filter, both structures, with and without the visibility test) "
          "and the precomputed irradiance lookup",
          "CPU twin", estimate},
+        {"volume_estimate",
+         "the beam radiance estimate along camera-ray medium segments from the volume photon maps (scenes with "
+         "media)",
+         "CPU twin", volumeEstimate},
         {"render",
          "the eye pass (camera, eye paths, direct light, caustics, final gather, direct visualisation) per stage and "
          "per pixel on a small image",

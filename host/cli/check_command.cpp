@@ -46,13 +46,18 @@ Run addCheckCommand(CLI::App& app) {
     return [o] {
         if (o->device == "ref") throw InputError("check: --device ref has no kernels to check; pick an OpenCL device");
         const Scene scene = loadScene(o->scene);
-        // The photon-pass stages trace media (volume photons); the eye-pass stages cannot read a
-        // volume map yet and keep refusing a scene with media.
-        const bool photonPassStage = o->stage == "emit" || o->stage == "trace_photons" || o->stage == "deposit" ||
-                                     o->stage == "pass";
-        if (!photonPassStage)
-            refuseMediaWithoutPathTracer(scene, "check --stage " + o->stage +
-                                                    " (only emit, trace_photons, deposit and pass trace media)");
+        // The photon-pass stages trace media (volume photons) and volume_estimate reads the volume
+        // maps; the other eye-pass stages cannot read a volume map yet and keep refusing a scene
+        // with media.
+        const bool mediaStage = o->stage == "emit" || o->stage == "trace_photons" || o->stage == "deposit" ||
+                                o->stage == "pass" || o->stage == "volume_estimate";
+        if (!mediaStage)
+            refuseMediaWithoutPathTracer(
+                scene, "check --stage " + o->stage +
+                           " (only emit, trace_photons, deposit, pass and volume_estimate read media)");
+        if (o->stage == "volume_estimate" && !scene.hasMedia())
+            throw InputError(o->scene + ": medium: expected a scene with a participating medium for check --stage "
+                                        "volume_estimate, got none");
         Device device = Device::open(o->device);
         applyBufferCap(device, o->maxBufferMib);
         std::printf("check %s on %s (%s)\n", o->scene.c_str(), device.info().name.c_str(),
@@ -61,6 +66,8 @@ Run addCheckCommand(CLI::App& app) {
         bool ok = true;
         for (const CheckStage& stage : checkStages()) {
             if (o->stage != "all" && o->stage != stage.name) continue;
+            // `all` on a scene without media (the only kind it accepts) has no volume map to read.
+            if (o->stage == "all" && std::string(stage.name) == "volume_estimate" && !scene.hasMedia()) continue;
             for (const CheckReport& r : stage.run(device, scene, prepared, o->check)) {
                 std::printf("stage %s: kernel vs %s\n%s", r.stage.c_str(), stage.against, r.table.c_str());
                 std::printf("stage %s: %s\n", r.stage.c_str(), r.passed ? "PASSED" : "FAILED");
