@@ -44,10 +44,14 @@ void validateVolumeEstimateInput(const std::vector<PclPhoton>& photons, const Vo
     if (!(settings.radius > 0.0f) || !std::isfinite(settings.radius))
         throw InternalError("volume estimate: radius " + std::to_string(settings.radius) +
                             ", expected positive and finite");
-    for (size_t j = 0; j < photons.size(); ++j)
-        if ((photons[j].packed & PCL_PHOTON_VOLUME) == 0u)
+    for (size_t j = 0; j < photons.size(); ++j) {
+        const PclPhoton& p = photons[j];
+        if ((p.packed & PCL_PHOTON_VOLUME) == 0u)
             throw InternalError("volume estimate: photon " + std::to_string(j) +
                                 " is not a volume photon (flag PCL_PHOTON_VOLUME clear)");
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw InternalError("volume estimate: photon " + std::to_string(j) + " has a non-finite position");
+    }
 }
 
 float defaultVolumeRadius(const std::vector<PclPhoton>& photons, const Bounds3& region, uint32_t k, uint32_t samples) {

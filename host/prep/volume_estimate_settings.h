@@ -41,7 +41,8 @@ struct VolumeSegments {
 // negative or not finite, a direction not of unit length (±1e-3), a non-finite start or
 // throughput, or a record other than its i.
 void validateVolumeSegments(const VolumeSegments& s, size_t mediumCount);
-// InternalError unless r is positive and finite and every photon is a volume photon.
+// InternalError unless r is positive and finite and every photon is a volume photon with a
+// finite position.
 void validateVolumeEstimateInput(const std::vector<PclPhoton>& photons, const VolumeEstimateSettings& settings);
 
 // The default radius of a volume map: the median, over up to `samples` of the photons inside

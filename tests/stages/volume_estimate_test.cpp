@@ -488,6 +488,9 @@ TEST(VolumeEstimate, RefusesBadInput) {
     std::vector<PclPhoton> surface = photons;
     surface[0].packed &= ~PCL_PHOTON_VOLUME;
     EXPECT_THROW(volumeEstimateOnDevice(test::testDevice(), surface, settings, s, media), InternalError);
+    std::vector<PclPhoton> nowhere = photons;
+    nowhere[0].y = NAN;
+    EXPECT_THROW(referenceVolumeEstimate(nowhere, settings, s, media), InternalError);
     settings.radius = 0.0f;
     EXPECT_THROW(referenceVolumeEstimate(photons, settings, s, media), InternalError);
 }
