@@ -8,6 +8,7 @@
 #include "check/precomputed_irradiance.h"
 #include "check/render.h"
 #include "check/trace.h"
+#include "check/volume_estimate.h"
 
 namespace pcl {
 namespace {
@@ -99,6 +100,15 @@ std::vector<CheckReport> directLight(Device& device, const Scene& scene, const P
     return {toCheckReport("direct_light", checkDirectLightStage(device, scene, prepared, eyeOptions(o)))};
 }
 
+std::vector<CheckReport> volumeEstimate(Device& device, const Scene& scene, const PreparedScene& prepared,
+                                        const CheckOptions& o) {
+    VolumeEstimateCheckOptions options;
+    options.photons = o.photons;
+    options.seed = o.seed;
+    return {toCheckReport("volume_estimate",
+                          checkVolumeEstimate(device, scene, prepared.geometry, prepared.buffers, options))};
+}
+
 std::vector<CheckReport> render(Device& device, const Scene& scene, const PreparedScene& prepared,
                                 const CheckOptions& o) {
     RenderCheckOptions options;
@@ -129,6 +139,10 @@ const std::vector<CheckStage>& checkStages() {
          "CPU twin", eyePaths},
         {"direct_light", "direct light at the eye records (shadow rays through media), record by record", "CPU twin",
          directLight},
+        {"volume_estimate",
+         "the beam radiance estimate along camera-ray medium segments from the volume photon maps (scenes with "
+         "media)",
+         "CPU twin", volumeEstimate},
         {"render",
          "the eye pass (camera, eye paths, direct light, caustics, final gather, direct visualisation) per stage and "
          "per pixel on a small image",

@@ -80,6 +80,14 @@ public:
                     kept += plan.find(phase, w)->bytes;
             }
         }
+        const std::pair<const char*, size_t> volumeMaps[2] = {{"global", req.volumeRecords},
+                                                              {"caustic", req.volumeCausticRecords}};
+        for (const auto& [name, records] : volumeMaps)
+            if (records && req.volumeQueries) {
+                const std::string phase = std::string(name) + " volume estimate";
+                volumeEstimate(phase, records);
+                plan.phases.push_back({phase, sceneBytes + kept + phaseBytes(phase)});
+            }
         if (req.queries)
             for (const Map& m : maps) {
                 if (!m.paths || !m.records) continue;
@@ -186,6 +194,19 @@ private:
         add(phase, "hash grid: cell ends", table, sizeof(uint32_t), 0, 0, n);
         add(phase, "hash grid: points", n, 4 * sizeof(float), 0, 0, n);
         sortWorkspace(phase, n, 32, n);
+    }
+
+    // buildVolumeMap (the photons and their hash grid, cell size 2r) and estimateVolumeRadiance.
+    void volumeEstimate(const std::string& phase, size_t n) {
+        const size_t table = nextPowerOfTwo(std::max<size_t>(n, 1));
+        add(phase, "volume estimate: photons", n, sizeof(PclPhoton), 0, 0, n);
+        add(phase, "hash grid: keys", n, sizeof(uint32_t), 0, 0, n);
+        add(phase, "hash grid: order", n, sizeof(uint32_t), 0, 0, n);
+        add(phase, "hash grid: cell starts", table, sizeof(uint32_t), 0, 0, n);
+        add(phase, "hash grid: cell ends", table, sizeof(uint32_t), 0, 0, n);
+        add(phase, "hash grid: points", n, 4 * sizeof(float), 0, 0, n);
+        sortWorkspace(phase, n, 32, n);
+        add(phase, "volume estimate: radiance", req.volumeQueries, sizeof(PclRadiance));
     }
 
     // The kNN search in batches of queries (knn.cpp's searchAndDownload).

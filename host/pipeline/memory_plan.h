@@ -62,6 +62,11 @@ struct MemoryRequest {
     size_t queries = 0;     // kNN queries searched per map (0: no search planned)
     uint32_t k = 50;        // neighbours per query (the output stride)
     size_t queryBatch = 0;  // queries per launch; 0: knnQueryBatch under the limits
+    // The volume estimate (pipeline/volume_estimate): per volume map with records, a phase
+    // "<map> volume estimate" holding the map's device copy, its hash grid and the radiance of
+    // one launch of volumeQueries eye records (the segments are the eye pass's buffers).
+    size_t volumeRecords = 0, volumeCausticRecords = 0;  // photons per volume map; 0: not estimated
+    size_t volumeQueries = 0;                            // eye records per volume estimate launch
 };
 
 // The request for a photon pass run with these options (paths per map from lightFirstPhoton,

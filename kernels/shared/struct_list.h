@@ -34,6 +34,8 @@
     X(PclDirectParams)        \
     X(PclGatherParams)        \
     X(PclGatherHit)           \
-    X(PclEyeEstimateParams)
+    X(PclEyeEstimateParams)   \
+    X(PclVolumeSegment)       \
+    X(PclVolumeEstimateParams)
 
 #endif /* PCL_STRUCT_LIST_H */

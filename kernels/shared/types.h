@@ -451,4 +451,27 @@ typedef struct PclEyeEstimateParams {
 } PclEyeEstimateParams;
 PCL_STATIC_ASSERT(sizeof(PclEyeEstimateParams) == 16, PclEyeEstimateParams_size);
 
+/* ---- Volume radiance estimate (volume_estimate.cl; kernels/README.md, "volume_estimate") ----
+ * The beam radiance estimate (Jarosz, Zwicker & Jensen 2008) along the eye's PclVolumeSegments
+ * from one volume photon map, searched through its hash grid (hashgrid.cl, cell size 2r). */
+#define PCL_BEAM_KERNEL_BOX 0u      /* K = 1/(π r²) */
+#define PCL_BEAM_KERNEL_BIWEIGHT 1u /* K = 3/(π r²) (1 − d²/r²)² (Silverman) */
+typedef struct PclVolumeEstimateParams {
+    pcl_f32 ox, oy, oz;          /* the hash grid's origin, cell size and table (PclGridParams) */
+    pcl_f32 cellSize;            /* ≥ 2 radius */
+    pcl_f32 invCellSize;
+    pcl_u32 tableSize;
+    pcl_u32 photonCount;
+    pcl_f32 radius;              /* r: the kernel's radius around the segment */
+    pcl_f32 radius2;             /* r² */
+    pcl_f32 kernelScale;         /* K's factor: 1/(π r²) box, 3/(π r²) biweight */
+    pcl_u32 kernelShape;         /* PCL_BEAM_KERNEL_* ("kernel" is an OpenCL C keyword) */
+    pcl_u32 skipDirect;          /* 1: photons of bounce 0 (single scattering, done by NEE) do not count */
+    pcl_u32 skipSpecularPaths;   /* 1: photons of L S+ V paths do not count (the volume caustic map has them) */
+    pcl_u32 sampleCount;         /* eye records; segment k of record i at segments[k * sampleCount + i] */
+    pcl_u32 maxSegments;         /* segmentCounts[i] ≤ this */
+    pcl_u32 mediumCount;         /* entries of media[] */
+} PclVolumeEstimateParams;
+PCL_STATIC_ASSERT(sizeof(PclVolumeEstimateParams) == 64, PclVolumeEstimateParams_size);
+
 #endif /* PCL_TYPES_H */

@@ -19,6 +19,7 @@
 #include "pipeline/knn.h"
 #include "pipeline/memory_plan.h"
 #include "pipeline/photon_pass.h"
+#include "pipeline/volume_estimate.h"
 
 namespace pcl {
 namespace {
@@ -215,6 +216,53 @@ TEST(MemoryPlan, PhotonPassWithMediaPlansTheVolumeBuffers) {
         EXPECT_NE(plan.find(key.first, key.second), nullptr)
             << key.first << " / " << key.second << " (" << bytes << " bytes) was allocated but not planned";
     EXPECT_EQ(volumeBuffers, 3u + 2u * 3u);  // scene: 3; per pass: slots, counts, map
+}
+
+// The volume estimate: the map's device copy, its hash grid (with the sort's workspace) and the
+// radiance of one launch are planned to the byte as buildVolumeMap and estimateVolumeRadiance
+// allocate them (the segments, counts and media come from elsewhere: uploaded unobserved).
+TEST(MemoryPlan, VolumeEstimatePlansItsMapGridAndRadiance) {
+    Device device = test::testDevice();
+    std::vector<PclPhoton> photons = randomMap(30000, 5);
+    for (PclPhoton& p : photons) p.packed = PCL_PHOTON_VOLUME | (1u << PCL_PHOTON_BOUNCE_SHIFT);
+    VolumeSegments s;
+    s.sampleCount = 5000;
+    s.maxSegments = 1;
+    s.segments.assign(s.sampleCount, PclVolumeSegment{});
+    s.counts.assign(s.sampleCount, 0u);
+    const cl::Buffer segs = device.upload(s.segments), counts = device.upload(s.counts);
+    PclMedium m{};
+    const cl::Buffer media = device.upload(std::vector<PclMedium>{m});
+    AllocationLog log;
+    log.observe(device);
+    for (const char* name : {"global", "caustic"}) {
+        log.phase = std::string(name) + " volume estimate";
+        const std::vector<PclPhoton> map(photons.begin(), photons.begin() + (name[0] == 'g' ? 30000 : 7000));
+        const DeviceVolumeMap vm = buildVolumeMap(device, map, 0.05f);
+        VolumeEstimateSettings settings;
+        settings.radius = 0.05f;
+        const PclVolumeEstimateParams p = volumeEstimateParams(vm, settings, s.sampleCount, 1, 1);
+        estimateVolumeRadiance(device, vm, p, segs, counts, media);
+    }
+    device.setAllocationObserver(nullptr);
+    MemoryRequest req;
+    req.volumeRecords = 30000;
+    req.volumeCausticRecords = 7000;
+    req.volumeQueries = s.sampleCount;
+    const MemoryPlan plan = planMemory(req, memoryLimits(device.info()));
+    size_t planned = 0;
+    for (const PlannedBuffer& b : plan.buffers) {
+        if (b.phase.find("volume estimate") == std::string::npos) continue;
+        ++planned;
+        auto it = log.largest.find({b.phase, b.what});
+        ASSERT_NE(it, log.largest.end()) << b.phase << " / " << b.what << " was planned but never allocated";
+        EXPECT_EQ(it->second, b.bytes) << b.phase << " / " << b.what;
+    }
+    for (const auto& [key, bytes] : log.largest)
+        EXPECT_NE(plan.find(key.first, key.second), nullptr)
+            << key.first << " / " << key.second << " (" << bytes << " bytes) was allocated but not planned";
+    EXPECT_EQ(planned, log.largest.size());
+    EXPECT_GE(planned, 2u * 8u);  // photons, 5 grid buffers, ≥ 1 sort buffer, radiance; per map
 }
 
 // A map large enough that the kd-tree's top levels are split a level at a time (the chunk-count

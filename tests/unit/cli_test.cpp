@@ -214,4 +214,16 @@ TEST_F(CliTest, CheckPhotonStagesPassOnAShippedScene) {
     EXPECT_NE(r.output.find("stage estimate (precomputed irradiance): PASSED"), std::string::npos) << r.output;
 }
 
+// volume_estimate reads the volume maps of a scene with media (and passes there); it refuses a
+// scene without a medium (exit 2), and the other eye-pass stages still refuse media.
+TEST_F(CliTest, CheckVolumeEstimateAcceptsMediaOnly) {
+    Result r = run("check " + scene("media/cornell-fog.json") + " --device cpu --stage volume_estimate --photons 4000");
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("stage volume_estimate: PASSED"), std::string::npos) << r.output;
+    r = run("check " + scene("cornell-box.json") + " --device cpu --stage volume_estimate");
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("expected a scene with a participating medium"), std::string::npos) << r.output;
+    EXPECT_EQ(run("check " + scene("media/cornell-fog.json") + " --device cpu --stage estimate").status, 2);
+}
+
 }  // namespace

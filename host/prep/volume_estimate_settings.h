@@ -1,0 +1,62 @@
+// The settings and inputs of the volume radiance estimate (kernels/README.md, "volume_estimate";
+// the beam radiance estimate of Jarosz, Zwicker & Jensen 2008), read alike by the kernel's host
+// side (pipeline/volume_estimate) and the CPU twin (reference/volume_estimate):
+//   volume[i] = Σ_k T_k ⊙ Σ_p K(d_p) Tr(t_p) p_HG(w_p·d) ΔΦ_p   over one volume photon map,
+// with a fixed radius r per pass. Here: the settings, the eye segments as the eye pass lays them
+// out (slot-major) and their validation, the default radius and its progressive shrinking.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/vec3.h"
+#include "shared/types.h"
+
+namespace pcl {
+
+enum class BeamKernel { Box, Biweight };
+uint32_t beamKernelCode(BeamKernel k);  // PCL_BEAM_KERNEL_*
+
+struct VolumeEstimateSettings {
+    float radius = 0.0f;                       // r > 0 (defaultVolumeRadius, or the pass's shrunk radius)
+    BeamKernel kernel = BeamKernel::Biweight;  // the paper's choice: smooth at the disc's edge
+    // Single scattering (bounce-0 photons) is left to next-event estimation in the eye pass.
+    bool skipDirect = false;
+    // Photons of L S+ V paths are left to the volume caustic map (set on the global volume map
+    // when both maps are estimated: the global pass stores those events too).
+    bool skipSpecularPaths = false;
+};
+
+// The eye pass's medium segments of one chunk of eye records: segment k of record i at
+// segments[k * sampleCount + i] for k < counts[i] ≤ maxSegments (PclVolumeSegment, types.h).
+struct VolumeSegments {
+    uint32_t sampleCount = 0;
+    uint32_t maxSegments = 0;
+    std::vector<PclVolumeSegment> segments;  // maxSegments × sampleCount slots
+    std::vector<uint32_t> counts;            // sampleCount entries
+};
+
+// InternalError naming the field when: counts or segments have the wrong size, a count exceeds
+// maxSegments, a used segment has a medium outside [PCL_NO_MEDIUM, mediumCount), a length that is
+// negative or not finite, a direction not of unit length (±1e-3), a non-finite start or
+// throughput, or a record other than its i.
+void validateVolumeSegments(const VolumeSegments& s, size_t mediumCount);
+// InternalError unless r is positive and finite and every photon is a volume photon with a
+// finite position.
+void validateVolumeEstimateInput(const std::vector<PclPhoton>& photons, const VolumeEstimateSettings& settings);
+
+// The default radius of a volume map: the median, over up to `samples` of the photons inside
+// `region` (evenly spaced in map order), of the distance to their k-th nearest other photon
+// (brute force: samples × n distances) — the radius of a ball holding about k photons where the
+// photons are. The region is where the eye looks (the scene's bounds): in a global medium most
+// photons scatter far outside it, where they are sparse (cornell-fog: a median over every
+// photon gave r = 0.66 m, over those in the box 0.047 m); an empty region takes every photon. 0 when
+// at most k photons, or none in the region (no radius can be derived: the caller must give one).
+float defaultVolumeRadius(const std::vector<PclPhoton>& photons, const Bounds3& region = Bounds3{}, uint32_t k = 32,
+                          uint32_t samples = 128);
+
+// Progressive shrinking of a 2-D kernel's radius (Hachisuka, Ogaki & Jensen 2008, for a 2-D
+// density): r²_{i+1} = r²_i (i + α)/(i + 1) after pass i (0-based), α in (0, 1].
+float shrinkVolumeRadius2(float radius2, uint32_t pass, float alpha = 2.0f / 3.0f);
+
+}  // namespace pcl
