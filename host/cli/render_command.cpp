@@ -41,6 +41,7 @@ struct RenderOptions {
     int threads = 0;
     bool quiet = false, noPng = false;
     bool noLightTracing = false;  // --no-light-tracing: the path tracer alone
+    bool methodGiven = false;     // --method was on the command line (else a scene with media renders progressive)
     uint64_t maxBufferMib = 0;    // --max-buffer-mib: applyBufferCap on the OpenCL device
     std::string aov;
     bool profile = false;
@@ -255,7 +256,8 @@ int runAutoMethod(const RenderOptions& o, const Scene& scene, const PreparedScen
     return runPhotonRender(chosen, scene, prepared, output, start, std::move(device));
 }
 
-int runRender(const RenderOptions& o) {
+int runRender(const RenderOptions& given) {
+    RenderOptions o = given;
     const RenderRequest& q = o.request;
     const bool path = q.method == "path";
     // First, before PoCL or the path tracer start threads (they inherit the blocked mask): a
@@ -269,6 +271,13 @@ int runRender(const RenderOptions& o) {
         throw InputError(output + ": output folder does not exist");
 
     Scene scene = loadScene(o.scene);
+    // fg's gather rays do not carry media yet: a scene with media renders progressive unless told.
+    if (!o.methodGiven && q.method == "fg" && scene.hasMedia()) {
+        o.request.method = "progressive";
+        if (!o.quiet)
+            std::fprintf(stderr, "method progressive: the scene has participating media, which fg's gather rays do "
+                                 "not carry yet (--method to choose)\n");
+    }
     // One of --width/--height alone keeps the camera's aspect ratio.
     const Camera& cam = scene.camera;
     int width = o.width > 0 ? o.width : (o.height > 0 ? std::max(1, o.height * cam.width / cam.height) : cam.width);
@@ -285,7 +294,8 @@ int runRender(const RenderOptions& o) {
         std::fprintf(stderr, "scene %s: %zu triangles, %zu spheres, %zu lights; BVH %zu nodes in %.2fs\n",
                      o.scene.c_str(), scene.triangleCount(), scene.spheres.size(), scene.lights.size(),
                      prepared.geometry.stats().nodes, prepared.geometry.stats().buildSeconds);
-    if (!path) refuseMediaWithoutPathTracer(scene, "--method " + q.method);
+    if (q.method == "fg" || q.method == "auto")
+        refuseMediaWithoutPathTracer(scene, "--method " + q.method + " (fg's gather rays do not carry media yet)");
     if (!path) refuseEnvironmentWithoutPathTracer(scene, "--method " + q.method);
     if (q.method == "auto") return runAutoMethod(o, scene, prepared, output, start);
     if (!path) return runPhotonRender(o, scene, prepared, output, start);
@@ -306,15 +316,17 @@ Run addRenderCommand(CLI::App& app) {
         "Ctrl-C finishes the current pass and writes the image of the passes done.");
     sub->add_option("SCENE", o->scene, "Scene file (.json, .gltf, .glb)")->required();
     sub->add_option("-o,--output", o->output, "Output EXR (default: <scene name>.exr here); the PNG goes beside it");
-    sub->add_option("--method", o->request.method,
-                    "fg: photon mapping with final gathering (direct light by shadow rays, caustics from the caustic "
-                    "map, indirect light by gather rays into the global map); direct: the global map read at the "
-                    "first diffuse hit (fast preview); progressive: fresh photons every pass, fixed-radius estimates "
-                    "whose radius shrinks as r²_{i+1} = r²_i (i+α)/(i+1), converging to the reference; path: the CPU "
-                    "reference path tracer; auto: fg or path, whichever a pilot of each at a quarter of the size "
-                    "(about 2-5 s, paid from --time) says reaches a lower error in the same time")
-        ->check(CLI::IsMember({"fg", "direct", "progressive", "path", "auto"}))
-        ->capture_default_str();
+    CLI::Option* methodOption =
+        sub->add_option(
+               "--method", o->request.method,
+               "fg: photon mapping with final gathering (direct light by shadow rays, caustics from the caustic "
+               "map, indirect light by gather rays into the global map); direct: the global map read at the "
+               "first diffuse hit (fast preview); progressive: fresh photons every pass, fixed-radius estimates "
+               "whose radius shrinks as r²_{i+1} = r²_i (i+α)/(i+1), converging to the reference; path: the CPU "
+               "reference path tracer; auto: fg or path, whichever a pilot of each at a quarter of the size "
+               "(about 2-5 s, paid from --time) says reaches a lower error in the same time")
+            ->check(CLI::IsMember({"fg", "direct", "progressive", "path", "auto"}))
+            ->capture_default_str();
     sub->add_option("--device", o->device,
                     "OpenCL device for the photon methods: cpu (PoCL), gpu, auto, <index> or <name substring> "
                     "(photoncl devices lists them); ref: the CPU reference, no OpenCL: --method path, or the photon "
@@ -392,7 +404,10 @@ Run addRenderCommand(CLI::App& app) {
     sub->add_flag("--profile", o->profile,
                   "Photon methods: after the render, device seconds and launches per kernel (per pass and in all)");
     sub->add_flag("-q,--quiet", o->quiet, "No progress output");
-    return [o] { return runRender(*o); };
+    return [o, methodOption] {
+        o->methodGiven = methodOption->count() > 0;
+        return runRender(*o);
+    };
 }
 
 }  // namespace pcl::cli

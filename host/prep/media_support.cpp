@@ -18,7 +18,7 @@ void refuseMediaWithoutPathTracer(const Scene& scene, const std::string& what) {
     for (const std::string& u : used) got += (got.empty() ? "" : ", ") + u;
     failInput(scene.path, "medium",
               "a scene without participating media for " + what +
-                  " (media are rendered only by --method path for now, until the volume photon map lands)",
+                  " (media are rendered by --method progressive, direct and path)",
               "media " + got);
 }
 

@@ -11,12 +11,15 @@
 #include "pipeline/final_gather.h"
 #include "pipeline/irradiance_source.h"
 #include "pipeline/precomputed_irradiance.h"
+#include "pipeline/volume_estimate.h"
 #include "render/fixed_radius_source.h"
 
 namespace pcl {
 
 struct DeviceRenderStages::Maps {
     std::unique_ptr<PhotonMapOnDevice> global, caustic, histogram;
+    std::unique_ptr<DeviceVolumeMap> volume[2];  // the global and the caustic volume map
+    VolumeEstimateSettings volumeSettings[2];
     std::unique_ptr<DeviceIrradianceMap> irradiance;
     std::shared_ptr<IrradianceSource> globalSource, causticSource;
 };
@@ -43,6 +46,8 @@ PassPhotons DeviceRenderStages::tracePhotons(const PhotonPassOptions& options) {
     PassPhotons p;
     p.global = std::move(maps.global);
     p.caustic = std::move(maps.caustic);
+    p.volume = std::move(maps.volume);
+    p.volumeCaustic = std::move(maps.volumeCaustic);
     p.globalEmitted = maps.stats.global.emitted;
     p.causticEmitted = maps.stats.caustic.emitted;
     return p;
@@ -72,6 +77,13 @@ void DeviceRenderStages::buildMaps(const PassMapSpec& spec) {
     };
     build(spec.global, maps_->global, maps_->globalSource);
     build(spec.caustic, maps_->caustic, maps_->causticSource);
+    const VolumeMapSpec* volume[2] = {&spec.volume, &spec.volumeCaustic};
+    for (int v = 0; v < 2; ++v)
+        if (volume[v]->photons && !volume[v]->photons->empty()) {
+            maps_->volume[v] = std::make_unique<DeviceVolumeMap>(
+                buildVolumeMap(device_, *volume[v]->photons, volume[v]->settings.radius));
+            maps_->volumeSettings[v] = volume[v]->settings;
+        }
     if (spec.histogramPhotons)
         maps_->histogram =
             std::make_unique<PhotonMapOnDevice>(device_, *spec.histogramPhotons, s_.structure, searchRadius);
@@ -90,6 +102,23 @@ void DeviceRenderStages::eyePaths(const PclEyeParams& params) {
         segmentSlots_ = slots;
     }
     traceEyePaths(device_, dscene_, lights_, params, rays_, hits_, segments_, segmentCounts_);
+    lastEye_ = params;
+}
+
+void DeviceRenderStages::volumeEstimate() {
+    if (lastEye_.volumeSegments == 0)
+        throw std::logic_error("render: a volume estimate asked of eye paths without medium segments");
+    for (int v = 0; v < 2; ++v) {
+        volumeParts_[v] = maps_->volume[v] != nullptr;
+        if (!volumeParts_[v]) continue;
+        if (!volumeRad_[v]())
+            volumeRad_[v] = device_.allocate<PclRadiance>(
+                chunk_, CL_MEM_READ_WRITE, v == 0 ? "render: volume radiance" : "render: volume caustics");
+        const PclVolumeEstimateParams p = volumeEstimateParams(*maps_->volume[v], maps_->volumeSettings[v],
+                                                               lastEye_.sampleCount, lastEye_.volumeSegments,
+                                                               uint32_t(buffers_.media.size()));
+        volumeEstimateBeams(device_, p, segments_, segmentCounts_, dscene_.media, *maps_->volume[v], volumeRad_[v]);
+    }
 }
 
 void DeviceRenderStages::gatherHistograms(const PclGatherParams& params) {
@@ -126,6 +155,19 @@ void DeviceRenderStages::readChunk(uint32_t count, ChunkParts parts, ChunkResult
     part(parts.direct, directRad_, out.direct);
     part(parts.caustic, causticRad_, out.caustic);
     part(parts.indirect, indirectRad_, out.indirect);
+    // The two volume maps' parts, added on the host.
+    out.volume.assign(count, PclRadiance{0, 0, 0, 0});
+    if (!parts.volume) return;
+    std::vector<PclRadiance> v;
+    for (int m = 0; m < 2; ++m) {
+        if (!volumeParts_[m]) continue;
+        device_.downloadInto(volumeRad_[m], count, v);
+        for (uint32_t i = 0; i < count; ++i) {
+            out.volume[i].r += v[i].r;
+            out.volume[i].g += v[i].g;
+            out.volume[i].b += v[i].b;
+        }
+    }
 }
 
 }  // namespace pcl

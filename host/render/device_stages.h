@@ -34,6 +34,7 @@ public:
     void causticEstimate(const PclEyeEstimateParams& params) override;
     void globalEstimate(const PclEyeEstimateParams& params) override;
     void finalGather(const PclGatherParams& params) override;
+    void volumeEstimate() override;
     void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) override;
 
 private:
@@ -48,6 +49,9 @@ private:
     cl::Buffer rays_, hits_, directRad_, causticRad_, indirectRad_, histograms_;
     cl::Buffer segments_, segmentCounts_;  // media: the eye records' medium segments (eyePaths)
     size_t segmentSlots_ = 0;
+    PclEyeParams lastEye_{};   // the last eyePaths launch: its records and segment slots
+    cl::Buffer volumeRad_[2];  // volumeEstimate: the global and the caustic volume map's parts
+    bool volumeParts_[2] = {false, false};
     std::unique_ptr<Maps> maps_;
 };
 

@@ -14,6 +14,7 @@
 #include "pipeline/direct_light.h"
 #include "pipeline/eye_paths.h"
 #include "pipeline/final_gather.h"
+#include "prep/volume_estimate_settings.h"
 #include "render/device_stages.h"
 #include "render/render_stages.h"
 #include "render/twin_stages.h"
@@ -42,8 +43,9 @@ std::string StageTimes::table() const {
     struct Row {
         const char* name;
         double s;
-    } rows[] = {{"photon pass", photons}, {"maps", maps},        {"camera", camera},     {"eye paths", eyePaths},
-                {"direct light", direct}, {"caustics", caustic}, {"indirect", indirect}, {"accumulate", accumulate}};
+    } rows[] = {{"photon pass", photons}, {"maps", maps},           {"camera", camera},
+                {"eye paths", eyePaths},  {"direct light", direct}, {"caustics", caustic},
+                {"indirect", indirect},   {"volume", volume},       {"accumulate", accumulate}};
     std::string out;
     char line[128];
     for (const Row& r : rows) {
@@ -131,6 +133,7 @@ private:
 
     PassPhotons tracePhotons(uint32_t pass);
     double firstRadius2(const PassPhotons& pass0) const;
+    void firstVolumeRadii(const PassPhotons& pass0);
     void specifyMaps(const PassPhotons& photons, float radius2, PassMaps& m) const;
     // est_ with the first kNN bound for k-nearest queries into a map of `photons` (speed only).
     EstimateSettings hinted(size_t photons, uint32_t k) const {
@@ -164,6 +167,10 @@ private:
     ChunkResult chunkResult_;  // a chunk's records and parts, kept across chunks and passes
     EstimateSettings est_;
     double r0Squared_ = 0.0;
+    // Media: the volume maps' first radius² (global, caustic), from pass 0's photons, and this
+    // pass's (shrunk between passes by progressive).
+    double volumeR0Squared_[2] = {0.0, 0.0};
+    double volumePassRadius2_[2] = {0.0, 0.0};
     PhotonRenderResult result_;
 };
 
@@ -178,6 +185,26 @@ double PhotonRenderer::firstRadius2(const PassPhotons& pass0) const {
     double stored = maps_.global ? pass0.global.size() : pass0.caustic.size();
     double lambda = std::max(stored, 1.0) / std::max(area_, 1e-12);
     return std::min(double(maxRadius_) * maxRadius_, s_.progressiveK0 / (kPiD * lambda));
+}
+
+// The volume maps' r_0 (prep/volume_estimate_settings.h, defaultVolumeRadius): about 32 photons in
+// a ball where the eye looks, from pass 0's map; a map with too few photons for that takes the
+// surface maps' largest radius (logged).
+void PhotonRenderer::firstVolumeRadii(const PassPhotons& pass0) {
+    const std::vector<PclPhoton>* maps[2] = {&pass0.volume, &pass0.volumeCaustic};
+    for (int v = 0; v < 2; ++v) {
+        if (volumeR0Squared_[v] > 0.0) continue;
+        double r = defaultVolumeRadius(*maps[v], geometry_.bounds());
+        if (!(r > 0.0)) {
+            if (maps[v]->empty()) continue;  // the next pass with photons decides
+            r = maxRadius_;
+            if (s_.log)
+                std::fprintf(stderr, "volume %s map: %zu photons, too few for a radius; using r_max %.4g\n",
+                             v == 0 ? "global" : "caustic", maps[v]->size(), r);
+        }
+        volumeR0Squared_[v] = r * r;
+        if (s_.log) std::fprintf(stderr, "volume %s map: beam radius %.4g\n", v == 0 ? "global" : "caustic", r);
+    }
 }
 
 // 2. How the method reads the maps: the estimate (k nearest), the fixed-radius estimate
@@ -212,6 +239,21 @@ void PhotonRenderer::specifyMaps(const PassPhotons& photons, float radius2, Pass
             g.maxK = s_.globalK;
             g.estimate = hinted(photons.global.size(), s_.globalK);
         }
+    }
+    // Media: the beam radiance estimate along the eye's medium segments, single scattering left to
+    // the eye pass's next-event estimation; with a volume caustic map the global volume map
+    // leaves the L S+ V photons to it (the global pass stores those events too).
+    if (maps_.volume) {
+        const bool causticVolume = !photons.volumeCaustic.empty();
+        auto volume = [&](const std::vector<PclPhoton>& v, float r2, bool skipSpecular, VolumeMapSpec& out) {
+            if (v.empty()) return;
+            out.photons = &v;
+            out.settings.radius = std::sqrt(r2);
+            out.settings.skipDirect = true;
+            out.settings.skipSpecularPaths = skipSpecular;
+        };
+        volume(photons.volume, volumePassRadius2_[0], causticVolume, spec.volume);
+        volume(photons.volumeCaustic, volumePassRadius2_[1], false, spec.volumeCaustic);
     }
     // The importance histograms read the global map's k nearest photons directly.
     if (fg && s_.histogramCells > 0 && spec.global.reader != MapReader::None) spec.histogramPhotons = &photons.global;
@@ -297,15 +339,15 @@ void PhotonRenderer::accumulate(size_t first, uint32_t count, ChunkParts parts, 
     stages_.readChunk(count, parts, chunkResult_);
     const std::vector<PclEyeHit>& eye = chunkResult_.hits;
     const std::vector<PclRadiance>&direct = chunkResult_.direct, &caustic = chunkResult_.caustic,
-          &indirect = chunkResult_.indirect;
+          &indirect = chunkResult_.indirect, &volume = chunkResult_.volume;
     for (uint32_t i = 0; i < count; ++i) {
         size_t pixel = (first + i) / spp_;
         int x = static_cast<int>(pixel % width_), y = static_cast<int>(pixel / width_);
         const PclEyeHit& h = eye[i];
         PclRadiance em{h.emitted[0], h.emitted[1], h.emitted[2], 0};
-        PclRadiance sum{em.r + direct[i].r + caustic[i].r + indirect[i].r,
-                        em.g + direct[i].g + caustic[i].g + indirect[i].g,
-                        em.b + direct[i].b + caustic[i].b + indirect[i].b, 0};
+        PclRadiance sum{em.r + direct[i].r + caustic[i].r + indirect[i].r + volume[i].r,
+                        em.g + direct[i].g + caustic[i].g + indirect[i].g + volume[i].g,
+                        em.b + direct[i].b + caustic[i].b + indirect[i].b + volume[i].b, 0};
         if (!finite(sum)) {
             ++result_.nonFiniteSamples;
             sum = zero;  // counted and reported; the pixel keeps its weight
@@ -316,7 +358,7 @@ void PhotonRenderer::accumulate(size_t first, uint32_t count, ChunkParts parts, 
             RenderAovs& a = result_.aovs;
             a.direct.add(x, y, v(direct[i]));
             a.caustic.add(x, y, v(caustic[i]));
-            a.indirect.add(x, y, v(indirect[i]));
+            a.indirect.add(x, y, v(indirect[i]) + v(volume[i]));  // media: multiple scattering is indirect too
             a.emitted.add(x, y, v(em));
             bool diffuse = h.flags & PCL_EYE_DIFFUSE;
             a.albedo.add(x, y, diffuse ? Vec3(h.albedo[0], h.albedo[1], h.albedo[2]) : Vec3(0.0f));
@@ -345,6 +387,10 @@ void PhotonRenderer::eyePass(uint32_t pass, const PassMapSpec& maps, Film& passF
             case RenderMethod::DirectVisualisation: parts = shadeDirectVisualisation(maps, count); break;
             case RenderMethod::Progressive: parts = shadeProgressive(maps, ep, count); break;
             case RenderMethod::PathTracing: break;
+        }
+        if ((maps.volume.photons || maps.volumeCaustic.photons) && ep.volumeSegments > 0) {
+            timed(stages_, result_.times.volume, [&] { stages_.volumeEstimate(); });
+            parts.volume = true;
         }
         accumulate(first, count, parts, passFilm);
     }
@@ -383,7 +429,11 @@ PhotonRenderResult PhotonRenderer::run() {
     // A render that starts later (a batch shard, firstPass > 0) traces pass 0's photons once to
     // get the same r_0, so r_0 never depends on which passes a shard holds.
     if (progressive && r0Squared_ == 0.0 && s_.firstPass > 0 && (maps_.global || maps_.caustic)) {
-        timed(stages_, result_.times.photons, [&] { r0Squared_ = firstRadius2(tracePhotons(0)); });
+        timed(stages_, result_.times.photons, [&] {
+            const PassPhotons pass0 = tracePhotons(0);
+            r0Squared_ = firstRadius2(pass0);
+            if (maps_.volume) firstVolumeRadii(pass0);
+        });
         result_.firstRadius = static_cast<float>(std::sqrt(r0Squared_));
     }
     result_.summary = summary();
@@ -415,6 +465,12 @@ PhotonRenderResult PhotonRenderer::run() {
             }
             radius2 = static_cast<float>(progressiveRadius2(r0Squared_, s_.alpha, pass));
             result_.lastRadius = std::sqrt(radius2);
+        }
+        if (maps_.volume) {
+            firstVolumeRadii(photons);
+            for (int v = 0; v < 2; ++v)
+                volumePassRadius2_[v] = progressive ? progressiveRadius2(volumeR0Squared_[v], s_.alpha, pass)
+                                                    : volumeR0Squared_[v];
         }
         PassMaps maps;
         specifyMaps(photons, radius2, maps);
@@ -453,7 +509,8 @@ void requirePhotonRender(const PhotonRenderSettings& settings, const Scene& scen
     if (settings.method == RenderMethod::PathTracing)
         throw InternalError("renderPhotonMapped: the path tracer is render/path_render.h, not a photon method");
     validateRenderSettings(settings);
-    refuseMediaWithoutPathTracer(scene, std::string("--method ") + renderMethodName(settings.method));
+    if (settings.method == RenderMethod::FinalGather)
+        refuseMediaWithoutPathTracer(scene, "--method fg (its gather rays do not carry media yet)");
     refuseEnvironmentWithoutPathTracer(scene, std::string("--method ") + renderMethodName(settings.method));
 }
 

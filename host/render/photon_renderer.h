@@ -36,8 +36,8 @@ namespace pcl {
 
 // Wall seconds per stage summed over the passes (each stage waits for its launches).
 struct StageTimes {
-    double photons = 0, maps = 0, camera = 0, eyePaths = 0, direct = 0, caustic = 0, indirect = 0, accumulate = 0,
-           total = 0;
+    double photons = 0, maps = 0, camera = 0, eyePaths = 0, direct = 0, caustic = 0, indirect = 0, volume = 0,
+           accumulate = 0, total = 0;
     std::string table() const;  // one "stage  seconds  share" line per stage
 };
 

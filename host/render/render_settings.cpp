@@ -148,10 +148,12 @@ RenderMaps mapsFor(RenderMethod method, const RenderPlan& plan) {
             break;
         case RenderMethod::DirectVisualisation:
             maps.global = true;  // the preview reads every kind of light from the global map
+            maps.volume = plan.volumeMap;
             break;
         case RenderMethod::Progressive:
-            maps.global = plan.globalMap;
+            maps.global = plan.globalMap || plan.volumeMap;
             maps.caustic = plan.causticMap;
+            maps.volume = plan.volumeMap;
             break;
         case RenderMethod::PathTracing: break;
     }

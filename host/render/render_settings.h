@@ -93,6 +93,9 @@ void validateRenderSettings(const PhotonRenderSettings& s);
 // What the plan decides for `method`: which maps a pass builds.
 struct RenderMaps {
     bool global = false, caustic = false, gather = false;
+    // Scenes with scattering media (progressive, direct): the volume maps, read along the eye's
+    // medium segments; their photons come from the global pass (and the caustic pass, if any).
+    bool volume = false;
 };
 RenderMaps mapsFor(RenderMethod method, const RenderPlan& plan);
 

@@ -9,13 +9,15 @@
 //   stages.buildMaps(spec)              the search structures and irradiance readers of the pass
 //   per chunk of eye samples (records 0 .. count−1):
 //     cameraRays → eyePaths → [gatherHistograms] → directLight / causticEstimate /
-//     globalEstimate / finalGather (each fills one part) → readChunk (records and parts to host)
+//     globalEstimate / finalGather / volumeEstimate (each fills one part) → readChunk (records and
+//     parts to host)
 #pragma once
 #include <cstdint>
 #include <vector>
 
 #include "pipeline/photon_pass.h"
 #include "prep/irradiance_settings.h"
+#include "prep/volume_estimate_settings.h"
 #include "shared/types.h"
 
 namespace pcl {
@@ -37,9 +39,18 @@ struct MapSpec {
     PrecomputedIrradianceOptions precomputed;         // Precomputed
 };
 
+// How a pass reads one volume photon map along the eye's medium segments: the beam radiance
+// estimate (prep/volume_estimate_settings.h); not read when photons is null.
+struct VolumeMapSpec {
+    const std::vector<PclPhoton>* photons = nullptr;
+    VolumeEstimateSettings settings;
+};
+
 // The maps of one pass.
 struct PassMapSpec {
     MapSpec global, caustic;
+    // Scenes with media: the global pass's volume map and the volume caustic map (L S+ V).
+    VolumeMapSpec volume, volumeCaustic;
     // fg with importance-sampled gather rays: the histograms read the k nearest of these photons
     // (the whole global map) directly; null when not used.
     const std::vector<PclPhoton>* histogramPhotons = nullptr;
@@ -49,18 +60,19 @@ struct PassMapSpec {
 
 // Which parts a chunk's records got (the others are 0).
 struct ChunkParts {
-    bool direct = false, caustic = false, indirect = false;
+    bool direct = false, caustic = false, indirect = false, volume = false;
 };
 
-// A chunk on the host: the eye records and the three parts, `count` each.
+// A chunk on the host: the eye records and the four parts, `count` each.
 struct ChunkResult {
     std::vector<PclEyeHit> hits;
-    std::vector<PclRadiance> direct, caustic, indirect;
+    std::vector<PclRadiance> direct, caustic, indirect, volume;
 };
 
 // The photons of one pass and how many paths each map emitted.
 struct PassPhotons {
     std::vector<PclPhoton> global, caustic;
+    std::vector<PclPhoton> volume, volumeCaustic;  // scenes with media
     uint64_t globalEmitted = 0, causticEmitted = 0;
 };
 
@@ -86,6 +98,9 @@ public:
     virtual void causticEstimate(const PclEyeEstimateParams& params) = 0;  // caustic map → caustic
     virtual void globalEstimate(const PclEyeEstimateParams& params) = 0;   // global map → indirect
     virtual void finalGather(const PclGatherParams& params) = 0;           // global map → indirect
+    // The beam radiance estimate along the medium segments the last eyePaths wrote, from the
+    // pass's volume maps (spec.volume, spec.volumeCaustic), summed → volume.
+    virtual void volumeEstimate() = 0;
     // The chunk's records and the parts it got (the others zero-filled), `count` each.
     virtual void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) = 0;
 };

@@ -42,6 +42,7 @@ public:
     void causticEstimate(const PclEyeEstimateParams& p) override { inner_.causticEstimate(p); }
     void globalEstimate(const PclEyeEstimateParams& p) override { inner_.globalEstimate(p); }
     void finalGather(const PclGatherParams& p) override { inner_.finalGather(p); }
+    void volumeEstimate() override { inner_.volumeEstimate(); }
     void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) override { inner_.readChunk(count, parts, out); }
 
 private:

@@ -11,6 +11,7 @@
 #include "reference/final_gather.h"
 #include "reference/photon_pass.h"
 #include "reference/precomputed_irradiance.h"
+#include "reference/volume_estimate.h"
 #include "render/fixed_radius.h"
 
 namespace pcl {
@@ -31,6 +32,8 @@ PassPhotons TwinRenderStages::tracePhotons(const PhotonPassOptions& options) {
     PassPhotons p;
     p.global = std::move(maps.global);
     p.caustic = std::move(maps.caustic);
+    p.volume = std::move(maps.volume);
+    p.volumeCaustic = std::move(maps.volumeCaustic);
     p.globalEmitted = maps.globalStats.paths;
     p.causticEmitted = maps.causticStats.paths;
     return p;
@@ -104,6 +107,27 @@ void TwinRenderStages::finalGather(const PclGatherParams& params) {
                     .radiance;
 }
 
+void TwinRenderStages::volumeEstimate() {
+    if (segments_.perRecord == 0)
+        throw std::logic_error("render (twin): a volume estimate asked of eye paths without medium segments");
+    VolumeSegments segments;
+    segments.sampleCount = uint32_t(hits_.size());
+    segments.maxSegments = segments_.perRecord;
+    segments.segments = segments_.segments;
+    segments.counts = segments_.counts;
+    volume_.assign(hits_.size(), PclRadiance{0, 0, 0, 0});
+    for (const VolumeMapSpec* v : {&spec_.volume, &spec_.volumeCaustic}) {
+        if (!v->photons || v->photons->empty()) continue;
+        const std::vector<PclRadiance> part =
+            referenceVolumeEstimate(*v->photons, v->settings, segments, buffers_.media);
+        for (size_t i = 0; i < part.size(); ++i) {
+            volume_[i].r += part[i].r;
+            volume_[i].g += part[i].g;
+            volume_[i].b += part[i].b;
+        }
+    }
+}
+
 void TwinRenderStages::readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) {
     if (hits_.size() != count)
         throw std::logic_error("render (twin): chunk of " + std::to_string(count) + " records read after " +
@@ -116,6 +140,7 @@ void TwinRenderStages::readChunk(uint32_t count, ChunkParts parts, ChunkResult& 
     part(parts.direct, direct_, out.direct);
     part(parts.caustic, caustic_, out.caustic);
     part(parts.indirect, indirect_, out.indirect);
+    part(parts.volume, volume_, out.volume);
 }
 
 }  // namespace pcl

@@ -29,6 +29,7 @@ public:
     void causticEstimate(const PclEyeEstimateParams& params) override;
     void globalEstimate(const PclEyeEstimateParams& params) override;
     void finalGather(const PclGatherParams& params) override;
+    void volumeEstimate() override;
     void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) override;
 
 private:
@@ -45,7 +46,7 @@ private:
     std::vector<PclEyeHit> hits_;
     EyeVolumeSegments segments_;  // media: the records' medium segments (eyePaths)
     std::vector<float> histograms_;
-    std::vector<PclRadiance> direct_, caustic_, indirect_;
+    std::vector<PclRadiance> direct_, caustic_, indirect_, volume_;
 };
 
 }  // namespace pcl
