@@ -1,4 +1,4 @@
-/* volume_estimate.cl: the beam radiance estimate (Jarosz, Zwicker & Jensen 2008, eq. 10) along
+/* volume_estimate.cl: the beam radiance estimate (Jarosz, Zwicker & Jensen 2008) along
  * the eye's medium segments from one volume photon map (kernels/README.md, "volume_estimate").
  * One work-item per eye record.
  *
