@@ -1,4 +1,4 @@
-/* volume_estimate.cl: the beam radiance estimate (Jarosz, Zwicker & Jensen 2008, eq. 10) along
+/* volume_estimate.cl: the beam radiance estimate (Jarosz, Zwicker & Jensen 2008) along
  * the eye's medium segments from one volume photon map (kernels/README.md, "volume_estimate").
  * One work-item per eye record.
  *
@@ -84,7 +84,9 @@ inline void volume_segment_estimate(const PclVolumeEstimateParams params, const 
                             continue;
                         const float vx = q.x - seg.ox, vy = q.y - seg.oy, vz = q.z - seg.oz;
                         const float tp = vx * seg.dx + vy * seg.dy + vz * seg.dz;
-                        if (!(tp >= t0) || !(last ? tp <= t1 : tp < t1)) continue;
+                        /* in this step's interval, and on the segment (a rounded (s + 1) h may
+                         * pass ℓ before the last step) */
+                        if (!(tp >= t0) || !(last ? tp <= t1 : tp < t1) || !(tp <= seg.length)) continue;
                         const float wx = vx - tp * seg.dx, wy = vy - tp * seg.dy, wz = vz - tp * seg.dz;
                         const float d2 = wx * wx + wy * wy + wz * wz;
                         if (!(d2 < params.radius2)) continue;

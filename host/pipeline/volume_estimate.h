@@ -4,9 +4,12 @@
 // device each pass (pipeline/hashgrid). The twin is host/reference/volume_estimate.h.
 //
 //   DeviceVolumeMap map = buildVolumeMap(device, maps.volume, settings.radius);   // once per pass
-//   PclVolumeEstimateParams p = volumeEstimateParams(map, settings, sampleCount, maxSegments, media);
+//   PclVolumeEstimateParams p = volumeEstimateParams(map, settings, sampleCount, maxSegments, mediumCount);
 //   cl::Buffer volume = estimateVolumeRadiance(device, map, p, segments, counts, mediaBuffer);  // per chunk
 // or, on host vectors (tests, check): volumeEstimateOnDevice(device, photons, settings, segments, media).
+// A render estimates each volume map on its own and adds them: the global volume map with
+// skipSpecularPaths (and skipDirect when the eye pass adds single scattering by next-event
+// estimation), plus the volume caustic map (kernels/README.md, "volume_estimate").
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -86,6 +86,7 @@ float defaultVolumeRadius(const std::vector<PclPhoton>& photons, const Bounds3& 
 }
 
 float shrinkVolumeRadius2(float radius2, uint32_t pass, float alpha) {
+    if (pass == 0) throw InternalError("volume estimate: shrinking after pass 0; passes count from 1");
     if (!(alpha > 0.0f && alpha <= 1.0f))
         throw InternalError("volume estimate: α " + std::to_string(alpha) + ", expected in (0, 1]");
     return radius2 * (float(pass) + alpha) / (float(pass) + 1.0f);

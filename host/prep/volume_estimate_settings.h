@@ -55,8 +55,10 @@ void validateVolumeEstimateInput(const std::vector<PclPhoton>& photons, const Vo
 float defaultVolumeRadius(const std::vector<PclPhoton>& photons, const Bounds3& region = Bounds3{}, uint32_t k = 32,
                           uint32_t samples = 128);
 
-// Progressive shrinking of a 2-D kernel's radius (Hachisuka, Ogaki & Jensen 2008, for a 2-D
-// density): r²_{i+1} = r²_i (i + α)/(i + 1) after pass i (0-based), α in (0, 1].
+// Progressive shrinking of a 2-D kernel's radius (Knaus & Zwicker 2011, probabilistic progressive
+// photon mapping, for a 2-D kernel): r²_{i+1} = r²_i (i + α)/(i + 1), i ≥ 1 the pass whose radius
+// r_i was (1-based, as in the paper: r_1 = the default radius), α in (0, 1]. InternalError for
+// i = 0 or α outside (0, 1].
 float shrinkVolumeRadius2(float radius2, uint32_t pass, float alpha = 2.0f / 3.0f);
 
 }  // namespace pcl

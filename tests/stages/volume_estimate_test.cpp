@@ -521,9 +521,10 @@ TEST(VolumeEstimateSettings, DefaultRadiusHoldsKPhotonsAndShrinksProgressively) 
     EXPECT_NEAR(inCube, r, 0.02f * r);
     EXPECT_GT(defaultVolumeRadius(spread), 5.0f * r);
     // r²_{i+1} = r²_i (i + α)/(i + 1).
-    EXPECT_FLOAT_EQ(shrinkVolumeRadius2(1.0f, 0, 0.5f), 0.5f);
-    EXPECT_FLOAT_EQ(shrinkVolumeRadius2(0.5f, 1, 0.5f), 0.375f);
-    EXPECT_THROW(shrinkVolumeRadius2(1.0f, 0, 0.0f), InternalError);
+    EXPECT_FLOAT_EQ(shrinkVolumeRadius2(1.0f, 1, 0.5f), 0.75f);
+    EXPECT_FLOAT_EQ(shrinkVolumeRadius2(0.75f, 2, 0.5f), 0.625f);
+    EXPECT_THROW(shrinkVolumeRadius2(1.0f, 1, 0.0f), InternalError);
+    EXPECT_THROW(shrinkVolumeRadius2(1.0f, 0, 0.5f), InternalError);
 }
 
 // ---- the check on the media scenes ------------------------------------------------------
