@@ -47,7 +47,45 @@ inline int volume_photon_counts(const PclVolumeEstimateParams params, uint packe
     return 1;
 }
 
-/* L of one segment (rgb into l[]). */
+/* The weight of one photon found in cell (ix, iy, iz): counted when the cell is its own (hash
+ * collisions, and a cell reached through two hashes), its projection lies on the segment and it
+ * is within r of it. */
+inline void volume_add_photon(const PclVolumeEstimateParams params, const PclVolumeSegment seg, const PclMedium m,
+                              const float sigmaT[3], __global const PclPhoton* photons, const float4 q, int ix, int iy,
+                              int iz, float l[3]) {
+    if (volume_grid_coord(q.x, params.ox, params.invCellSize) != ix ||
+        volume_grid_coord(q.y, params.oy, params.invCellSize) != iy ||
+        volume_grid_coord(q.z, params.oz, params.invCellSize) != iz)
+        return;
+    const float vx = q.x - seg.ox, vy = q.y - seg.oy, vz = q.z - seg.oz;
+    const float tp = vx * seg.dx + vy * seg.dy + vz * seg.dz;
+    if (!(tp >= 0.0f) || !(tp <= seg.length)) return;
+    const float wx = vx - tp * seg.dx, wy = vy - tp * seg.dy, wz = vz - tp * seg.dz;
+    const float d2 = wx * wx + wy * wy + wz * wz;
+    if (!(d2 < params.radius2)) return;
+    const PclPhoton ph = photons[as_uint(q.w)];
+    if (!volume_photon_counts(params, ph.packed)) return;
+    float k = params.kernelScale;
+    if (params.kernelShape == PCL_BEAM_KERNEL_BIWEIGHT) {
+        const float u = 1.0f - d2 / params.radius2;
+        k = k * (u * u);
+    }
+    const PclV3 w = photon_dir_decode(ph.packed);
+    const float mu = w.x * seg.dx + w.y * seg.dy + w.z * seg.dz;
+    const float kp = k * volume_hg(mu, m.g);
+    float phi[3];
+    photon_rgbe_decode(ph.rgbe, &phi[0], &phi[1], &phi[2]);
+    for (int c = 0; c < 3; ++c) {
+        const float tr = sigmaT[c] > 0.0f ? exp(-sigmaT[c] * tp) : 1.0f;
+        l[c] += kp * tr * phi[c];
+    }
+}
+
+/* L of one segment (rgb into l[]). The search walks the grid in slabs of one cell along the
+ * segment's dominant axis: a photon within r of the segment, its projection on it, lies in a slab
+ * whose stretch of the segment (the part whose dominant coordinate is within r of the slab) is
+ * within r of it on the other two axes, so each slab visits the cells of that stretch's box grown
+ * by r, and each photon is found once: in its own cell, in its own slab. */
 inline void volume_segment_estimate(const PclVolumeEstimateParams params, const PclVolumeSegment seg,
                                      const PclMedium m, __global const PclPhoton* photons,
                                      __global const float4* points, __global const uint* cellStart,
@@ -55,59 +93,46 @@ inline void volume_segment_estimate(const PclVolumeEstimateParams params, const 
     l[0] = l[1] = l[2] = 0.0f;
     if (!(seg.length > 0.0f) || params.photonCount == 0u) return;
     const float sigmaT[3] = {m.sigmaA[0] + m.sigmaS[0], m.sigmaA[1] + m.sigmaS[1], m.sigmaA[2] + m.sigmaS[2]};
-    const float h = params.cellSize;
     const float r = params.radius;
-    const uint steps = (uint)ceil(seg.length / h);
-    for (uint s = 0u; s < steps; ++s) {
-        const float t0 = (float)s * h;
-        const float tn = (float)(s + 1u) * h;
-        const int last = s + 1u >= steps;
-        const float t1 = last ? seg.length : tn;
-        const float ax = seg.ox + t0 * seg.dx, ay = seg.oy + t0 * seg.dy, az = seg.oz + t0 * seg.dz;
-        const float bx = seg.ox + t1 * seg.dx, by = seg.oy + t1 * seg.dy, bz = seg.oz + t1 * seg.dz;
-        const int x0 = volume_grid_coord(fmin(ax, bx) - r, params.ox, params.invCellSize);
-        const int x1 = volume_grid_coord(fmax(ax, bx) + r, params.ox, params.invCellSize);
-        const int y0 = volume_grid_coord(fmin(ay, by) - r, params.oy, params.invCellSize);
-        const int y1 = volume_grid_coord(fmax(ay, by) + r, params.oy, params.invCellSize);
-        const int z0 = volume_grid_coord(fmin(az, bz) - r, params.oz, params.invCellSize);
-        const int z1 = volume_grid_coord(fmax(az, bz) + r, params.oz, params.invCellSize);
-        for (int iz = z0; iz <= z1; ++iz)
-            for (int iy = y0; iy <= y1; ++iy)
-                for (int ix = x0; ix <= x1; ++ix) {
-                    const uint hash = volume_grid_hash(ix, iy, iz, params.tableSize);
-                    const uint end = cellEnd[hash];
-                    for (uint j = cellStart[hash]; j < end; ++j) {
-                        const float4 q = points[j];
-                        if (volume_grid_coord(q.x, params.ox, params.invCellSize) != ix ||
-                            volume_grid_coord(q.y, params.oy, params.invCellSize) != iy ||
-                            volume_grid_coord(q.z, params.oz, params.invCellSize) != iz)
-                            continue;
-                        const float vx = q.x - seg.ox, vy = q.y - seg.oy, vz = q.z - seg.oz;
-                        const float tp = vx * seg.dx + vy * seg.dy + vz * seg.dz;
-                        /* in this step's interval, and on the segment (a rounded (s + 1) h may
-                         * pass ℓ before the last step) */
-                        if (!(tp >= t0) || !(last ? tp <= t1 : tp < t1) || !(tp <= seg.length)) continue;
-                        const float wx = vx - tp * seg.dx, wy = vy - tp * seg.dy, wz = vz - tp * seg.dz;
-                        const float d2 = wx * wx + wy * wy + wz * wz;
-                        if (!(d2 < params.radius2)) continue;
-                        const PclPhoton ph = photons[as_uint(q.w)];
-                        if (!volume_photon_counts(params, ph.packed)) continue;
-                        float k = params.kernelScale;
-                        if (params.kernelShape == PCL_BEAM_KERNEL_BIWEIGHT) {
-                            const float u = 1.0f - d2 / params.radius2;
-                            k = k * (u * u);
-                        }
-                        const PclV3 w = photon_dir_decode(ph.packed);
-                        const float mu = w.x * seg.dx + w.y * seg.dy + w.z * seg.dz;
-                        const float kp = k * volume_hg(mu, m.g);
-                        float phi[3];
-                        photon_rgbe_decode(ph.rgbe, &phi[0], &phi[1], &phi[2]);
-                        for (int c = 0; c < 3; ++c) {
-                            const float tr = sigmaT[c] > 0.0f ? exp(-sigmaT[c] * tp) : 1.0f;
-                            l[c] += kp * tr * phi[c];
-                        }
-                    }
-                }
+    const float o[3] = {seg.ox, seg.oy, seg.oz}, d[3] = {seg.dx, seg.dy, seg.dz};
+    const float origin[3] = {params.ox, params.oy, params.oz};
+    const float adx = fabs(seg.dx), ady = fabs(seg.dy), adz = fabs(seg.dz);
+    const int a = (adx >= ady && adx >= adz) ? 0 : (ady >= adz ? 1 : 2);
+    const int b = a == 0 ? 1 : 0, c2 = a == 2 ? 1 : 2;
+    const float e = o[a] + seg.length * d[a];
+    const int s0 = volume_grid_coord(fmin(o[a], e) - r, origin[a], params.invCellSize);
+    const int s1 = volume_grid_coord(fmax(o[a], e) + r, origin[a], params.invCellSize);
+    /* The dominant component is at least 1/√3 of a unit vector: never 0 on a segment that moves. */
+    const float invDa = 1.0f / d[a];
+    for (int sa = s0; sa <= s1; ++sa) {
+        /* The slab [A0, A1]; the segment's stretch whose dominant coordinate is within r of it. */
+        const float A0 = origin[a] + (float)sa * params.cellSize, A1 = A0 + params.cellSize;
+        float tA = (A0 - r - o[a]) * invDa, tB = (A1 + r - o[a]) * invDa;
+        if (tA > tB) {
+            const float tmp = tA;
+            tA = tB;
+            tB = tmp;
+        }
+        tA = fmax(tA, 0.0f);
+        tB = fmin(tB, seg.length);
+        if (!(tA <= tB)) continue;
+        const float pb0 = o[b] + tA * d[b], pb1 = o[b] + tB * d[b];
+        const float pc0 = o[c2] + tA * d[c2], pc1 = o[c2] + tB * d[c2];
+        const int b0 = volume_grid_coord(fmin(pb0, pb1) - r, origin[b], params.invCellSize);
+        const int b1 = volume_grid_coord(fmax(pb0, pb1) + r, origin[b], params.invCellSize);
+        const int c0 = volume_grid_coord(fmin(pc0, pc1) - r, origin[c2], params.invCellSize);
+        const int c1 = volume_grid_coord(fmax(pc0, pc1) + r, origin[c2], params.invCellSize);
+        for (int ic = c0; ic <= c1; ++ic)
+            for (int ib = b0; ib <= b1; ++ib) {
+                int cell[3];
+                cell[a] = sa;
+                cell[b] = ib;
+                cell[c2] = ic;
+                const uint hash = volume_grid_hash(cell[0], cell[1], cell[2], params.tableSize);
+                const uint end = cellEnd[hash];
+                for (uint j = cellStart[hash]; j < end; ++j)
+                    volume_add_photon(params, seg, m, sigmaT, photons, points[j], cell[0], cell[1], cell[2], l);
+            }
     }
 }
 

@@ -196,7 +196,7 @@ private:
         sortWorkspace(phase, n, 32, n);
     }
 
-    // buildVolumeMap (the photons and their hash grid, cell size 2r) and estimateVolumeRadiance.
+    // buildVolumeMap (the photons and their hash grid, cell size r) and estimateVolumeRadiance.
     void volumeEstimate(const std::string& phase, size_t n) {
         const size_t table = nextPowerOfTwo(std::max<size_t>(n, 1));
         add(phase, "volume estimate: photons", n, sizeof(PclPhoton), 0, 0, n);

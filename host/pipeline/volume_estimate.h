@@ -1,6 +1,6 @@
 // The volume radiance estimate (kernels/volume_estimate.cl; kernels/README.md, "volume_estimate"):
 // the beam radiance estimate of Jarosz, Zwicker & Jensen 2008 along the eye pass's medium
-// segments, from one volume photon map searched through a hash grid of cell size 2r built on the
+// segments, from one volume photon map searched through a hash grid of cell size r built on the
 // device each pass (pipeline/hashgrid). The twin is host/reference/volume_estimate.h.
 //
 //   DeviceVolumeMap map = buildVolumeMap(device, maps.volume, settings.radius);   // once per pass
@@ -21,7 +21,7 @@
 
 namespace pcl {
 
-// A volume map on the device with its hash grid (cell size 2 radius).
+// A volume map on the device with its hash grid (cell size r: volume_estimate.cl walks it in slabs).
 struct DeviceVolumeMap {
     cl::Buffer photons;  // the map, in map order (the kernel reads power, direction and flags)
     DeviceHashGrid grid;
