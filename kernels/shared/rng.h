@@ -34,7 +34,7 @@
 #define PCL_RNG_STREAM_LIGHT 3u
 #define PCL_RNG_STREAM_CAUSTIC 4u
 #define PCL_RNG_STREAM_LIGHT_PATH 5u /* the host reference's light tracer (light path, pass) */
-#define PCL_RNG_STREAM_EYE_MEDIUM 6u /* eye_paths: single scattering along the eye segments in media */
+#define PCL_RNG_STREAM_EYE_MEDIUM 7u /* eye_paths: single scattering along the eye segments in media */
 #define PCL_RNG_STREAM_TEST 0xFFFFFFFFu
 
 /* The high word of a 32x32-bit product, by a 64-bit multiply on both sides rather than OpenCL's
