@@ -170,6 +170,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
     em.eps = params.rayEpsilon;
     int medium = hasMedia ? params.cameraMedium : PCL_NO_MEDIUM;
     uint segmentCount = 0u, crossings = 0u;
+    float travelled = 0.0f; /* media: distance from the last hit to the invisible boundary crossed last */
     for (uint v = 0u; v < params.maxDepth; ++v) {
         const PclRay ray = bvh_ray(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY, tau);
         PclHit hit;
@@ -221,6 +222,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                 /* An invisible boundary: straight on in the medium beyond, not a hit of the chain. */
                 medium = dn < 0.0f ? primMedia[hit.prim].inside : primMedia[hit.prim].outside;
                 o = eye_add_scaled(p, nf, -params.rayEpsilon);
+                travelled = travelled + hit.t;
                 if (++crossings >= PCL_MAX_SEGMENTS) {
                     h.flags = PCL_EYE_TRUNCATED;
                     break;
@@ -236,9 +238,10 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
         if (dn < 0.0f) {
             float wE = 1.0f;
             const uint l = lightOfPrim[hit.prim];
+            const float r = travelled + hit.t; /* from the glossy hit, across invisible boundaries */
             if (pdfLobe > 0.0f && l != PCL_NO_HIT && params.areaPowerTotal > 0.0f)
                 wE = eye_mis_weight(1u, pdfLobe, 1u, eye_area_light_pdf(lights[l], params.areaPowerTotal, d,
-                                                                        hit.t * hit.t));
+                                                                        r * r));
             for (int c = 0; c < 3; ++c) Le[c] = Le[c] + T[c] * M.emission[c] * wE;
         }
 
@@ -305,6 +308,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                       : 0.0f;
         o = eye_spawn(p, nf, dNew, params.rayEpsilon);
         d = dNew;
+        travelled = 0.0f;
     }
     for (int c = 0; c < 3; ++c) h.emitted[c] = Le[c];
     /* NaN never escapes: a non-finite record becomes an empty one. */

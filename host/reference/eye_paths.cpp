@@ -112,6 +112,7 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
     int32_t medium = hasMedia ? params.cameraMedium : PCL_NO_MEDIUM;
     std::vector<PclVolumeSegment> recorded;
     uint32_t crossings = 0;
+    float travelled = 0.0f;  // media: distance from the last hit to the invisible boundary crossed last
     for (uint32_t v = 0; v < params.maxDepth; ++v) {
         PclHit hit;
         const bool found = geometry.intersect(eyeRay(o, d, kInfinity, ray.time), hit);
@@ -157,6 +158,7 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
                 // An invisible boundary: straight on in the medium beyond, not a hit of the chain.
                 medium = dn < 0.0f ? buffers.primMedia[hit.prim].inside : buffers.primMedia[hit.prim].outside;
                 o = p + nf * -params.rayEpsilon;
+                travelled = travelled + hit.t;
                 if (++crossings >= PCL_MAX_SEGMENTS) {
                     h.flags = PCL_EYE_TRUNCATED;
                     break;
@@ -170,9 +172,9 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
         if (dn < 0.0f) {  // a triangle light found by a glossy lobe: MIS with that hit's light sample
             float wE = 1.0f;
             const uint32_t l = table.lightOfPrim[hit.prim];
+            const float r = travelled + hit.t;  // from the glossy hit, across invisible boundaries
             if (pdfLobe > 0.0f && l != PCL_NO_HIT && params.areaPowerTotal > 0.0f)
-                wE = eyeMisWeight(1, pdfLobe, 1,
-                                  eyeAreaLightPdf(buffers.lights[l], params.areaPowerTotal, d, hit.t * hit.t));
+                wE = eyeMisWeight(1, pdfLobe, 1, eyeAreaLightPdf(buffers.lights[l], params.areaPowerTotal, d, r * r));
             Le = Le + T * eyeVec(m.emission) * wE;
         }
         const float pd = eyeDiffuseProbability(m);
@@ -236,6 +238,7 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
                       : 0.0f;
         o = p + nf * (dot(dNew, nf) > 0.0f ? buffers.rayEpsilon : -buffers.rayEpsilon);
         d = dNew;
+        travelled = 0.0f;
     }
     h.emitted[0] = Le.x;
     h.emitted[1] = Le.y;

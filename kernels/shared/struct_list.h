@@ -29,6 +29,7 @@
     X(PclIrradiancePoint)     \
     X(PclCameraParams)        \
     X(PclEyeParams)           \
+    X(PclVolumeSegment)       \
     X(PclEyeHit)              \
     X(PclRadiance)            \
     X(PclDirectParams)        \
