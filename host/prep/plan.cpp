@@ -276,8 +276,9 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
 
     plan.volumeMap = lp.volume;
     plan.volumePhotons = plan.volumeMap ? settings.volumePhotons : 0;
-    plan.reasons.push_back(plan.volumeMap  ? "light scatters in media (L(S|D|V)*V(S|D|V)*E): volume photons at "
-                                             "scattering events (not built yet: only --method path renders media)"
+    plan.reasons.push_back(plan.volumeMap  ? "light scatters in media (L(S|D|V)*V(S|D|V)*E): volume photons at the "
+                                             "photon passes' scattering events, read along the eye's medium "
+                                             "segments (progressive, direct; fg does not carry media yet)"
                            : lp.media == 0 ? "no participating media"
                                            : "media absorb only: no scattering events to store photons at");
     return plan;

@@ -47,9 +47,10 @@ TEST(MediaRenderAccuracy, ProgressiveMatchesTheMediaReferences) {
         const PhotonRenderResult r = test::render(*p, s);
         const Image img = r.film.resolve();
         const ImageErrors e = compare(img, ref);
-        std::printf("[figure] %s progressive (64 wide, 8 passes x 4 spp, 50k+50k photons, %.1f s, volume stage %.1f s): "
-                    "%s\n",
-                    name.c_str(), r.times.total, r.times.volume, formatErrors(e).c_str());
+        std::printf(
+            "[figure] %s progressive (64 wide, 8 passes x 4 spp, 50k+50k photons, %.1f s, volume stage %.1f s): "
+            "%s\n",
+            name.c_str(), r.times.total, r.times.volume, formatErrors(e).c_str());
         EXPECT_NEAR(e.meanRatio, 1.0, 0.02) << name;
         EXPECT_LT(e.relMse, 0.05) << name;
         expectFinite(r, img, name);
@@ -77,7 +78,8 @@ TEST(MediaRenderAccuracy, DeviceAndTwinRenderTheSameMediaImage) {
             }
             TwinRenderStages stages(p->scene, *p->geometry, p->buffers);
             SharedPhotonStages replaying(stages, photons, SharedPhotonStages::Mode::Replay);
-            const Image tw = renderPhotonMapped(replaying, p->scene, *p->geometry, p->buffers, p->plan, s).film.resolve();
+            const Image tw =
+                renderPhotonMapped(replaying, p->scene, *p->geometry, p->buffers, p->plan, s).film.resolve();
             size_t close = 0;
             double worst = 0.0, sumD = 0.0, sumT = 0.0;
             for (size_t i = 0; i < device.rgb.size(); ++i) {

@@ -214,6 +214,19 @@ TEST_F(CliTest, CheckPhotonStagesPassOnAShippedScene) {
     EXPECT_NE(r.output.find("stage estimate (precomputed irradiance): PASSED"), std::string::npos) << r.output;
 }
 
+// A scene with media renders progressive when --method is not given (fg's gather rays do not
+// carry media yet: --method fg exits 2 with the reason); progressive renders it, finite.
+TEST_F(CliTest, RenderPicksProgressiveForMediaAndFgRefusesThem) {
+    const std::string out = (dir / "fog.exr").string();
+    Result r = run("render " + scene("media/cornell-fog.json") +
+                   " --width 16 --passes 1 --global-photons 5000 --caustic-photons 5000 -o " + out);
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("method progressive: the scene has participating media"), std::string::npos) << r.output;
+    r = run("render " + scene("media/cornell-fog.json") + " --method fg --width 16 --passes 1 -o " + out);
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("--method fg (fg's gather rays do not carry media yet)"), std::string::npos) << r.output;
+}
+
 // volume_estimate reads the volume maps of a scene with media (and passes there); it refuses a
 // scene without a medium (exit 2), and the other eye-pass stages still refuse media.
 TEST_F(CliTest, CheckVolumeEstimateAcceptsMediaOnly) {

@@ -206,7 +206,7 @@ TEST(MediumScene, BoundariesNameTheMediumOnEitherSide) {
     EXPECT_EQ(b2.cameraMedium, 1);
 }
 
-TEST(MediumScene, PhotonMethodsRefuseMedia) {
+TEST(MediumScene, FinalGatherRefusesMedia) {
     Scene s = load(mediaScene());
     try {
         refuseMediaWithoutPathTracer(s, "--method fg");
@@ -214,7 +214,7 @@ TEST(MediumScene, PhotonMethodsRefuseMedia) {
     } catch (const InputError& e) {
         const std::string msg = e.what();
         for (const char* f : {"media.json: medium: expected a scene without participating media for --method fg",
-                              "media are rendered only by --method path for now", "\"fog\" (global)",
+                              "media are rendered by --method progressive, direct and path", "\"fog\" (global)",
                               "\"milk\" in ball", "\"smoke\" in cube"})
             EXPECT_NE(msg.find(f), std::string::npos) << f << " in: " << msg;
     }
