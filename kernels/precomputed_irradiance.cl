@@ -164,6 +164,8 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
     uint stackNode[PCL_IRRADIANCE_STACK];
     float stackD[PCL_IRRADIANCE_STACK];
     uint sp = 0u;
+    uint pathNode[PCL_IRRADIANCE_STACK];
+    uint pathLength = 0u;
     uint node = (n > 0u && q.maxRadius2 >= 0.0f) ? 0u : n;
     for (;;) {
         while (node < n) {
@@ -197,10 +199,8 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
                 break;
             }
             const __global PclIrradiancePoint* p = nodes + node;
-            const float px = p->x, py = p->y, pz = p->z;
-            const uint w = p->photon;
-            const uint axis = w >> PCL_IRRADIANCE_AXIS_SHIFT;
-            const float diff = axis == 0u ? q.x - px : (axis == 1u ? q.y - py : q.z - pz);
+            const uint axis = p->photon >> PCL_IRRADIANCE_AXIS_SHIFT;
+            const float diff = axis == 0u ? q.x - p->x : (axis == 1u ? q.y - p->y : q.z - p->z);
             const uint left = 2u * node + 1u;
             const uint nearChild = diff < 0.0f ? left : left + 1u;
             const uint farChild = diff < 0.0f ? left + 1u : left;
@@ -210,18 +210,25 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
                 stackD[sp] = planeD2;
                 ++sp;
             }
-            const float d = irradiance_dist2(px, py, pz, q.x, q.y, q.z);
-            const uint photon = w & PCL_IRRADIANCE_INDEX_MASK;
-            if ((d < bestD2 || (d == bestD2 && photon < bestPhoton)) && d <= nodeCover[node]) {
+            pathNode[pathLength++] = node;
+            node = nearChild;
+        }
+        /* The descent's own points, deepest first: tested after the bucket below them, most
+         * fail on d² against its bound before their cover and normal are read. */
+        while (pathLength > 0u) {
+            const uint h = pathNode[--pathLength];
+            const __global PclIrradiancePoint* p = nodes + h;
+            const float d = irradiance_dist2(p->x, p->y, p->z, q.x, q.y, q.z);
+            const uint photon = p->photon & PCL_IRRADIANCE_INDEX_MASK;
+            if ((d < bestD2 || (d == bestD2 && photon < bestPhoton)) && d <= nodeCover[h]) {
                 const PclV3 np = photon_normal_decode(p->normal);
                 const float c = (np.x * q.nx + np.y * q.ny) + np.z * q.nz;
                 if (c >= minNormalCos) {
                     bestD2 = d;
-                    best = node;
+                    best = h;
                     bestPhoton = photon;
                 }
             }
-            node = nearChild;
         }
         node = n;
         while (sp > 0u) {
