@@ -29,7 +29,11 @@
  *                                     z, cover, decoded normal x, y, z, then photon index and
  *                                     heap node (uint bits)
  * precomputed_irradiance_lookup  in:  nodes[n], nodeCover[n] (the packed tree), bucketFirst,
- *                                     buckets, queries[q], minNormalCos
+ *                                     buckets, queries[q], minNormalCos, zeroRadiusIsNone (1: a
+ *                                     query with maxRadius2 = 0 is no query, answered "none"
+ *                                     without a search: the final gather's rays without a
+ *                                     diffuse hit, a third of cornell-box's; 0: it finds a point
+ *                                     at d² = 0)
  *                                out: irradiance[q] = (r, g, b, d²) of the nearest node within
  *                                     maxRadius2 that covers the query and whose normal agrees,
  *                                     (0, 0, 0, 0) when none; chosen[q] = its photon index,
@@ -153,8 +157,8 @@ __kernel void precomputed_irradiance_buckets(__global const PclIrradiancePoint* 
 __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* nodes, __global const float* nodeCover,
                                             uint n, uint bucketFirst, __global const float* buckets,
                                             __global const PclEstimateQuery* queries, uint queryCount,
-                                            float minNormalCos, __global float4* irradiance,
-                                            __global uint* chosen) {
+                                            float minNormalCos, uint zeroRadiusIsNone,
+                                            __global float4* irradiance, __global uint* chosen) {
     const uint qi = (uint)get_global_id(0);
     if (qi >= queryCount) return;
     const PclEstimateQuery q = queries[qi];
@@ -166,7 +170,8 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
     uint sp = 0u;
     uint pathNode[PCL_IRRADIANCE_STACK];
     uint pathLength = 0u;
-    uint node = (n > 0u && q.maxRadius2 >= 0.0f) ? 0u : n;
+    const bool search = zeroRadiusIsNone ? q.maxRadius2 > 0.0f : q.maxRadius2 >= 0.0f;
+    uint node = (n > 0u && search) ? 0u : n;
     for (;;) {
         while (node < n) {
             if (node >= bucketFirst) {
