@@ -51,7 +51,8 @@
  * ((px−qx)² + (py−qy)²) + (pz−qz)² without contraction, as in knn.cl. A reached bucket is
  * tested whole with float8 arithmetic (the same d², cover and normal tests on all 8 slots, then
  * the accepted slots in order): a superset of what the node-by-node descent tests, so the same
- * point wins. */
+ * point wins. The upper nodes a descent passes are tested after the bucket it reaches (deepest
+ * first), when the bound is tight: the winner does not depend on the order of the tests. */
 #pragma OPENCL FP_CONTRACT OFF
 #include "shared/types.h"
 #include "shared/sampling.h"
