@@ -29,7 +29,11 @@
  *                                     z, cover, decoded normal x, y, z, then photon index and
  *                                     heap node (uint bits)
  * precomputed_irradiance_lookup  in:  nodes[n], nodeCover[n] (the packed tree), bucketFirst,
- *                                     buckets, queries[q], minNormalCos
+ *                                     buckets, queries[q], minNormalCos, zeroRadiusIsNone (1: a
+ *                                     query with maxRadius2 = 0 is no query, answered "none"
+ *                                     without a search: the final gather's rays without a
+ *                                     diffuse hit, a third of cornell-box's; 0: it finds a point
+ *                                     at d² = 0)
  *                                out: irradiance[q] = (r, g, b, d²) of the nearest node within
  *                                     maxRadius2 that covers the query and whose normal agrees,
  *                                     (0, 0, 0, 0) when none; chosen[q] = its photon index,
@@ -47,7 +51,8 @@
  * ((px−qx)² + (py−qy)²) + (pz−qz)² without contraction, as in knn.cl. A reached bucket is
  * tested whole with float8 arithmetic (the same d², cover and normal tests on all 8 slots, then
  * the accepted slots in order): a superset of what the node-by-node descent tests, so the same
- * point wins. */
+ * point wins. The upper nodes a descent passes are tested after the bucket it reaches (deepest
+ * first), when the bound is tight: the winner does not depend on the order of the tests. */
 #pragma OPENCL FP_CONTRACT OFF
 #include "shared/types.h"
 #include "shared/sampling.h"
@@ -153,8 +158,8 @@ __kernel void precomputed_irradiance_buckets(__global const PclIrradiancePoint* 
 __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* nodes, __global const float* nodeCover,
                                             uint n, uint bucketFirst, __global const float* buckets,
                                             __global const PclEstimateQuery* queries, uint queryCount,
-                                            float minNormalCos, __global float4* irradiance,
-                                            __global uint* chosen) {
+                                            float minNormalCos, uint zeroRadiusIsNone,
+                                            __global float4* irradiance, __global uint* chosen) {
     const uint qi = (uint)get_global_id(0);
     if (qi >= queryCount) return;
     const PclEstimateQuery q = queries[qi];
@@ -164,7 +169,10 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
     uint stackNode[PCL_IRRADIANCE_STACK];
     float stackD[PCL_IRRADIANCE_STACK];
     uint sp = 0u;
-    uint node = (n > 0u && q.maxRadius2 >= 0.0f) ? 0u : n;
+    uint pathNode[PCL_IRRADIANCE_STACK];
+    uint pathLength = 0u;
+    const bool search = zeroRadiusIsNone ? q.maxRadius2 > 0.0f : q.maxRadius2 >= 0.0f;
+    uint node = (n > 0u && search) ? 0u : n;
     for (;;) {
         while (node < n) {
             if (node >= bucketFirst) {
@@ -197,10 +205,8 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
                 break;
             }
             const __global PclIrradiancePoint* p = nodes + node;
-            const float px = p->x, py = p->y, pz = p->z;
-            const uint w = p->photon;
-            const uint axis = w >> PCL_IRRADIANCE_AXIS_SHIFT;
-            const float diff = axis == 0u ? q.x - px : (axis == 1u ? q.y - py : q.z - pz);
+            const uint axis = p->photon >> PCL_IRRADIANCE_AXIS_SHIFT;
+            const float diff = axis == 0u ? q.x - p->x : (axis == 1u ? q.y - p->y : q.z - p->z);
             const uint left = 2u * node + 1u;
             const uint nearChild = diff < 0.0f ? left : left + 1u;
             const uint farChild = diff < 0.0f ? left + 1u : left;
@@ -210,18 +216,25 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
                 stackD[sp] = planeD2;
                 ++sp;
             }
-            const float d = irradiance_dist2(px, py, pz, q.x, q.y, q.z);
-            const uint photon = w & PCL_IRRADIANCE_INDEX_MASK;
-            if ((d < bestD2 || (d == bestD2 && photon < bestPhoton)) && d <= nodeCover[node]) {
+            pathNode[pathLength++] = node;
+            node = nearChild;
+        }
+        /* The descent's own points, deepest first: tested after the bucket below them, most
+         * fail on d² against its bound before their cover and normal are read. */
+        while (pathLength > 0u) {
+            const uint h = pathNode[--pathLength];
+            const __global PclIrradiancePoint* p = nodes + h;
+            const float d = irradiance_dist2(p->x, p->y, p->z, q.x, q.y, q.z);
+            const uint photon = p->photon & PCL_IRRADIANCE_INDEX_MASK;
+            if ((d < bestD2 || (d == bestD2 && photon < bestPhoton)) && d <= nodeCover[h]) {
                 const PclV3 np = photon_normal_decode(p->normal);
                 const float c = (np.x * q.nx + np.y * q.ny) + np.z * q.nz;
                 if (c >= minNormalCos) {
                     bestD2 = d;
-                    best = node;
+                    best = h;
                     bestPhoton = photon;
                 }
             }
-            node = nearChild;
         }
         node = n;
         while (sp > 0u) {

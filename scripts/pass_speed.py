@@ -9,11 +9,14 @@ for the Cornell boxes; --fg-options adds options to fg, so two versions whose fg
 can be timed on the same work) and the same seed by both binaries, old then new, `--runs` times, so load
 on the machine falls on both alike. Per run it reads the render's "time by stage" table and
 divides by the passes. Prints (and with --out writes) a Markdown table: the median seconds per
-pass of each binary, their ratio, and the median seconds per pass of each stage.
+pass of each binary, their ratio, the median CPU seconds per pass (user + system of the render
+process, all its threads: steadier than wall time when other jobs share the cores) and their
+ratio, and the median seconds per pass of each stage.
 Exit status 0, or 2 on bad arguments or a render that fails (its log is printed).
 """
 import argparse
 import os
+import resource
 import re
 import shlex
 import statistics
@@ -30,7 +33,10 @@ ROW = re.compile(r"^\s+(photon pass|maps|camera|eye paths|direct light|caustics|
 def render(binary, scene, method, passes, out, extra=()):
     cmd = [binary, "render", scene, "--method", method, "--passes", str(passes), "--seed", "1", "--no-png", "-o", out]
     cmd += list(extra)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     p = subprocess.run(cmd, capture_output=True, text=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     if p.returncode != 0:
         sys.stderr.write(f"pass_speed: {' '.join(cmd)} failed ({p.returncode}):\n{p.stderr}\n")
         sys.exit(2)
@@ -39,6 +45,7 @@ def render(binary, scene, method, passes, out, extra=()):
         m = ROW.match(line)
         if m:
             times[m.group(1)] = float(m.group(2)) / passes
+    times["cpu"] = cpu / passes
     missing = [s for s in STAGES if s not in times]
     if missing:
         sys.stderr.write(f"pass_speed: no time for {missing} in the log of {' '.join(cmd)}:\n{p.stderr}\n")
@@ -70,8 +77,9 @@ def main():
         return 2
     scenes = [os.path.join(root, "scenes", s) for s in o.scenes.split(",")]
     methods = o.methods.split(",")
-    lines = ["| scene | method | old s/pass | new s/pass | old / new | stage (old → new, s/pass) |",
-             "|---|---|---|---|---|---|"]
+    lines = ["| scene | method | old s/pass | new s/pass | old / new | old CPU s/pass | new CPU s/pass | old / new CPU | "
+             "stage (old → new, s/pass) |",
+             "|---|---|---|---|---|---|---|---|---|"]
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "pass.exr")
         for scene in scenes:
@@ -82,13 +90,16 @@ def main():
                         runs[which].append(render(binary, scene, method, o.passes, out,
                                                   shlex.split(o.fg_options) if method == "fg" else ()))
                         sys.stderr.write(f"pass_speed: {os.path.basename(scene)} {method} run {r + 1} {which}: "
-                                         f"{runs[which][-1]['total']:.3f} s/pass\n")
-                med = {w: {s: statistics.median(t[s] for t in runs[w]) for s in STAGES} for w in runs}
+                                         f"{runs[which][-1]['total']:.3f} s/pass, "
+                                         f"{runs[which][-1]['cpu']:.3f} CPU s/pass\n")
+                med = {w: {s: statistics.median(t[s] for t in runs[w]) for s in STAGES + ["cpu"]} for w in runs}
                 stages = ", ".join(f"{s} {med['old'][s]:.3f} → {med['new'][s]:.3f}" for s in STAGES[:-1]
                                    if med["old"][s] >= 0.0005 or med["new"][s] >= 0.0005)
                 ratio = med["old"]["total"] / med["new"]["total"] if med["new"]["total"] > 0 else float("inf")
+                cpuRatio = med["old"]["cpu"] / med["new"]["cpu"] if med["new"]["cpu"] > 0 else float("inf")
                 lines.append(f"| {os.path.basename(scene)} | {method} | {med['old']['total']:.3f} | "
-                             f"{med['new']['total']:.3f} | {ratio:.2f} | {stages} |")
+                             f"{med['new']['total']:.3f} | {ratio:.2f} | {med['old']['cpu']:.3f} | "
+                             f"{med['new']['cpu']:.3f} | {cpuRatio:.2f} | {stages} |")
     text = "\n".join(lines) + f"\n\n{o.runs} runs each, interleaved, {o.passes} passes, seed 1, median per pass.\n"
     print(text)
     if o.out:

@@ -31,7 +31,9 @@ std::shared_ptr<IrradianceSource> precomputedIrradianceSource(const DeviceIrradi
     src->evaluate = [&map, self](Device& device, const cl::Buffer& queries, size_t count) {
         DeviceIrradianceLookup out;
         if (count == 0) return device.allocate<float>(4, CL_MEM_READ_WRITE, "irradiance: lookups");
-        self->seconds += lookupIrradiance(device, map, queries, count, out);
+        // maxRadius2 = 0 marks no query here (a gather ray without a diffuse hit): skipping
+        // their searches saved a sixth to a third of the lookups' time on cornell-box.
+        self->seconds += lookupIrradiance(device, map, queries, count, out, true);
         return out.irradiance;
     };
     return src;

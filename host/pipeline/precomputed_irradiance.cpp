@@ -176,18 +176,19 @@ std::vector<float> downloadIrradianceCover(Device& device, const DeviceIrradianc
 }
 
 double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl::Buffer& queries, size_t queryCount,
-                        DeviceIrradianceLookup& out) {
+                        DeviceIrradianceLookup& out, bool zeroRadiusIsNone) {
     if (out.queries != queryCount || queryCount == 0) {
         out.irradiance = device.allocate<cl_float4>(queryCount, CL_MEM_READ_WRITE, "precomputed irradiance: lookups");
         out.chosen = device.allocate<uint32_t>(queryCount, CL_MEM_READ_WRITE, "precomputed irradiance: chosen points");
         out.queries = queryCount;
     }
     if (queryCount == 0) return 0.0;
-    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl_uint, cl_float,
+    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl_uint, cl_float, cl_uint,
                            cl::Buffer, cl::Buffer>(kStage, "precomputed_irradiance_lookup");
     cl::Event e = device.launchLocal(kStage, k, wholeWorkGroups(queryCount), workGroup(), map.nodes, map.nodeCover,
                                      cl_uint(map.count), cl_uint(map.bucketFirst), map.buckets, queries,
-                                     cl_uint(queryCount), cl_float(map.minNormalCos), out.irradiance, out.chosen);
+                                     cl_uint(queryCount), cl_float(map.minNormalCos), cl_uint(zeroRadiusIsNone ? 1 : 0),
+                                     out.irradiance, out.chosen);
     e.wait();
     return Device::elapsedSeconds(e);
 }

@@ -113,8 +113,10 @@ struct DeviceIrradianceLookup {
 // For each of `queryCount` PclEstimateQuery (x, y, z, maxRadius2, unit normal; k unused) the
 // nearest stored point within maxRadius2 (usually the estimate's r_max²) whose cover holds the
 // query and whose normal agrees. Allocates `out` (reused when it
-// already holds queryCount); returns the kernel's device seconds.
+// already holds queryCount); returns the kernel's device seconds. zeroRadiusIsNone: a query
+// with maxRadius2 = 0 is answered "none" (0, PCL_NO_HIT) without a search, as IrradianceSource
+// asks (the final gather's rays without a diffuse hit); otherwise it finds a point at d² = 0.
 double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl::Buffer& queries, size_t queryCount,
-                        DeviceIrradianceLookup& out);
+                        DeviceIrradianceLookup& out, bool zeroRadiusIsNone = false);
 
 }  // namespace pcl

@@ -187,6 +187,15 @@ TEST(PrecomputedIrradiance, EmptyAndSinglePointMaps) {
     EXPECT_EQ(lookupIrradianceOnDevice(device, one, {q}).chosen[0], PCL_NO_HIT);
     q.x = 0.5f, q.nz = 1.0f, q.maxRadius2 = 0.0f;  // radius 0 at the point itself
     EXPECT_EQ(lookupIrradianceOnDevice(device, one, {q}).chosen[0], 8u);
+    // ... unless radius 0 marks no query (IrradianceSource's contract, the final gather's rays
+    // without a diffuse hit): then none, 0, without a search.
+    DeviceIrradianceLookup out;
+    lookupIrradiance(device, one, device.upload(std::vector<PclEstimateQuery>{q}), 1, out, true);
+    EXPECT_EQ(device.download<uint32_t>(out.chosen, 1)[0], PCL_NO_HIT);
+    EXPECT_EQ(device.download<float>(out.irradiance, 4), std::vector<float>(4, 0.0f));
+    q.maxRadius2 = 1e-6f;  // any positive radius searches as before
+    lookupIrradiance(device, one, device.upload(std::vector<PclEstimateQuery>{q}), 1, out, true);
+    EXPECT_EQ(device.download<uint32_t>(out.chosen, 1)[0], 8u);
 
     // Precomputation on tiny maps: nothing to select; one point and no other photon (it reads
     // 0); one point estimated from two others (the twin's value).
