@@ -100,6 +100,24 @@ std::vector<PclPhoton> indirectPhotons(const std::vector<PclPhoton>& global) {
     return out;
 }
 
+// The volume photons the eye pass reads: single scattering (bounce 0) is the eye pass's
+// next-event estimation, and with a volume caustic map the global volume map leaves the L S+ V
+// photons to it (the global pass stores those events too). Dropped before the grid is built, so
+// the beam search neither scans them nor sizes its radius by them.
+void keepCountedVolumePhotons(PassPhotons& p) {
+    const bool causticVolume = !p.volumeCaustic.empty();
+    auto counted = [&](const PclPhoton& ph, bool skipSpecular) {
+        if (((ph.packed >> PCL_PHOTON_BOUNCE_SHIFT) & 255u) == 0u) return false;
+        return !(skipSpecular && (ph.packed & PCL_PHOTON_AFTER_SPECULAR) && !(ph.packed & PCL_PHOTON_AFTER_DIFFUSE));
+    };
+    auto keep = [&](std::vector<PclPhoton>& v, bool skipSpecular) {
+        v.erase(std::remove_if(v.begin(), v.end(), [&](const PclPhoton& ph) { return !counted(ph, skipSpecular); }),
+                v.end());
+    };
+    keep(p.volume, causticVolume);
+    keep(p.volumeCaustic, false);
+}
+
 bool finite(const PclRadiance& r) { return std::isfinite(r.r) && std::isfinite(r.g) && std::isfinite(r.b); }
 
 // One render: each pass traces fresh photons, decides how its maps are read and runs the eye
@@ -176,7 +194,9 @@ private:
 
 // 1. Photons: a fresh pass, the pass index in its seed.
 PassPhotons PhotonRenderer::tracePhotons(uint32_t pass) {
-    return stages_.tracePhotons(photonPassOptions(s_, plan_, pass));
+    PassPhotons p = stages_.tracePhotons(photonPassOptions(s_, plan_, pass));
+    if (maps_.volume) keepCountedVolumePhotons(p);
+    return p;
 }
 
 // Progressive r_0: about progressiveK0 photons in the first disc at the mean density of pass 0's
@@ -187,8 +207,8 @@ double PhotonRenderer::firstRadius2(const PassPhotons& pass0) const {
     return std::min(double(maxRadius_) * maxRadius_, s_.progressiveK0 / (kPiD * lambda));
 }
 
-// The volume maps' r_0 (prep/volume_estimate_settings.h, defaultVolumeRadius): about 32 photons in
-// a ball where the eye looks, from pass 0's map; a map with too few photons for that takes the
+// The volume maps' r_0 (prep/volume_estimate_settings.h, defaultVolumeRadius): about 32 of the
+// photons the estimate counts in a ball where the eye looks, from pass 0's map; a map with too few photons for that takes the
 // surface maps' largest radius (logged).
 void PhotonRenderer::firstVolumeRadii(const PassPhotons& pass0) {
     const std::vector<PclPhoton>* maps[2] = {&pass0.volume, &pass0.volumeCaustic};
@@ -240,9 +260,8 @@ void PhotonRenderer::specifyMaps(const PassPhotons& photons, float radius2, Pass
             g.estimate = hinted(photons.global.size(), s_.globalK);
         }
     }
-    // Media: the beam radiance estimate along the eye's medium segments, single scattering left to
-    // the eye pass's next-event estimation; with a volume caustic map the global volume map
-    // leaves the L S+ V photons to it (the global pass stores those events too).
+    // Media: the beam radiance estimate along the eye's medium segments over the photons
+    // keepCountedVolumePhotons kept (the skip flags say the same to the estimate).
     if (maps_.volume) {
         const bool causticVolume = !photons.volumeCaustic.empty();
         auto volume = [&](const std::vector<PclPhoton>& v, float r2, bool skipSpecular, VolumeMapSpec& out) {
