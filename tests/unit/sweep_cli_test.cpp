@@ -100,7 +100,7 @@ TEST_F(SweepCliTest, QuickSweepWritesEveryMethodsCurveAndCharts) {
         "scene",          "curve",           "method",          "variant_settings",  "device",
         "seed",           "passes",          "samples_per_pixel", "seconds",         "seconds_photons",
         "seconds_maps",   "seconds_camera",  "seconds_eye_paths", "seconds_direct",  "seconds_caustic",
-        "seconds_indirect", "seconds_accumulate", "rmse",          "relmse",          "mean_ratio",
+        "seconds_indirect", "seconds_volume", "seconds_accumulate", "rmse",        "relmse",          "mean_ratio",
         "max_error",      "mse",             "bias2",           "variance"};
     // clang-format on
     EXPECT_EQ(table.header, expected);
@@ -169,6 +169,33 @@ TEST_F(SweepCliTest, QuickSweepWritesEveryMethodsCurveAndCharts) {
         EXPECT_GT(fs::file_size(dir / png), 5000u) << png;
     }
     EXPECT_TRUE(fs::exists(dir / "winners.md"));
+}
+
+// A scene with media: the fg curves are left out (said on stderr) and refused when named; the
+// path tracer and progressive run, progressive's volume stage timed.
+TEST_F(SweepCliTest, MediaSweepLeavesFgOut) {
+    const std::string scene = source("scenes/media/cornell-fog.json"), ref = source("tests/data/ref-cornell-fog.exr");
+    Result fg = run("sweep " + scene + " --reference " + ref + " --quick --curves fg-precomputed -o " + dir.string());
+    EXPECT_EQ(fg.status, 2) << fg.output;
+    EXPECT_NE(fg.output.find("sweep curve fg-precomputed (fg's gather rays do not carry media yet)"), std::string::npos)
+        << fg.output;
+    Result r = run("sweep " + scene + " --reference " + ref +
+                   " --quick --curves path,progressive,fg-precomputed --max-seconds 1 -o " + dir.string());
+    EXPECT_EQ(r.status, 2) << r.output;  // named: refused
+    r = run("sweep " + scene + " --reference " + ref + " --quick --max-seconds 1 -o " + dir.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("fg curve(s) left out"), std::string::npos) << r.output;
+    Csv table = readCsv(dir / "sweep-cornell-fog.csv");
+    std::map<std::string, int> rows;
+    double volumeSeconds = 0.0;
+    for (const auto& row : table.rows) {
+        ++rows[row.at("curve")];
+        if (row.at("curve") == "progressive") volumeSeconds += std::stod(row.at("seconds_volume"));
+    }
+    EXPECT_GT(rows["path"], 0);
+    EXPECT_GT(rows["progressive"], 0);
+    for (const auto& [curve, n] : rows) EXPECT_EQ(curve.rfind("fg", 0), std::string::npos) << curve;
+    EXPECT_GT(volumeSeconds, 0.0);
 }
 
 TEST_F(SweepCliTest, ClearErrors) {
