@@ -53,16 +53,17 @@ inline int volume_photon_counts(const PclVolumeEstimateParams params, uint packe
 inline void volume_add_photon(const PclVolumeEstimateParams params, const PclVolumeSegment seg, const PclMedium m,
                               const float sigmaT[3], __global const PclPhoton* photons, const float4 q, int ix, int iy,
                               int iz, float l[3]) {
-    if (volume_grid_coord(q.x, params.ox, params.invCellSize) != ix ||
-        volume_grid_coord(q.y, params.oy, params.invCellSize) != iy ||
-        volume_grid_coord(q.z, params.oz, params.invCellSize) != iz)
-        return;
     const float vx = q.x - seg.ox, vy = q.y - seg.oy, vz = q.z - seg.oz;
     const float tp = vx * seg.dx + vy * seg.dy + vz * seg.dz;
     if (!(tp >= 0.0f) || !(tp <= seg.length)) return;
     const float wx = vx - tp * seg.dx, wy = vy - tp * seg.dy, wz = vz - tp * seg.dz;
     const float d2 = wx * wx + wy * wy + wz * wz;
     if (!(d2 < params.radius2)) return;
+    /* Last, for the few within reach: most candidates fail the cheaper tests above. */
+    if (volume_grid_coord(q.x, params.ox, params.invCellSize) != ix ||
+        volume_grid_coord(q.y, params.oy, params.invCellSize) != iy ||
+        volume_grid_coord(q.z, params.oz, params.invCellSize) != iz)
+        return;
     const PclPhoton ph = photons[as_uint(q.w)];
     if (!volume_photon_counts(params, ph.packed)) return;
     float k = params.kernelScale;
@@ -75,10 +76,14 @@ inline void volume_add_photon(const PclVolumeEstimateParams params, const PclVol
     const float kp = k * volume_hg(mu, m.g);
     float phi[3];
     photon_rgbe_decode(ph.rgbe, &phi[0], &phi[1], &phi[2]);
-    for (int c = 0; c < 3; ++c) {
-        const float tr = sigmaT[c] > 0.0f ? exp(-sigmaT[c] * tp) : 1.0f;
-        l[c] += kp * tr * phi[c];
-    }
+    /* A grey medium (the common case) needs one exponential, not three. */
+    const float tr0 = sigmaT[0] > 0.0f ? exp(-sigmaT[0] * tp) : 1.0f;
+    const bool grey = sigmaT[1] == sigmaT[0] && sigmaT[2] == sigmaT[0];
+    const float tr1 = grey ? tr0 : (sigmaT[1] > 0.0f ? exp(-sigmaT[1] * tp) : 1.0f);
+    const float tr2 = grey ? tr0 : (sigmaT[2] > 0.0f ? exp(-sigmaT[2] * tp) : 1.0f);
+    l[0] += kp * tr0 * phi[0];
+    l[1] += kp * tr1 * phi[1];
+    l[2] += kp * tr2 * phi[2];
 }
 
 /* L of one segment (rgb into l[]). The search walks the grid in slabs of one cell along the
