@@ -12,9 +12,9 @@
  *                                   and per hash the [start, end) of that order
  * out: volume[i]                    Σ_k throughput_k × L_k (rgb; a = 0)
  *
- * The segment is marched in steps of one cell: step s covers t ∈ [s h, min((s+1) h, ℓ)] and
- * reads the cells of its end points' bounding box grown by r; a photon counts in the step whose
- * interval holds its projection t_p, and only through its own cell, so exactly once. */
+ * The grid's cells are of size r; the segment is walked in slabs one cell thick along its
+ * dominant axis (volume_segment_estimate), a photon counts only through its own cell, so at most
+ * once. */
 #pragma OPENCL FP_CONTRACT OFF
 #include "shared/types.h"
 #include "shared/sampling.h"
