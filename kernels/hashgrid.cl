@@ -17,26 +17,15 @@
  * photons. No contraction: the host twin computes the same float products. */
 #pragma OPENCL FP_CONTRACT OFF
 #include "shared/types.h"
-
-#define PCL_GRID_COORD_LIMIT 1.0e9f
-
-inline int grid_coord(float p, float origin, float invCellSize) {
-    const float c = floor((p - origin) * invCellSize);
-    return (int)clamp(c, -PCL_GRID_COORD_LIMIT, PCL_GRID_COORD_LIMIT);
-}
-
-inline uint grid_hash(int ix, int iy, int iz, uint tableSize) {
-    const uint h = ((uint)ix * 73856093u) ^ ((uint)iy * 19349663u) ^ ((uint)iz * 83492791u);
-    return h & (tableSize - 1u);  /* tableSize is a power of two: the same as mod */
-}
+#include "shared/hash_grid.h"
 
 __kernel void hashgrid_keys(const PclGridParams params, __global const PclPhoton* photons,
                             __global uint* keys, __global uint* values) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.photonCount) return;
     const PclPhoton p = photons[i];
-    keys[i] = grid_hash(grid_coord(p.x, params.ox, params.invCellSize), grid_coord(p.y, params.oy, params.invCellSize),
-                        grid_coord(p.z, params.oz, params.invCellSize), params.tableSize);
+    keys[i] = hash_grid_hash(hash_grid_coord(p.x, params.ox, params.invCellSize), hash_grid_coord(p.y, params.oy, params.invCellSize),
+                        hash_grid_coord(p.z, params.oz, params.invCellSize), params.tableSize);
     values[i] = i;
 }
 

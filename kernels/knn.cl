@@ -40,6 +40,7 @@
  * PCL_KNN_CAP (-D, default PCL_KNN_MAX_K): heap capacity, ≥ every query's k. */
 #pragma OPENCL FP_CONTRACT OFF
 #include "shared/types.h"
+#include "shared/hash_grid.h"
 #include "shared/kd_buckets.h"
 
 #ifndef PCL_KNN_CAP
@@ -229,17 +230,6 @@ __kernel void knn_kdtree(__global const float4* nodes, uint n, uint bucketFirst,
     knn_write(&h, qi, stride, counts, indices, dist2, radius2);
 }
 
-inline int knn_grid_coord(float p, float origin, float invCellSize) {
-    /* hashgrid.cl's grid_coord: the same formula, so a photon's cell is found again */
-    const float c = floor((p - origin) * invCellSize);
-    return (int)clamp(c, -PCL_GRID_COORD_LIMIT, PCL_GRID_COORD_LIMIT);
-}
-
-inline uint knn_grid_hash(int ix, int iy, int iz, uint tableSize) {
-    const uint hsh = ((uint)ix * 73856093u) ^ ((uint)iy * 19349663u) ^ ((uint)iz * 83492791u);
-    return hsh & (tableSize - 1u);
-}
-
 __kernel void knn_hashgrid(const PclGridParams g, __global const float4* points, __global const uint* cellStart,
                            __global const uint* cellEnd, __global const PclKnnQuery* queries, uint queryCount,
                            uint stride, __global uint* counts, __global uint* indices, __global float* dist2,
@@ -255,9 +245,9 @@ __kernel void knn_hashgrid(const PclGridParams g, __global const float4* points,
          * relative 1e-4 suffices, the 1e-18 covers d² underflowing for tiny differences. */
         const float r = sqrt(q.maxRadius2) * 1.0001f + 1e-18f;
         const float scale = fmax(fmax(fabs(q.x), fabs(q.y)), fabs(q.z)) + fmax(fmax(fabs(g.ox), fabs(g.oy)), fabs(g.oz));
-        const int x0 = knn_grid_coord(q.x - r, g.ox, g.invCellSize), x1 = knn_grid_coord(q.x + r, g.ox, g.invCellSize);
-        const int y0 = knn_grid_coord(q.y - r, g.oy, g.invCellSize), y1 = knn_grid_coord(q.y + r, g.oy, g.invCellSize);
-        const int z0 = knn_grid_coord(q.z - r, g.oz, g.invCellSize), z1 = knn_grid_coord(q.z + r, g.oz, g.invCellSize);
+        const int x0 = hash_grid_coord(q.x - r, g.ox, g.invCellSize), x1 = hash_grid_coord(q.x + r, g.ox, g.invCellSize);
+        const int y0 = hash_grid_coord(q.y - r, g.oy, g.invCellSize), y1 = hash_grid_coord(q.y + r, g.oy, g.invCellSize);
+        const int z0 = hash_grid_coord(q.z - r, g.oz, g.invCellSize), z1 = hash_grid_coord(q.z + r, g.oz, g.invCellSize);
         /* The cells nearest first, each with a lower bound of its photons' d²: the gap from q to
          * the cell's box in float, less a margin for the rounding of the box (o + ix·cellSize)
          * and of the photons' cell coordinates, ≤ 4e-7 (|p| + |o|). Once that bound exceeds the
@@ -283,7 +273,7 @@ __kernel void knn_hashgrid(const PclGridParams g, __global const float4* points,
                         const float shrunk = fmax(gap - margin, 0.0f);
                         d2 += shrunk * shrunk;
                     }
-                    cellHash[cells] = knn_grid_hash(ix, iy, iz, g.tableSize);
+                    cellHash[cells] = hash_grid_hash(ix, iy, iz, g.tableSize);
                     cellD2[cells] = d2;
                     ++cells;
                 }

@@ -17,20 +17,8 @@
  * once. */
 #pragma OPENCL FP_CONTRACT OFF
 #include "shared/types.h"
+#include "shared/hash_grid.h"
 #include "shared/sampling.h"
-
-#define PCL_VOLUME_COORD_LIMIT 1.0e9f
-
-/* ⌊(p − origin) · invCellSize⌋ clamped to ±1e9, as hashgrid.cl's grid_coord. */
-inline int volume_grid_coord(float p, float origin, float invCellSize) {
-    const float c = floor((p - origin) * invCellSize);
-    return (int)clamp(c, -PCL_VOLUME_COORD_LIMIT, PCL_VOLUME_COORD_LIMIT);
-}
-
-inline uint volume_grid_hash(int ix, int iy, int iz, uint tableSize) {
-    const uint h = ((uint)ix * 73856093u) ^ ((uint)iy * 19349663u) ^ ((uint)iz * 83492791u);
-    return h & (tableSize - 1u);
-}
 
 /* Henyey–Greenstein p(μ) = (1 − g²) / (4π (1 + g² − 2gμ)^{3/2}), the denominator written
  * (1 − g)² + 2g(1 − μ): no cancellation near the forward peak (μ → 1) for g → 1. */
@@ -60,9 +48,9 @@ inline void volume_add_photon(const PclVolumeEstimateParams params, const PclVol
     const float d2 = wx * wx + wy * wy + wz * wz;
     if (!(d2 < params.radius2)) return;
     /* Last, for the few within reach: most candidates fail the cheaper tests above. */
-    if (volume_grid_coord(q.x, params.ox, params.invCellSize) != ix ||
-        volume_grid_coord(q.y, params.oy, params.invCellSize) != iy ||
-        volume_grid_coord(q.z, params.oz, params.invCellSize) != iz)
+    if (hash_grid_coord(q.x, params.ox, params.invCellSize) != ix ||
+        hash_grid_coord(q.y, params.oy, params.invCellSize) != iy ||
+        hash_grid_coord(q.z, params.oz, params.invCellSize) != iz)
         return;
     const PclPhoton ph = photons[as_uint(q.w)];
     if (!volume_photon_counts(params, ph.packed)) return;
@@ -105,8 +93,8 @@ inline void volume_segment_estimate(const PclVolumeEstimateParams params, const 
     const int a = (adx >= ady && adx >= adz) ? 0 : (ady >= adz ? 1 : 2);
     const int b = a == 0 ? 1 : 0, c2 = a == 2 ? 1 : 2;
     const float e = o[a] + seg.length * d[a];
-    const int s0 = volume_grid_coord(fmin(o[a], e) - r, origin[a], params.invCellSize);
-    const int s1 = volume_grid_coord(fmax(o[a], e) + r, origin[a], params.invCellSize);
+    const int s0 = hash_grid_coord(fmin(o[a], e) - r, origin[a], params.invCellSize);
+    const int s1 = hash_grid_coord(fmax(o[a], e) + r, origin[a], params.invCellSize);
     /* The dominant component is at least 1/√3 of a unit vector: never 0 on a segment that moves. */
     const float invDa = 1.0f / d[a];
     for (int sa = s0; sa <= s1; ++sa) {
@@ -123,17 +111,17 @@ inline void volume_segment_estimate(const PclVolumeEstimateParams params, const 
         if (!(tA <= tB)) continue;
         const float pb0 = o[b] + tA * d[b], pb1 = o[b] + tB * d[b];
         const float pc0 = o[c2] + tA * d[c2], pc1 = o[c2] + tB * d[c2];
-        const int b0 = volume_grid_coord(fmin(pb0, pb1) - r, origin[b], params.invCellSize);
-        const int b1 = volume_grid_coord(fmax(pb0, pb1) + r, origin[b], params.invCellSize);
-        const int c0 = volume_grid_coord(fmin(pc0, pc1) - r, origin[c2], params.invCellSize);
-        const int c1 = volume_grid_coord(fmax(pc0, pc1) + r, origin[c2], params.invCellSize);
+        const int b0 = hash_grid_coord(fmin(pb0, pb1) - r, origin[b], params.invCellSize);
+        const int b1 = hash_grid_coord(fmax(pb0, pb1) + r, origin[b], params.invCellSize);
+        const int c0 = hash_grid_coord(fmin(pc0, pc1) - r, origin[c2], params.invCellSize);
+        const int c1 = hash_grid_coord(fmax(pc0, pc1) + r, origin[c2], params.invCellSize);
         for (int ic = c0; ic <= c1; ++ic)
             for (int ib = b0; ib <= b1; ++ib) {
                 int cell[3];
                 cell[a] = sa;
                 cell[b] = ib;
                 cell[c2] = ic;
-                const uint hash = volume_grid_hash(cell[0], cell[1], cell[2], params.tableSize);
+                const uint hash = hash_grid_hash(cell[0], cell[1], cell[2], params.tableSize);
                 const uint end = cellEnd[hash];
                 for (uint j = cellStart[hash]; j < end; ++j)
                     volume_add_photon(params, seg, m, sigmaT, photons, points[j], cell[0], cell[1], cell[2], l);

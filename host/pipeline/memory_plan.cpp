@@ -184,10 +184,11 @@ private:
         add(phase, "knn: packed kd-tree", knnPackedKdTreeElements(n), 4 * sizeof(float), 0, 0, n);
     }
 
-    // buildHashGrid of the map on the device (table: the power of two ≥ n).
-    void hashGrid(const std::string& phase, size_t n) {
+    // buildHashGrid of the map on the device (table: the power of two ≥ n); `photons` names the
+    // map's own upload.
+    void hashGrid(const std::string& phase, size_t n, const char* photons = "hash grid: photons") {
         const size_t table = nextPowerOfTwo(std::max<size_t>(n, 1));
-        add(phase, "hash grid: photons", n, sizeof(PclPhoton), 0, 0, n);
+        add(phase, photons, n, sizeof(PclPhoton), 0, 0, n);
         add(phase, "hash grid: keys", n, sizeof(uint32_t), 0, 0, n);
         add(phase, "hash grid: order", n, sizeof(uint32_t), 0, 0, n);
         add(phase, "hash grid: cell starts", table, sizeof(uint32_t), 0, 0, n);
@@ -198,14 +199,7 @@ private:
 
     // buildVolumeMap (the photons and their hash grid, cell size r) and estimateVolumeRadiance.
     void volumeEstimate(const std::string& phase, size_t n) {
-        const size_t table = nextPowerOfTwo(std::max<size_t>(n, 1));
-        add(phase, "volume estimate: photons", n, sizeof(PclPhoton), 0, 0, n);
-        add(phase, "hash grid: keys", n, sizeof(uint32_t), 0, 0, n);
-        add(phase, "hash grid: order", n, sizeof(uint32_t), 0, 0, n);
-        add(phase, "hash grid: cell starts", table, sizeof(uint32_t), 0, 0, n);
-        add(phase, "hash grid: cell ends", table, sizeof(uint32_t), 0, 0, n);
-        add(phase, "hash grid: points", n, 4 * sizeof(float), 0, 0, n);
-        sortWorkspace(phase, n, 32, n);
+        hashGrid(phase, n, "volume estimate: photons");
         add(phase, "volume estimate: radiance", req.volumeQueries, sizeof(PclRadiance));
     }
 
