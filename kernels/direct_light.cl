@@ -51,14 +51,8 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
     const float eps = params.rayEpsilon;
     const PclV3 o = eye_add_scaled(p, nf, eps);
     float sum[3] = {0.0f, 0.0f, 0.0f};
-    EyeMedia em;
-    em.primInfo = primInfo;
-    em.materials = materials;
-    em.media = media;
-    em.primMedia = primMedia;
-    em.triangleCount = params.triangleCount;
-    em.hasMedia = params.hasMedia;
-    em.eps = eps;
+    const EyeMedia em =
+        eye_media(primInfo, materials, media, primMedia, params.triangleCount, params.hasMedia, eps);
     int medium = PCL_NO_MEDIUM;
     if (params.hasMedia) {
         const PclV3 n = eye_normal(primInfo, h.prim, params.triangleCount, p, tau);

@@ -160,14 +160,8 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
     float T[3] = {1.0f, 1.0f, 1.0f}, Le[3] = {0.0f, 0.0f, 0.0f};
     float pdfLobe = 0.0f;  /* the density with which the last hit's glossy lobe chose d; 0 if not glossy */
     const bool hasMedia = params.volumeSegments > 0u;
-    EyeMedia em;
-    em.primInfo = primInfo;
-    em.materials = materials;
-    em.media = media;
-    em.primMedia = primMedia;
-    em.triangleCount = params.triangleCount;
-    em.hasMedia = hasMedia ? 1u : 0u;
-    em.eps = params.rayEpsilon;
+    const EyeMedia em = eye_media(primInfo, materials, media, primMedia, params.triangleCount, hasMedia ? 1u : 0u,
+                                  params.rayEpsilon);
     int medium = hasMedia ? params.cameraMedium : PCL_NO_MEDIUM;
     uint segmentCount = 0u, crossings = 0u;
     float travelled = 0.0f; /* media: distance from the last hit to the invisible boundary crossed last */

@@ -270,6 +270,16 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
     return L;
 }
 
+CameraSample PathTracer::cameraSample(Sampler& sampler) {
+    CameraSample cs;
+    cs.filmX = sampler.get(CameraDims::kFilm);
+    cs.filmY = sampler.get(CameraDims::kFilm + 1);
+    cs.lensU = sampler.get(CameraDims::kLens);
+    cs.lensV = sampler.get(CameraDims::kLens + 1);
+    cs.time = sampler.get(CameraDims::kTime);
+    return cs;
+}
+
 Film PathTracer::render(PathTracerStats* stats) const {
     const int width = scene_.camera.width, height = scene_.camera.height;
     Film film(width, height);
@@ -295,13 +305,7 @@ Film PathTracer::render(PathTracerStats* stats) const {
                     uint32_t pixel = static_cast<uint32_t>(y) * static_cast<uint32_t>(width) + static_cast<uint32_t>(x);
                     for (int i = 0; i < settings_.samplesPerPixel; ++i) {
                         Sampler sampler(settings_.seed, pixel, static_cast<uint32_t>(settings_.firstSample + i));
-                        CameraSample cs;
-                        cs.filmX = sampler.get(CameraDims::kFilm);
-                        cs.filmY = sampler.get(CameraDims::kFilm + 1);
-                        cs.lensU = sampler.get(CameraDims::kLens);
-                        cs.lensV = sampler.get(CameraDims::kLens + 1);
-                        cs.time = sampler.get(CameraDims::kTime);
-                        Vec3 L = Li(camera_.generateRay(x, y, cs), sampler);
+                        Vec3 L = Li(camera_.generateRay(x, y, cameraSample(sampler)), sampler);
                         if (!isFinite(L)) {  // keep one bad path from ruining the pixel; counted
                             discarded.fetch_add(1, std::memory_order_relaxed);
                             L = Vec3(0.0f);

@@ -64,6 +64,10 @@ public:
     // Radiance arriving along a camera ray (one path sample), numbers from `sampler`.
     Vec3 Li(PclRay ray, Sampler& sampler) const;
 
+    // The film, lens and time numbers of a path (sampler.h, CameraDims): what render() gives the
+    // camera before Li, for callers that trace pixels themselves.
+    static CameraSample cameraSample(Sampler& sampler);
+
     // Transmittance along the straight segment from `from` to `to` at shutter time `time`,
     // starting in the medium at `from`: the product of exp(−σt d) over the media it passes,
     // through invisible medium boundaries; 0 if any other surface is in between.

@@ -31,6 +31,20 @@ typedef struct EyeMedia {
     float eps;      /* offset past an invisible boundary (rayEpsilon) */
 } EyeMedia;
 
+inline EyeMedia eye_media(__global const PclPrimInfo* primInfo, __global const PclMaterial* materials,
+                          __global const PclMedium* media, __global const PclPrimMedium* primMedia,
+                          uint triangleCount, uint hasMedia, float eps) {
+    EyeMedia em;
+    em.primInfo = primInfo;
+    em.materials = materials;
+    em.media = media;
+    em.primMedia = primMedia;
+    em.triangleCount = triangleCount;
+    em.hasMedia = hasMedia;
+    em.eps = eps;
+    return em;
+}
+
 /* Per channel exp(−σt len) of medium m (1 where σt = 0, even for an infinite len). */
 inline void eye_medium_tr(const PclMedium m, float len, float tr[3]) {
     for (int c = 0; c < 3; ++c) tr[c] = medium_channel_tr(m.sigmaA[c] + m.sigmaS[c], len);

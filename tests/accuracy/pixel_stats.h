@@ -43,13 +43,7 @@ inline PixelStats renderWithErrors(const Scene& scene, const PathTracerSettings&
             double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
             for (int i = 0; i < n; ++i) {
                 Sampler sampler(settings.seed, uint32_t(y * w + x), uint32_t(i));
-                CameraSample cs;
-                cs.filmX = sampler.get(CameraDims::kFilm);
-                cs.filmY = sampler.get(CameraDims::kFilm + 1);
-                cs.lensU = sampler.get(CameraDims::kLens);
-                cs.lensV = sampler.get(CameraDims::kLens + 1);
-                cs.time = sampler.get(CameraDims::kTime);
-                const Vec3 L = tracer.Li(camera.generateRay(x, y, cs), sampler);
+                const Vec3 L = tracer.Li(camera.generateRay(x, y, PathTracer::cameraSample(sampler)), sampler);
                 for (int c = 0; c < 3; ++c) {
                     sum[c] += L[c];
                     sum2[c] += double(L[c]) * L[c];
