@@ -275,7 +275,7 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
                                : "no glossy surfaces");
 
     plan.volumeMap = lp.volume;
-    plan.volumePhotons = plan.volumeMap ? settings.volumePhotons : 0;
+    plan.volumePhotons = plan.volumeMap ? settings.globalPhotons : 0;  // the global pass stores them
     plan.reasons.push_back(plan.volumeMap  ? "light scatters in media (L(S|D|V)*V(S|D|V)*E): volume photons at the "
                                              "photon passes' scattering events, read along the eye's medium "
                                              "segments (progressive, direct; fg does not carry media yet)"

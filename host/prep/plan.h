@@ -55,15 +55,15 @@ struct LightPaths {
 struct PlanSettings {
     uint32_t globalPhotons = 200000;   // photons emitted in the global pass when one is needed
     uint32_t causticPhotons = 100000;  // photons emitted in the caustic pass when one is needed
-    uint32_t volumePhotons = 100000;   // photons emitted for the volume map when one is needed
 };
 
 struct RenderPlan {
     bool globalMap = false, causticMap = false, finalGather = false;
     bool lensSampling = false, timeSampling = false, areaLightSampling = false, glossySampling = false;
     // Volume photons at scattering events in media (Jensen & Christensen 1998), planned only
-    // when a medium scatters. Not built yet: the photon methods refuse media for now
-    // (prep/media_support.h); --method path renders them.
+    // when a medium scatters; the global pass stores them (the caustic pass the volume caustics),
+    // so volumePhotons is the global pass's photon count. progressive and direct read them; fg
+    // refuses media (prep/media_support.h).
     bool volumeMap = false;
     uint32_t globalPhotons = 0, causticPhotons = 0, volumePhotons = 0;
     // One reason per decision, in the order of the fields above: global map, caustic map, final
