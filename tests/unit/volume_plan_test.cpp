@@ -53,7 +53,7 @@ TEST(VolumePlan, ScatteringMediumPlansAVolumeMap) {
     const std::string text = formatPlan(s, a.paths, a.plan);
     EXPECT_NE(text.find("L(S|D|V)*V(S|D|V)*E yes"), std::string::npos) << text;
     EXPECT_NE(text.find("scattering media: fog (global)"), std::string::npos) << text;
-    EXPECT_NE(text.find("volume map           yes, 100000 photons"), std::string::npos) << text;
+    EXPECT_NE(text.find("volume map           yes, 200000 photons"), std::string::npos) << text;
     fs::remove(path);
 }
 
