@@ -324,7 +324,9 @@ Run addRenderCommand(CLI::App& app) {
                "first diffuse hit (fast preview); progressive: fresh photons every pass, fixed-radius estimates "
                "whose radius shrinks as r²_{i+1} = r²_i (i+α)/(i+1), converging to the reference; path: the CPU "
                "reference path tracer; auto: fg or path, whichever a pilot of each at a quarter of the size "
-               "(about 2-5 s, paid from --time) says reaches a lower error in the same time")
+               "(about 2-5 s, paid from --time) says reaches a lower error in the same time. A scene with "
+               "participating media renders progressive unless --method is given (fg and auto refuse media: "
+               "fg's gather rays do not carry them yet)")
             ->check(CLI::IsMember({"fg", "direct", "progressive", "path", "auto"}))
             ->capture_default_str();
     sub->add_option("--device", o->device,
