@@ -214,6 +214,20 @@ TEST_F(CliTest, CheckPhotonStagesPassOnAShippedScene) {
     EXPECT_NE(r.output.find("stage estimate (precomputed irradiance): PASSED"), std::string::npos) << r.output;
 }
 
+// check --stage all on a scene with media runs the stages that read media (every one passes) and
+// names the ones it leaves out.
+TEST_F(CliTest, CheckAllOnAMediaSceneRunsTheMediaStages) {
+    Result r = run("check " + scene("media/cornell-fog.json") + " --device cpu --stage all --photons 4000");
+    EXPECT_EQ(r.status, 0) << r.output;
+    for (const char* stage :
+         {"trace", "emit", "trace_photons", "deposit", "pass", "eye_paths", "direct_light", "volume_estimate"})
+        EXPECT_NE(r.output.find(std::string("stage ") + stage + ": PASSED"), std::string::npos) << stage << r.output;
+    EXPECT_NE(r.output.find("stages left out (the scene has participating media, which they do not read yet): sort, "
+                            "build, knn, estimate, render"),
+              std::string::npos)
+        << r.output;
+}
+
 // A scene with media renders progressive when --method is not given (fg's gather rays do not
 // carry media yet: --method fg exits 2 with the reason); progressive renders it, finite.
 TEST_F(CliTest, RenderPicksProgressiveForMediaAndFgRefusesThem) {
