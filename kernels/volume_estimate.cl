@@ -35,6 +35,19 @@ inline int volume_photon_counts(const PclVolumeEstimateParams params, uint packe
     return 1;
 }
 
+/* photon_dir_decode's direction (shared/sampling.h: the centre of the (θ, φ) byte cell) by two
+ * sincos calls instead of four sin/cos: the beam weighs hundreds of photons per segment. */
+inline PclV3 volume_dir_decode(uint packed) {
+    const float theta = ((float)(packed & 255u) + 0.5f) * (PCL_PI_F / 256.0f);
+    const uint pb = (packed >> 8) & 255u;
+    const int ps = pb >= 128u ? (int)pb - 256 : (int)pb;
+    const float phi = ((float)ps + 0.5f) * (PCL_PI_F / 128.0f);
+    float ct, cp;
+    const float st = sincos(theta, &ct);
+    const float sp = sincos(phi, &cp);
+    return sampling_v3(st * cp, st * sp, ct);
+}
+
 /* The weight of one photon found in cell (ix, iy, iz): counted when the cell is its own (hash
  * collisions, and a cell reached through two hashes), its projection lies on the segment and it
  * is within r of it. */
@@ -59,7 +72,7 @@ inline void volume_add_photon(const PclVolumeEstimateParams params, const PclVol
         const float u = 1.0f - d2 / params.radius2;
         k = k * (u * u);
     }
-    const PclV3 w = photon_dir_decode(ph.packed);
+    const PclV3 w = volume_dir_decode(ph.packed);
     const float mu = w.x * seg.dx + w.y * seg.dy + w.z * seg.dz;
     const float kp = k * volume_hg(mu, m.g);
     float phi[3];
