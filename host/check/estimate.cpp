@@ -121,13 +121,9 @@ EstimateCheckReport checkEstimate(Device& device, const Scene& scene, const Esti
 EstimateCheckReport checkEstimate(Device& device, const Scene& scene, const SceneGeometry& geometry,
                                   const SceneBuffers& buffers, const EstimateCheckOptions& options) {
     EstimateCheckReport report;
-    PhotonPassOptions po;
-    po.globalPhotons = options.photons;
-    po.causticPhotons = options.photons;
-    po.seed = options.seed;
+    const PhotonMaps maps =
+        photonMapsOnDevice(device, geometry, buffers, options.photons, options.seed, &report.photonSeconds);
     auto t0 = Clock::now();
-    const PhotonMaps maps = runPhotonPass(device, geometry, buffers, po);
-    report.photonSeconds = since(t0);
 
     const Bounds3 sb = geometry.bounds();
     const Vec3 ext = sb.extent();

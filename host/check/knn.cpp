@@ -127,13 +127,9 @@ KnnCheckReport checkKnn(Device& device, const Scene& scene, const KnnCheckOption
 KnnCheckReport checkKnn(Device& device, const Scene& scene, const SceneGeometry& geometry, const SceneBuffers& buffers,
                         const KnnCheckOptions& options) {
     KnnCheckReport report;
-    PhotonPassOptions po;
-    po.globalPhotons = options.photons;
-    po.causticPhotons = options.photons;
-    po.seed = options.seed;
+    PhotonMaps maps =
+        photonMapsOnDevice(device, geometry, buffers, options.photons, options.seed, &report.photonSeconds);
     auto t0 = Clock::now();
-    PhotonMaps maps = runPhotonPass(device, geometry, buffers, po);
-    report.photonSeconds = since(t0);
 
     const Bounds3 sb = geometry.bounds();
     const Vec3 ext = sb.extent();

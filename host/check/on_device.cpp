@@ -17,6 +17,7 @@
 #include "pipeline/eye_estimate.h"
 #include "pipeline/eye_paths.h"
 #include "pipeline/intersect.h"
+#include "pipeline/photon_pass.h"
 #include "pipeline/trace_photons.h"
 #include "prep/area_light_table.h"
 
@@ -133,6 +134,18 @@ std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_
     }
     if (growths) *growths = map.growths;
     return device.download<PclPhoton>(map.photons, map.count);
+}
+
+PhotonMaps photonMapsOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                              uint32_t photons, uint64_t seed, double* seconds) {
+    PhotonPassOptions po;
+    po.globalPhotons = photons;
+    po.causticPhotons = photons;
+    po.seed = seed;
+    const auto t0 = Clock::now();
+    PhotonMaps maps = runPhotonPass(device, geometry, buffers, po);
+    if (seconds) *seconds = since(t0);
+    return maps;
 }
 
 std::vector<uint32_t> exclusiveScanOnDevice(Device& device, const std::vector<uint32_t>& values) {

@@ -18,6 +18,7 @@
 #include "pipeline/irradiance_source.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
+#include "pipeline/photon_pass.h"
 #include "pipeline/precomputed_irradiance.h"
 #include "prep/estimate_settings.h"
 #include "prep/knn_structure.h"
@@ -62,6 +63,13 @@ std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_
 
 // The scan alone (tests).
 std::vector<uint32_t> exclusiveScanOnDevice(Device& device, const std::vector<uint32_t>& values);
+
+// ---- the photon pass (pipeline/photon_pass.h) -----------------------------------------------
+
+// The maps the map and estimate checks read: a global and a caustic pass of `photons` paths
+// each with `seed`; *seconds (optional) receives the wall time.
+PhotonMaps photonMapsOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
+                              uint32_t photons, uint64_t seed, double* seconds = nullptr);
 
 // ---- sort (pipeline/sort.h) ----------------------------------------------------------------
 

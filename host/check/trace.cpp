@@ -10,26 +10,13 @@
 #include "core/math.h"
 #include "pipeline/intersect.h"
 #include "reference/parallel_for.h"
+#include "reference/surface.h"
 
 namespace pcl {
 namespace {
 
 constexpr double kRelT = 1e-5;
 const char* const kSets[3] = {"camera", "inside", "shadow"};
-
-PclRay makeRay(Vec3 o, Vec3 d, float tmin, float tmax, float time) {
-    PclRay r{};
-    r.ox = o.x;
-    r.oy = o.y;
-    r.oz = o.z;
-    r.dx = d.x;
-    r.dy = d.y;
-    r.dz = d.z;
-    r.tmin = tmin;
-    r.tmax = tmax;
-    r.time = time;
-    return r;
-}
 
 }  // namespace
 
@@ -57,14 +44,14 @@ std::vector<PclRay> checkRays(const Scene& scene, const Bounds3& bounds, size_t 
         if (set == 0) {
             float sx = 2 * u(rng) - 1, sy = 2 * u(rng) - 1;
             Vec3 d = normalize(forward + right * (sx * tanX) + up * (sy * tanY));
-            r = makeRay(cam.position, d, 0.0f, INFINITY, u(rng));
+            r = makeRay(cam.position, d, u(rng));
         } else if (set == 1) {
             float z = 2 * u(rng) - 1, phi = 6.2831853f * u(rng);
             float s = std::sqrt(std::max(0.0f, 1 - z * z));
-            r = makeRay(inside(), Vec3(s * std::cos(phi), s * std::sin(phi), z), 1e-4f, INFINITY, u(rng));
+            r = makeRay(inside(), Vec3(s * std::cos(phi), s * std::sin(phi), z), u(rng), INFINITY, 1e-4f);
         } else {
             Vec3 from = inside(), to = inside();
-            r = makeRay(from, to - from, 1e-4f, 1.0f - 1e-4f, u(rng));  // unnormalised direction
+            r = makeRay(from, to - from, u(rng), 1.0f - 1e-4f, 1e-4f);  // unnormalised direction
         }
         rays[i] = r;
         if (setOfRay) (*setOfRay)[i] = kSets[set];

@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "check/on_device.h"
 #include "core/clock.h"
 #include "pipeline/photon_pass.h"
 #include "pipeline/volume_estimate.h"
@@ -138,13 +139,9 @@ VolumeEstimateCheckReport checkVolumeEstimate(Device& device, const Scene& scene
         report.failure = "the scene has no participating medium (nothing to estimate)";
         return report;
     }
-    PhotonPassOptions po;
-    po.globalPhotons = options.photons;
-    po.causticPhotons = options.photons;
-    po.seed = options.seed;
+    const PhotonMaps maps =
+        photonMapsOnDevice(device, geometry, buffers, options.photons, options.seed, &report.photonSeconds);
     auto t0 = Clock::now();
-    const PhotonMaps maps = runPhotonPass(device, geometry, buffers, po);
-    report.photonSeconds = since(t0);
     const VolumeSegments segments =
         cameraVolumeSegments(scene, geometry, options.records, options.maxSegments, options.seed + 1);
     size_t segmentCount = 0;

@@ -28,8 +28,9 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
 
 inline Vec3 rayOrigin(const PclRay& r) { return {r.ox, r.oy, r.oz}; }
 inline Vec3 rayDirection(const PclRay& r) { return {r.dx, r.dy, r.dz}; }
-// The ray o + t d, t in [0, tmax), with no offset (cameras and lights: nothing to leave).
-inline PclRay makeRay(Vec3 o, Vec3 d, float time, float tmax = std::numeric_limits<float>::infinity()) {
+// The ray o + t d, t in [tmin, tmax), with no offset (cameras and lights: nothing to leave).
+inline PclRay makeRay(Vec3 o, Vec3 d, float time, float tmax = std::numeric_limits<float>::infinity(),
+                      float tmin = 0.0f) {
     PclRay r{};
     r.ox = o.x;
     r.oy = o.y;
@@ -37,7 +38,7 @@ inline PclRay makeRay(Vec3 o, Vec3 d, float time, float tmax = std::numeric_limi
     r.dx = d.x;
     r.dy = d.y;
     r.dz = d.z;
-    r.tmin = 0.0f;
+    r.tmin = tmin;
     r.tmax = tmax;
     r.time = time;
     return r;

@@ -261,18 +261,15 @@ void PhotonRenderer::specifyMaps(const PassPhotons& photons, float radius2, Pass
         }
     }
     // Media: the beam radiance estimate along the eye's medium segments over the photons
-    // keepCountedVolumePhotons kept (the skip flags say the same to the estimate).
+    // keepCountedVolumePhotons kept (so the estimate's own skip flags stay off).
     if (maps_.volume) {
-        const bool causticVolume = !photons.volumeCaustic.empty();
-        auto volume = [&](const std::vector<PclPhoton>& v, float r2, bool skipSpecular, VolumeMapSpec& out) {
+        auto volume = [&](const std::vector<PclPhoton>& v, float r2, VolumeMapSpec& out) {
             if (v.empty()) return;
             out.photons = &v;
             out.settings.radius = std::sqrt(r2);
-            out.settings.skipDirect = true;
-            out.settings.skipSpecularPaths = skipSpecular;
         };
-        volume(photons.volume, volumePassRadius2_[0], causticVolume, spec.volume);
-        volume(photons.volumeCaustic, volumePassRadius2_[1], false, spec.volumeCaustic);
+        volume(photons.volume, volumePassRadius2_[0], spec.volume);
+        volume(photons.volumeCaustic, volumePassRadius2_[1], spec.volumeCaustic);
     }
     // The importance histograms read the global map's k nearest photons directly.
     if (fg && s_.histogramCells > 0 && spec.global.reader != MapReader::None) spec.histogramPhotons = &photons.global;

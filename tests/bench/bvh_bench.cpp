@@ -23,6 +23,7 @@
 #include "geometry/scene_geometry.h"
 #include "pipeline/intersect.h"
 #include "reference/parallel_for.h"
+#include "reference/surface.h"
 #if __has_include("scene/load_scene.h")
 #include "scene/load_scene.h"
 #define PCL_HAVE_LOAD_SCENE 1
@@ -84,16 +85,7 @@ const std::vector<PclRay>& rays(const std::string& name) {
         Vec3 target = b.lo + Vec3(u(rng), u(rng), u(rng)) * b.extent();
         Vec3 o = (i % 2) ? eye : b.lo + Vec3(u(rng), u(rng), u(rng)) * b.extent();
         Vec3 d = (i % 2) ? target - o : Vec3(u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1);
-        PclRay r{};
-        r.ox = o.x;
-        r.oy = o.y;
-        r.oz = o.z;
-        r.dx = d.x;
-        r.dy = d.y;
-        r.dz = d.z;
-        r.tmin = 0.0f;
-        r.tmax = INFINITY;
-        r.time = u(rng);
+        PclRay r = makeRay(o, d, u(rng));
         out[i] = r;
     }
     return out;
