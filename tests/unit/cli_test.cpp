@@ -239,6 +239,12 @@ TEST_F(CliTest, RenderPicksProgressiveForMediaAndFgRefusesThem) {
     r = run("render " + scene("media/cornell-fog.json") + " --method fg --width 16 --passes 1 -o " + out);
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find("--method fg (fg's gather rays do not carry media yet)"), std::string::npos) << r.output;
+    // auto: its pilot weighs fg, so media go to progressive, said so.
+    r = run("render " + scene("media/cornell-fog.json") +
+            " --method auto --width 16 --time 1 --global-photons 5000 --caustic-photons 5000 -o " + out);
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("method auto: progressive: the scene has participating media"), std::string::npos)
+        << r.output;
 }
 
 // volume_estimate reads the volume maps of a scene with media (and passes there); it refuses a
