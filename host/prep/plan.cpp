@@ -38,7 +38,8 @@ std::vector<Prim> gather(const Scene& scene, const SceneGeometry& geometry, cons
             const Vec3 c(info.a, info.b, info.c);
             const float reach = info.radius + length(Vec3(info.mx, info.my, info.mz));
             for (const PclLight& l : buffers.lights)
-                if (l.type != PCL_LIGHT_DIRECTIONAL && length(Vec3(l.p[0], l.p[1], l.p[2]) - c) < reach)
+                if (l.type != PCL_LIGHT_DIRECTIONAL && l.type != PCL_LIGHT_ENVIRONMENT &&
+                    length(Vec3(l.p[0], l.p[1], l.p[2]) - c) < reach)
                     p.litInside = true;
         } else {
             const TriangleMesh& mesh = scene.meshes[ref.object];
