@@ -296,7 +296,7 @@ int runRender(const RenderOptions& given) {
                      prepared.geometry.stats().nodes, prepared.geometry.stats().buildSeconds);
     if (q.method == "fg" || q.method == "auto")
         refuseMediaWithoutPathTracer(scene, "--method " + q.method + " (fg's gather rays do not carry media yet)");
-    if (!path) refuseEnvironmentWithoutPathTracer(scene, "--method " + q.method);
+    if (!path) refuseEnvironmentInMediaWithoutPathTracer(scene, "--method " + q.method);
     if (q.method == "auto") return runAutoMethod(o, scene, prepared, output, start);
     if (!path) return runPhotonRender(o, scene, prepared, output, start);
     if (!o.quiet)

@@ -39,6 +39,8 @@ void runCheck(const char* name, RenderCheckOptions o = {}) {
 
 TEST(CheckRender, CornellBox) { runCheck("cornell-box.json"); }
 TEST(CheckRender, CornellSpheres) { runCheck("cornell-spheres.json"); }
+// Under a sky (no other light): escapes in eye_paths and final_gather, sky samples in direct_light.
+TEST(CheckRender, SkySpheres) { runCheck("sky-spheres.json"); }
 TEST(CheckRender, CornellGlossy) {
     RenderCheckOptions o;
     o.films = false;  // (4.5 s of twin renders; the render twin test holds this scene's films)
