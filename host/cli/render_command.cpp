@@ -300,7 +300,7 @@ int runRender(const RenderOptions& given) {
                      o.scene.c_str(), scene.triangleCount(), scene.spheres.size(), scene.lights.size(),
                      prepared.geometry.stats().nodes, prepared.geometry.stats().buildSeconds);
     if (q.method == "fg") refuseMediaWithoutPathTracer(scene, "--method fg (fg's gather rays do not carry media yet)");
-    if (!path) refuseEnvironmentWithoutPathTracer(scene, "--method " + q.method);
+    if (!path) refuseEnvironmentInMediaWithoutPathTracer(scene, "--method " + q.method);
     if (q.method == "auto") return runAutoMethod(o, scene, prepared, output, start);
     if (!path) return runPhotonRender(o, scene, prepared, output, start);
     if (!o.quiet)

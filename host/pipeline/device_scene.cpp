@@ -11,6 +11,7 @@ DeviceScene::DeviceScene(Device& device, const SceneGeometry& g, const SceneBuff
       primMedia(device.upload(b.hasMedia ? b.primMedia : std::vector<PclPrimMedium>(1), CL_MEM_READ_ONLY,
                               "scene: primitive media")),
       lightMedia(
-          device.upload(b.hasMedia ? b.lightMedia : std::vector<int32_t>(1), CL_MEM_READ_ONLY, "scene: light media")) {}
+          device.upload(b.hasMedia ? b.lightMedia : std::vector<int32_t>(1), CL_MEM_READ_ONLY, "scene: light media")),
+      sky(b.sky.environment), skyData(device.upload(b.sky.data, CL_MEM_READ_ONLY, "scene: environment")) {}
 
 }  // namespace pcl

@@ -131,6 +131,7 @@ private:
         add("scene", "scene: media", s.media, sizeof(PclMedium));
         add("scene", "scene: primitive media", s.media ? s.primInfo : 0, sizeof(PclPrimMedium));
         add("scene", "scene: light media", s.media ? s.lights : 0, sizeof(int32_t));
+        add("scene", "scene: environment", s.skyFloats, sizeof(float));
     }
 
     // runPhotonPass's buildMap: per batch emit → trace → deposit; the map buffer from
@@ -253,6 +254,7 @@ SceneBufferCounts sceneBufferCounts(const SceneGeometry& geometry, const SceneBu
     s.lights = buffers.lights.size();
     s.projCells = buffers.projCells.size();
     s.media = buffers.hasMedia ? buffers.media.size() : 0;
+    s.skyFloats = buffers.sky.data.size();
     return s;
 }
 

@@ -246,7 +246,7 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
     // Refused before any curve runs, not after the path tracer's. Media: fg's gather rays do not
     // carry them yet, so a sweep of a scene with media leaves its fg curves out (refused when asked
     // for by name); the path tracer, direct and progressive render media.
-    refuseEnvironmentWithoutPathTracer(scene, "sweep (its photon-method curves)");
+    refuseEnvironmentInMediaWithoutPathTracer(scene, "sweep (its photon-method curves)");
     if (scene.hasMedia()) {
         for (const Curve& c : curves)
             if (c.method == RenderMethod::FinalGather && !o.curves.empty())

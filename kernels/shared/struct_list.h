@@ -6,6 +6,7 @@
 #define PCL_STRUCT_LIST_H
 
 #include "types.h"
+#include "environment.h"
 
 #define PCL_SHARED_STRUCTS(X) \
     X(PclRay)                 \
@@ -37,6 +38,7 @@
     X(PclGatherHit)           \
     X(PclEyeEstimateParams)   \
     X(PclVolumeSegment)       \
-    X(PclVolumeEstimateParams)
+    X(PclVolumeEstimateParams) \
+    X(PclEnvironment)
 
 #endif /* PCL_STRUCT_LIST_H */

@@ -200,6 +200,20 @@ TEST_F(CliTest, RenderLogsThePlan) {
     EXPECT_NE(r.output.find("LS+DE"), std::string::npos) << r.output;
 }
 
+// A sky-lit scene (environment light, no other): every stage runs and passes, and the photon
+// methods render it.
+TEST_F(CliTest, CheckAllPassesUnderASky) {
+    Result r = run("check " + scene("sky-spheres.json") + " --device cpu --stage all --photons 4000 --rays 5000");
+    EXPECT_EQ(r.status, 0) << r.output;
+    for (const char* stage : {"emit", "trace_photons", "pass", "eye_paths", "direct_light", "render"})
+        EXPECT_NE(r.output.find(std::string("stage ") + stage + ": PASSED"), std::string::npos) << stage << r.output;
+    for (const char* method : {"fg", "direct", "progressive"}) {
+        Result m = run("render " + scene("sky-spheres.json") + " -o " + (dir / "sky.exr").string() +
+                       " --width 16 --height 12 --passes 1 --no-png --method " + method);
+        EXPECT_EQ(m.status, 0) << method << m.output;
+    }
+}
+
 TEST_F(CliTest, CheckPhotonStagesPassOnAShippedScene) {
     for (const char* stage :
          {"emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate", "render"}) {
