@@ -17,7 +17,9 @@
  * from (u4, u5), the photon travelling d = −w from a point of the disc of radius R (u1, u2)
  * perpendicular to d, 2R before the scene centre; its flux per channel is
  * π R² L_c(w) / (p(w) n) (caustic: × f), which sums to Φ = π R² ∫ L dω in expectation and exactly
- * for the channel average (p ∝ avg L). */
+ * for the channel average (p ∝ avg L). Caustic photons cross instead the disc of the ball around
+ * every specular object (L.e1: centre, radius r; every ray that meets a specular surface crosses
+ * it), 2R before its centre, with r in place of R: aimed without a projection map. */
 #include "shared/types.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
@@ -89,10 +91,13 @@ __kernel void emit_photons(const PclPhotonParams params, __global const PclLight
         PclV3 t, b;
         sampling_basis(d, &t, &b);
         const float R = L.radius;
-        o.x = L.p[0] + R * (x * t.x + y * b.x) - 2.0f * R * d.x;
-        o.y = L.p[1] + R * (x * t.y + y * b.y) - 2.0f * R * d.y;
-        o.z = L.p[2] + R * (x * t.z + y * b.z) - 2.0f * R * d.z;
-        for (int c = 0; c < 3; ++c) skyScale[c] = pdf > 0.0f ? PCL_PI_F * R * R * Ls[c] / pdf : 0.0f;
+        const bool aimed = caustic && L.e1[3] > 0.0f;
+        const float r = aimed ? L.e1[3] : R; /* the disc's radius */
+        const float cx = aimed ? L.e1[0] : L.p[0], cy = aimed ? L.e1[1] : L.p[1], cz = aimed ? L.e1[2] : L.p[2];
+        o.x = cx + r * (x * t.x + y * b.x) - 2.0f * R * d.x;
+        o.y = cy + r * (x * t.y + y * b.y) - 2.0f * R * d.y;
+        o.z = cz + r * (x * t.z + y * b.z) - 2.0f * R * d.z;
+        for (int c = 0; c < 3; ++c) skyScale[c] = pdf > 0.0f ? PCL_PI_F * r * r * Ls[c] / pdf : 0.0f;
     } else if (L.type == PCL_LIGHT_POINT) {
         d = sampling_uniform_sphere(s1, s2);
     } else if (L.type == PCL_LIGHT_SPOT) {

@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pcl {
 namespace {
@@ -148,6 +149,18 @@ Ball boundingBall(const std::vector<D3>& points) {
     Ball b{(lo + hi) * 0.5, 0.0};
     for (const D3& p : points) b.r = std::max(b.r, length(p - b.c));
     return b;
+}
+
+// The ball around a set of balls: centred on their box, reaching the farthest one's far side.
+Ball enclosingBall(const std::vector<Ball>& balls) {
+    D3 lo = balls[0].c, hi = balls[0].c;
+    for (const Ball& b : balls) {
+        lo = {std::min(lo.x, b.c.x - b.r), std::min(lo.y, b.c.y - b.r), std::min(lo.z, b.c.z - b.r)};
+        hi = {std::max(hi.x, b.c.x + b.r), std::max(hi.y, b.c.y + b.r), std::max(hi.z, b.c.z + b.r)};
+    }
+    Ball out{(lo + hi) * 0.5, 0.0};
+    for (const Ball& b : balls) out.r = std::max(out.r, length(b.c - out.c) + b.r);
+    return out;
 }
 
 // Balls covering a triangle (vertices at τ = 0; it moves by m over the shutter), split
@@ -312,8 +325,9 @@ std::vector<uint32_t> markCells(const PclLight& light, const std::vector<Ball>& 
         for (uint32_t k = 0; k < PCL_PROJ_GRID * PCL_PROJ_GRID; ++k) cells.push_back(k);
         return cells;
     };
-    // The sky: a photon's fate depends on its direction and its disc position together (four
-    // dimensions), so its caustic photons go unaimed: every cell, f = 1.
+    // The sky: a photon's fate depends on its direction and its disc position together, so its
+    // caustic photons are aimed by position (buildProjectionMaps' target ball), not by cells:
+    // every cell, f = 1.
     if (light.type == PCL_LIGHT_ENVIRONMENT) return all();
 
     if (light.type == PCL_LIGHT_DIRECTIONAL) {
@@ -402,9 +416,7 @@ bool isPureSpecular(const PclMaterial& m) { return isSpecular(m) && !isDiffuse(m
 namespace {
 
 // Every light's marked cells, aiming at the objects whose material passes `target`.
-std::vector<std::vector<uint32_t>> markAll(const Scene& scene, const SceneBuffers& buffers,
-                                           bool (*target)(const PclMaterial&)) {
-    std::vector<Ball> balls = specularBalls(scene, buffers, target);
+std::vector<std::vector<uint32_t>> markAll(const SceneBuffers& buffers, const std::vector<Ball>& balls) {
     // Triangle lights are split into 4^depth pieces, each with its own cones (tighter than one
     // ball around the whole emitter), as far as the work budget allows.
     size_t triangles = 0;
@@ -421,13 +433,22 @@ std::vector<std::vector<uint32_t>> markAll(const Scene& scene, const SceneBuffer
 
 void buildProjectionMaps(const Scene& scene, const SceneGeometry& geometry, SceneBuffers& buffers) {
     (void)geometry;  // bounds already live in buffers; the balls come from the scene's objects
-    std::vector<std::vector<uint32_t>> cells = markAll(scene, buffers, isSpecular);
+    const std::vector<Ball> balls = specularBalls(scene, buffers, isSpecular);
+    std::vector<std::vector<uint32_t>> cells = markAll(buffers, balls);
     buffers.projCells.clear();
     for (size_t i = 0; i < buffers.lights.size(); ++i) {
         PclLight& light = buffers.lights[i];
         light.projFirst = static_cast<uint32_t>(buffers.projCells.size());
         light.projCount = static_cast<uint32_t>(cells[i].size());
         buffers.projCells.insert(buffers.projCells.end(), cells[i].begin(), cells[i].end());
+        // The sky aims its caustic photons by position instead: at the ball around every
+        // specular ball (emit.cl). Every ray that meets a specular surface crosses its disc.
+        if (light.type == PCL_LIGHT_ENVIRONMENT && !balls.empty()) {
+            const Ball target = enclosingBall(balls);
+            light.e1[0] = float(target.c.x), light.e1[1] = float(target.c.y), light.e1[2] = float(target.c.z);
+            // Rounded up, so the float ball still holds every specular ball.
+            light.e1[3] = std::nextafter(float(target.r), std::numeric_limits<float>::infinity());
+        }
     }
 }
 

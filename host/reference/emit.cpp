@@ -98,9 +98,13 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
             Vec3 t, b;
             makeBasis(direction, t, b);
             const float R = light.radius;
-            origin = vec(light.p) + (t * x + b * y) * R - direction * (2.0f * R);
+            // Caustic photons: the disc of the ball around the specular objects (radius r).
+            const bool aimed = caustic && light.e1[3] > 0.0f;
+            const float r = aimed ? light.e1[3] : R;
+            const Vec3 centre = aimed ? Vec3(light.e1[0], light.e1[1], light.e1[2]) : vec(light.p);
+            origin = centre + (t * x + b * y) * r - direction * (2.0f * R);
             if (pdf > 0.0f)
-                skyScale = Vec3(kPi * R * R * Ls[0] / pdf, kPi * R * R * Ls[1] / pdf, kPi * R * R * Ls[2] / pdf);
+                skyScale = Vec3(kPi * r * r * Ls[0] / pdf, kPi * r * r * Ls[1] / pdf, kPi * r * r * Ls[2] / pdf);
             break;
         }
         case PCL_LIGHT_POINT:

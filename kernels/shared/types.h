@@ -136,7 +136,7 @@ typedef struct PclLight {
     pcl_u32 projFirst;  /* projection map: first marked cell in the cell array */
     pcl_u32 projCount;  /* projection map: marked cells (of PCL_PROJ_GRID^2); 0: no caustics */
     pcl_f32 p[4];       /* point/spot: position; triangle: vertex p0; directional: disc centre */
-    pcl_f32 e1[4];      /* triangle: p1 - p0 */
+    pcl_f32 e1[4];      /* triangle: p1 - p0; sky: the ball its caustic photons aim at (centre, [3] radius; 0: none) */
     pcl_f32 e2[4];      /* triangle: p2 - p0 */
     pcl_f32 axis[4];    /* spot: cone axis; directional: travel direction; triangle: unit normal of the emitting side */
     pcl_f32 power[4];   /* flux rgb in W emitted by this entry */
