@@ -180,6 +180,10 @@ std::string ResolvedSettings::log() const {
     return out;
 }
 
+// Media (measured by scripts/media_accuracy.py, see its notes in the README):
+#define VOLUME_RADII_REASON "fixed: one radius per pass"
+#define VOLUME_K_REASON "about 32 volume photons in the first radius"
+
 // The defaults below were measured on the 2-core PoCL machine (README, "Commands"):
 // cornell-spheres at 256×256 renders in under a minute with them.
 ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan& plan, int width, int height) {
@@ -204,6 +208,12 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
     if (q.lightSamples) s.lightSamples = q.lightSamples;
     if (q.strata && s.method != RenderMethod::PathTracing) s.strata = q.strata;
     if (q.gatherRays && s.method == RenderMethod::FinalGather) s.gatherRays = q.gatherRays;
+    if (q.volumeK) s.volumeK = q.volumeK;
+    if (!q.volumeRadii.empty()) {
+        if (q.volumeRadii != "fixed" && q.volumeRadii != "photon")
+            throw InputError("render: volume radii \"" + q.volumeRadii + "\", expected fixed or photon");
+        s.volumePhotonRadii = q.volumeRadii == "photon";
+    }
     if (s.method == RenderMethod::PathTracing) {
         s.passes = q.passes;  // samples per pixel; the path tracer's caller chooses when 0
         return r;
@@ -261,6 +271,11 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
          causticEye ? "Jensen's 50 photons per estimate; 20 per caustic estimate, made at every eye sample (16 per "
                       "pixel and pass average its noise, and it blurs the caustic less)"
                     : "Jensen's 50 photons per estimate");
+    if (built.volume) {
+        note("volume radii " + std::string(s.volumePhotonRadii ? "photon" : "fixed"), !q.volumeRadii.empty(),
+             VOLUME_RADII_REASON);
+        note("volume k " + std::to_string(s.volumeK), q.volumeK != 0, VOLUME_K_REASON);
+    }
     return r;
 }
 
@@ -269,7 +284,7 @@ std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const R
     // A new setting must be added here or among the controls of PhotonRenderSettings that change
     // no pixel; this fails to compile until one of the two is done.
 #if defined(__x86_64__) && defined(__GLIBCXX__)
-    static_assert(sizeof(PhotonRenderSettings) == 160,
+    static_assert(sizeof(PhotonRenderSettings) == 168,
                   "PhotonRenderSettings changed: add the new setting to settingsFields (or say why it changes no "
                   "pixel), then update this size");
 #endif
@@ -301,6 +316,10 @@ std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const R
         add("alpha", exact(s.alpha));
         add("progressiveK0", exact(s.progressiveK0));
         add("radius", exact(s.initialRadius));
+        if (maps.volume) {  // only with media, so the other scenes' settings (and hashes) stay as they were
+            add("volumeK", std::to_string(s.volumeK));
+            add("volumeRadii", s.volumePhotonRadii ? "photon" : "fixed");
+        }
     }
     add("fixedPointBits", std::to_string(FixedPointFilm::kFractionBits));
     return f;
