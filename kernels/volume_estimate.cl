@@ -2,15 +2,25 @@
  * the eye's medium segments from one volume photon map (kernels/README.md, "volume_estimate").
  * One work-item per eye record.
  *
- * in:  params                       PclVolumeEstimateParams: the grid, r, the kernel, the skips
+ * Each photon p has its own radius r_p ≤ r (the map's reach; a fixed-radius map gives every
+ * photon r): it counts where the segment passes within r_p of it, with the 2-D kernel over its
+ * own disc, K(d/r_p)/r_p² (Jarosz, Zwicker & Jensen 2008, eq. 22 with per-photon radii).
+ *
+ * volume_pack_photons, once per map, one work-item per grid entry j (the grid's sorted order):
+ *      photons[], radius2[]         the volume map in map order and each photon's r_p²
+ *      points[j]                    the grid's (x, y, z, photon index) (hashgrid.cl)
+ *  out: beamPos[j]                  (x, y, z, r_p²); r_p² = −1 for a photon the skips drop
+ *       beamDir[j]                  (w, kernelNorm / r_p²): the decoded direction and K's factor
+ *       beamPower[j]                (ΔΦ rgb, 0)
+ *   so the search reads three float4 in grid order, nothing in map order, and decodes nothing.
+ * volume_estimate_beams, one work-item per eye record:
+ *  in: params                       PclVolumeEstimateParams: the grid, the reach r, the kernel
  *      segments[k*sampleCount + i]  PclVolumeSegment, k < segmentCounts[i] (≤ maxSegments)
  *      segmentCounts[i]
  *      media[]                      PclMedium: σa, σs, g
- *      photons[]                    the volume map (PCL_PHOTON_VOLUME records), in map order
- *      points[], cellStart[], cellEnd[]
- *                                   its hash grid (hashgrid.cl): sorted (x, y, z, photon index)
- *                                   and per hash the [start, end) of that order
- * out: volume[i]                    Σ_k throughput_k × L_k (rgb; a = 0)
+ *      beamPos[], beamDir[], beamPower[], cellStart[], cellEnd[]
+ *                                   the packed map and per hash the [start, end) of the grid
+ *  out: volume[i]                   Σ_k throughput_k × L_k (rgb; a = 0)
  *
  * The grid's cells are of size r; the segment is walked in slabs one cell thick along its
  * dominant axis (volume_segment_estimate), a photon counts only through its own cell, so at most
@@ -48,43 +58,60 @@ inline PclV3 volume_dir_decode(uint packed) {
     return sampling_v3(st * cp, st * sp, ct);
 }
 
-/* The weight of one photon found in cell (ix, iy, iz): counted when the cell is its own (hash
+/* One packed record (volume_pack_photons) per grid entry. */
+__kernel void volume_pack_photons(const PclVolumeEstimateParams params, __global const PclPhoton* photons,
+                                  __global const float* radius2, __global const float4* points,
+                                  __global float4* beamPos, __global float4* beamDir, __global float4* beamPower) {
+    const uint j = (uint)get_global_id(0);
+    if (j >= params.photonCount) return;
+    const float4 q = points[j];
+    const uint idx = as_uint(q.w);
+    const PclPhoton ph = photons[idx];
+    const int counts = volume_photon_counts(params, ph.packed);
+    const float r2 = radius2[idx];
+    beamPos[j] = (float4)(q.x, q.y, q.z, counts ? r2 : -1.0f);
+    const PclV3 w = volume_dir_decode(ph.packed);
+    beamDir[j] = (float4)(w.x, w.y, w.z, params.kernelNorm / r2);
+    float phi[3];
+    photon_rgbe_decode(ph.rgbe, &phi[0], &phi[1], &phi[2]);
+    beamPower[j] = counts ? (float4)(phi[0], phi[1], phi[2], 0.0f) : (float4)(0.0f);
+}
+
+/* The weight of entry j found in cell (ix, iy, iz): counted when the cell is its own (hash
  * collisions, and a cell reached through two hashes), its projection lies on the segment and it
- * is within r of it. */
+ * is within its own r_p of it. */
 inline void volume_add_photon(const PclVolumeEstimateParams params, const PclVolumeSegment seg, const PclMedium m,
-                              const float sigmaT[3], __global const PclPhoton* photons, const float4 q, int ix, int iy,
-                              int iz, float l[3]) {
+                              const float sigmaT[3], __global const float4* beamDir,
+                              __global const float4* beamPower, const float4 q, uint j, int ix, int iy, int iz,
+                              float l[3]) {
     const float vx = q.x - seg.ox, vy = q.y - seg.oy, vz = q.z - seg.oz;
     const float tp = vx * seg.dx + vy * seg.dy + vz * seg.dz;
     if (!(tp >= 0.0f) || !(tp <= seg.length)) return;
     const float wx = vx - tp * seg.dx, wy = vy - tp * seg.dy, wz = vz - tp * seg.dz;
     const float d2 = wx * wx + wy * wy + wz * wz;
-    if (!(d2 < params.radius2)) return;
+    if (!(d2 < q.w)) return;
     /* Last, for the few within reach: most candidates fail the cheaper tests above. */
     if (hash_grid_coord(q.x, params.ox, params.invCellSize) != ix ||
         hash_grid_coord(q.y, params.oy, params.invCellSize) != iy ||
         hash_grid_coord(q.z, params.oz, params.invCellSize) != iz)
         return;
-    const PclPhoton ph = photons[as_uint(q.w)];
-    if (!volume_photon_counts(params, ph.packed)) return;
-    float k = params.kernelScale;
+    const float4 w = beamDir[j];
+    float k = w.w;
     if (params.kernelShape == PCL_BEAM_KERNEL_BIWEIGHT) {
-        const float u = 1.0f - d2 / params.radius2;
+        const float u = 1.0f - d2 / q.w;
         k = k * (u * u);
     }
-    const PclV3 w = volume_dir_decode(ph.packed);
     const float mu = w.x * seg.dx + w.y * seg.dy + w.z * seg.dz;
     const float kp = k * volume_hg(mu, m.g);
-    float phi[3];
-    photon_rgbe_decode(ph.rgbe, &phi[0], &phi[1], &phi[2]);
+    const float4 phi = beamPower[j];
     /* A grey medium (the common case) needs one exponential, not three. */
     const float tr0 = sigmaT[0] > 0.0f ? exp(-sigmaT[0] * tp) : 1.0f;
     const bool grey = sigmaT[1] == sigmaT[0] && sigmaT[2] == sigmaT[0];
     const float tr1 = grey ? tr0 : (sigmaT[1] > 0.0f ? exp(-sigmaT[1] * tp) : 1.0f);
     const float tr2 = grey ? tr0 : (sigmaT[2] > 0.0f ? exp(-sigmaT[2] * tp) : 1.0f);
-    l[0] += kp * tr0 * phi[0];
-    l[1] += kp * tr1 * phi[1];
-    l[2] += kp * tr2 * phi[2];
+    l[0] += kp * tr0 * phi.x;
+    l[1] += kp * tr1 * phi.y;
+    l[2] += kp * tr2 * phi.z;
 }
 
 /* L of one segment (rgb into l[]). The search walks the grid in slabs of one cell along the
@@ -93,8 +120,9 @@ inline void volume_add_photon(const PclVolumeEstimateParams params, const PclVol
  * within r of it on the other two axes, so each slab visits the cells of that stretch's box grown
  * by r, and each photon is found once: in its own cell, in its own slab. */
 inline void volume_segment_estimate(const PclVolumeEstimateParams params, const PclVolumeSegment seg,
-                                     const PclMedium m, __global const PclPhoton* photons,
-                                     __global const float4* points, __global const uint* cellStart,
+                                     const PclMedium m, __global const float4* beamPos,
+                                     __global const float4* beamDir, __global const float4* beamPower,
+                                     __global const uint* cellStart,
                                      __global const uint* cellEnd, float l[3]) {
     l[0] = l[1] = l[2] = 0.0f;
     if (!(seg.length > 0.0f) || params.photonCount == 0u) return;
@@ -137,15 +165,16 @@ inline void volume_segment_estimate(const PclVolumeEstimateParams params, const 
                 const uint hash = hash_grid_hash(cell[0], cell[1], cell[2], params.tableSize);
                 const uint end = cellEnd[hash];
                 for (uint j = cellStart[hash]; j < end; ++j)
-                    volume_add_photon(params, seg, m, sigmaT, photons, points[j], cell[0], cell[1], cell[2], l);
+                    volume_add_photon(params, seg, m, sigmaT, beamDir, beamPower, beamPos[j], j, cell[0], cell[1],
+                                      cell[2], l);
             }
     }
 }
 
 __kernel void volume_estimate_beams(const PclVolumeEstimateParams params, __global const PclVolumeSegment* segments,
                                     __global const uint* segmentCounts, __global const PclMedium* media,
-                                    __global const PclPhoton* photons, __global const float4* points,
-                                    __global const uint* cellStart, __global const uint* cellEnd,
+                                    __global const float4* beamPos, __global const float4* beamDir,
+                                    __global const float4* beamPower, __global const uint* cellStart, __global const uint* cellEnd,
                                     __global PclRadiance* volume) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
@@ -156,7 +185,7 @@ __kernel void volume_estimate_beams(const PclVolumeEstimateParams params, __glob
         const PclVolumeSegment seg = segments[(size_t)k * params.sampleCount + i];
         if (seg.medium < 0 || seg.medium >= (int)params.mediumCount) continue;
         float l[3];
-        volume_segment_estimate(params, seg, media[seg.medium], photons, points, cellStart, cellEnd, l);
+        volume_segment_estimate(params, seg, media[seg.medium], beamPos, beamDir, beamPower, cellStart, cellEnd, l);
         for (int c = 0; c < 3; ++c) sum[c] += seg.throughput[c] * l[c];
     }
     PclRadiance out;

@@ -19,7 +19,7 @@
 namespace pcl {
 
 bool VolumeEstimateCheckRow::passed() const {
-    return records > 0 && nans == 0 && nonzero > 0 && fraction() >= kVolumeRequiredFraction;
+    return records > 0 && nans == 0 && nonzero > 0 && fraction() >= kVolumeRequiredFraction && radiusMismatches == 0;
 }
 
 bool VolumeEstimateCheckReport::passed() const {
@@ -31,16 +31,17 @@ std::string VolumeEstimateCheckReport::table() const {
     std::string out;
     char line[512];
     if (!failure.empty()) return "volume estimate: " + failure + "\nvolume_estimate: FAILED\n";
-    std::snprintf(line, sizeof line, "%-14s %-8s %6s %6s %8s %8s %7s %9s %7s %8s %4s %10s %9s %8s\n", "map", "kernel",
-                  "direct", "LS+V", "photons", "radius", "records", "segments", "nonzero", "matched", "nan", "max rel",
-                  "device s", "twin s");
+    std::snprintf(line, sizeof line, "%-14s %-8s %-6s %6s %6s %8s %8s %7s %9s %7s %8s %4s %10s %9s %8s\n", "map",
+                  "kernel", "radii", "direct", "LS+V", "photons", "radius", "records", "segments", "nonzero", "matched",
+                  "nan", "max rel", "device s", "twin s");
     out += line;
     for (const auto& r : rows) {
         std::snprintf(line, sizeof line,
-                      "%-14s %-8s %6s %6s %8zu %8.5f %7zu %9zu %7zu %7.3f%% %4zu %10.2e %9.4f %8.3f%s\n", r.map.c_str(),
-                      r.kernel.c_str(), r.skipDirect ? "skip" : "keep", r.skipSpecularPaths ? "skip" : "keep",
-                      r.photons, r.radius, r.records, r.segments, r.nonzero, 100.0 * r.fraction(), r.nans,
-                      r.maxRelError, r.deviceSeconds, r.twinSeconds, r.passed() ? "" : "  FAIL");
+                      "%-14s %-8s %-6s %6s %6s %8zu %8.5f %7zu %9zu %7zu %7.3f%% %4zu %10.2e %9.4f %8.3f%s\n",
+                      r.map.c_str(), r.kernel.c_str(), r.photonRadii ? "photon" : "fixed",
+                      r.skipDirect ? "skip" : "keep", r.skipSpecularPaths ? "skip" : "keep", r.photons, r.radius,
+                      r.records, r.segments, r.nonzero, 100.0 * r.fraction(), r.nans, r.maxRelError, r.deviceSeconds,
+                      r.twinSeconds, r.passed() ? "" : (r.radiusMismatches ? "  FAIL (radii differ)" : "  FAIL"));
         out += line;
     }
     std::snprintf(line, sizeof line,
@@ -155,29 +156,42 @@ VolumeEstimateCheckReport checkVolumeEstimate(Device& device, const Scene& scene
         const float radius = defaultVolumeRadius(*m.photons, geometry.bounds(), options.radiusK);
         if (!(radius > 0.0f)) continue;  // too few photons (in the scene's bounds) for a radius
         const bool global = m.photons == &maps.volume;
-        for (BeamKernel kernel : {BeamKernel::Box, BeamKernel::Biweight})
-            for (int skip = 0; skip < (global ? 2 : 1); ++skip) {
-                VolumeEstimateSettings s;
-                s.radius = radius;
-                s.kernel = kernel;
-                s.skipDirect = skip != 0;
-                s.skipSpecularPaths = skip != 0;
-                VolumeEstimateCheckRow row;
-                row.map = m.name;
-                row.kernel = kernel == BeamKernel::Box ? "box" : "biweight";
-                row.skipDirect = s.skipDirect;
-                row.skipSpecularPaths = s.skipSpecularPaths;
-                row.photons = m.photons->size();
-                row.segments = segmentCount;
-                row.radius = radius;
-                const std::vector<PclRadiance> d =
-                    volumeEstimateOnDevice(device, *m.photons, s, segments, buffers.media, &row.deviceSeconds);
-                t0 = Clock::now();
-                const std::vector<PclRadiance> t = referenceVolumeEstimate(*m.photons, s, segments, buffers.media);
-                row.twinSeconds = since(t0);
-                compare(d, t, row);
-                report.rows.push_back(row);
+        for (int photonRadii = 0; photonRadii < 2; ++photonRadii) {
+            VolumeEstimateCheckRow radii;
+            VolumeEstimateSettings base;
+            base.radius = radius;
+            if (photonRadii) {
+                const std::vector<float> d = volumeKthNeighbourDist2(device, *m.photons, options.radiusK, 2 * radius);
+                const std::vector<float> t = referenceKthNeighbourDist2(*m.photons, options.radiusK, 2 * radius);
+                for (size_t j = 0; j < d.size(); ++j) radii.radiusMismatches += d[j] != t[j];
+                base.photonRadius2 = clampVolumePhotonRadii2(t, 0.25f * radius, 2.0f * radius, 1.0f);
+                base.radius = volumeReach(base.photonRadius2);
             }
+            for (BeamKernel kernel : {BeamKernel::Box, BeamKernel::Biweight})
+                for (int skip = 0; skip < (global ? 2 : 1); ++skip) {
+                    if (photonRadii && (kernel == BeamKernel::Box || skip)) continue;  // one row: the renderer's
+                    VolumeEstimateSettings s = base;
+                    s.kernel = kernel;
+                    s.skipDirect = skip != 0;
+                    s.skipSpecularPaths = skip != 0;
+                    VolumeEstimateCheckRow row = radii;
+                    row.photonRadii = photonRadii != 0;
+                    row.map = m.name;
+                    row.kernel = kernel == BeamKernel::Box ? "box" : "biweight";
+                    row.skipDirect = s.skipDirect;
+                    row.skipSpecularPaths = s.skipSpecularPaths;
+                    row.photons = m.photons->size();
+                    row.segments = segmentCount;
+                    row.radius = s.radius;
+                    const std::vector<PclRadiance> d =
+                        volumeEstimateOnDevice(device, *m.photons, s, segments, buffers.media, &row.deviceSeconds);
+                    t0 = Clock::now();
+                    const std::vector<PclRadiance> t = referenceVolumeEstimate(*m.photons, s, segments, buffers.media);
+                    row.twinSeconds = since(t0);
+                    compare(d, t, row);
+                    report.rows.push_back(row);
+                }
+        }
     }
     if (report.rows.empty())
         report.failure = "no volume map holds more than " + std::to_string(options.radiusK) +

@@ -10,7 +10,9 @@
 // crossing invisible boundaries into the medium beyond, up to the first other surface (rays that
 // leave the scene are dropped); one segment per medium stretch, throughput = the transmittance
 // before it. Rows: map × kernel (box, biweight) × skipDirect (global map: off and on, with
-// skipSpecularPaths on). A record matches when every channel agrees within kVolumeTolerance
+// skipSpecularPaths on), and per map a row with per-photon radii (radiusK-th neighbour, clamped
+// to [r/4, 2r] as the renderer does): the device's k-th neighbour distances (kd-tree search) must
+// equal the twin's (grid) bit for bit, then the estimate is compared. A record matches when every channel agrees within kVolumeTolerance
 // relative (float sums in the order found against double sums in photon order); a row passes
 // when ≥ 99.9 % of records match (a photon at d ≈ r or t ≈ 0, ℓ may fall either side), none is
 // NaN/Inf, and the twin sees nonzero radiance somewhere. A scene without media, or without
@@ -37,8 +39,10 @@ struct VolumeEstimateCheckOptions {
 };
 
 struct VolumeEstimateCheckRow {
-    std::string map;     // "global volume" / "volume caustic"
-    std::string kernel;  // "box" / "biweight"
+    std::string map;              // "global volume" / "volume caustic"
+    std::string kernel;           // "box" / "biweight"
+    bool photonRadii = false;     // per-photon radii (else one radius for every photon)
+    size_t radiusMismatches = 0;  // per-photon radii: photons whose k-th neighbour d² differs from the twin's
     bool skipDirect = false, skipSpecularPaths = false;
     size_t photons = 0, records = 0, segments = 0;
     float radius = 0.0f;

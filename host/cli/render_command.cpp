@@ -360,6 +360,13 @@ Run addRenderCommand(CLI::App& app) {
     sub->add_option("--k", o->request.k, "Photons per global-map estimate (1..500)")->check(CLI::Range(1u, 500u));
     sub->add_option("--caustic-k", o->request.causticK, "Photons per caustic estimate (1..500)")
         ->check(CLI::Range(1u, 500u));
+    sub->add_option("--volume-k", o->request.volumeK,
+                    "Media: photons per volume radius (the first radius holds about this many; 1..499)")
+        ->check(CLI::Range(1u, 499u));
+    sub->add_option("--volume-radii", o->request.volumeRadii,
+                    "Media: the beam estimate's radii: fixed (one per pass) or photon (each photon's own, from "
+                    "its k-th nearest volume photon)")
+        ->check(CLI::IsMember({"fixed", "photon"}));
     sub->add_option("--gather-rays", o->request.gatherRays, "fg: final-gather rays per diffuse eye hit")
         ->check(CLI::Range(1u, 4096u));
     sub->add_option("--light-samples", o->request.lightSamples, "Area-light samples (shadow rays) per diffuse eye hit")

@@ -198,9 +198,14 @@ private:
         sortWorkspace(phase, n, 32, n);
     }
 
-    // buildVolumeMap (the photons and their hash grid, cell size r) and estimateVolumeRadiance.
+    // buildVolumeMap (the photons and their radii², their hash grid of cell size r, the packed
+    // records) and estimateVolumeRadiance.
     void volumeEstimate(const std::string& phase, size_t n) {
         hashGrid(phase, n, "volume estimate: photons");
+        add(phase, "volume estimate: radii²", n, sizeof(float), 0, 0, n);
+        for (const char* w : {"volume estimate: packed positions", "volume estimate: packed directions",
+                              "volume estimate: packed power"})
+            add(phase, w, n, 4 * sizeof(float), 0, 0, n);
         add(phase, "volume estimate: radiance", req.volumeQueries, sizeof(PclRadiance));
     }
 

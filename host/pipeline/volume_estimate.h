@@ -3,7 +3,7 @@
 // segments, from one volume photon map searched through a hash grid of cell size r built on the
 // device each pass (pipeline/hashgrid). The twin is host/reference/volume_estimate.h.
 //
-//   DeviceVolumeMap map = buildVolumeMap(device, maps.volume, settings.radius);   // once per pass
+//   DeviceVolumeMap map = buildVolumeMap(device, maps.volume, settings);   // once per pass
 //   PclVolumeEstimateParams p = volumeEstimateParams(map, settings, sampleCount, maxSegments, mediumCount);
 //   cl::Buffer volume = estimateVolumeRadiance(device, map, p, segments, counts, mediaBuffer);  // per chunk
 // or, on host vectors (tests, check): volumeEstimateOnDevice(device, photons, settings, segments, media).
@@ -21,20 +21,28 @@
 
 namespace pcl {
 
-// A volume map on the device with its hash grid (cell size r: volume_estimate.cl walks it in slabs).
+// A volume map on the device with its hash grid (cell size r, the reach: volume_estimate.cl walks
+// it in slabs) and the photons packed in the grid's order by volume_pack_photons.
 struct DeviceVolumeMap {
-    cl::Buffer photons;  // the map, in map order (the kernel reads power, direction and flags)
     DeviceHashGrid grid;
+    cl::Buffer beamPos, beamDir, beamPower;  // float4 each per grid entry (volume_estimate.cl)
     float radius = 0.0f;
-    double seconds = 0.0;  // device time of the grid build
+    double seconds = 0.0;  // device time of the grid build and the packing
 };
 
-// Uploads the photons and builds the grid. InternalError when the radius is not positive and
-// finite or a photon is not a volume photon (validateVolumeEstimateInput).
-DeviceVolumeMap buildVolumeMap(Device& device, const std::vector<PclPhoton>& photons, float radius);
+// Uploads the photons (and their radii, or r² for each), builds the grid and packs it for
+// settings' kernel and skips. InternalError on input validateVolumeEstimateInput refuses.
+DeviceVolumeMap buildVolumeMap(Device& device, const std::vector<PclPhoton>& photons,
+                               const VolumeEstimateSettings& settings);
 
-// The launch parameters: the grid's, r and r², the kernel and its normalisation over the disc,
-// the skips. InternalError when settings.radius exceeds the grid's (cell size / 2).
+// Each photon's squared distance to its k-th nearest other photon of the map within rMax (the
+// kd-tree search of pipeline/knn, k + 1 neighbours with the photon itself); −1 where fewer than
+// k others lie within rMax. For clampVolumePhotonRadii2. seconds (optional): device time.
+std::vector<float> volumeKthNeighbourDist2(Device& device, const std::vector<PclPhoton>& photons, uint32_t k,
+                                           float rMax, double* seconds = nullptr);
+
+// The launch parameters: the grid's, the reach r and r², the kernel and its normalisation over a
+// unit disc, the skips. InternalError when the radius or the grid's cell size is not positive.
 PclVolumeEstimateParams volumeEstimateParams(const DeviceVolumeMap& map, const VolumeEstimateSettings& settings,
                                              uint32_t sampleCount, uint32_t maxSegments, uint32_t mediumCount);
 

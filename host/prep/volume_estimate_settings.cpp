@@ -44,6 +44,16 @@ void validateVolumeEstimateInput(const std::vector<PclPhoton>& photons, const Vo
     if (!(settings.radius > 0.0f) || !std::isfinite(settings.radius))
         throw InternalError("volume estimate: radius " + std::to_string(settings.radius) +
                             ", expected positive and finite");
+    if (!settings.photonRadius2.empty() && settings.photonRadius2.size() != photons.size())
+        throw InternalError("volume estimate: photonRadius2 has " + std::to_string(settings.photonRadius2.size()) +
+                            " entries, expected one per photon (" + std::to_string(photons.size()) + ")");
+    const float reach2 = settings.radius * settings.radius;
+    for (size_t j = 0; j < settings.photonRadius2.size(); ++j) {
+        const float r2 = settings.photonRadius2[j];
+        if (!(r2 > 0.0f && r2 <= reach2))
+            throw InternalError("volume estimate: photon " + std::to_string(j) + " has r² " + std::to_string(r2) +
+                                ", expected in (0, radius² = " + std::to_string(reach2) + "]");
+    }
     for (size_t j = 0; j < photons.size(); ++j) {
         const PclPhoton& p = photons[j];
         if ((p.packed & PCL_PHOTON_VOLUME) == 0u)
@@ -83,6 +93,31 @@ float defaultVolumeRadius(const std::vector<PclPhoton>& photons, const Bounds3& 
     }
     std::nth_element(kth.begin(), kth.begin() + m / 2, kth.end());
     return std::sqrt(kth[m / 2]);
+}
+
+std::vector<float> clampVolumePhotonRadii2(const std::vector<float>& kthDist2, float rMin, float rMax, float scale2) {
+    if (!(rMin > 0.0f && rMin <= rMax) || !std::isfinite(rMax))
+        throw InternalError("volume estimate: per-photon radii clamped to [" + std::to_string(rMin) + ", " +
+                            std::to_string(rMax) + "], expected 0 < rMin ≤ rMax finite");
+    if (!(scale2 > 0.0f && scale2 <= 1.0f))
+        throw InternalError("volume estimate: radius scale² " + std::to_string(scale2) + ", expected in (0, 1]");
+    const float lo = rMin * rMin, hi = rMax * rMax;
+    std::vector<float> out(kthDist2.size());
+    for (size_t j = 0; j < kthDist2.size(); ++j) {
+        const float d2 = kthDist2[j];
+        // NaN, negative (not found) or beyond reach: the largest radius.
+        const float c = (d2 >= 0.0f && d2 <= hi) ? std::max(d2, lo) : hi;
+        out[j] = c * scale2;
+    }
+    return out;
+}
+
+float volumeReach(const std::vector<float>& radius2) {
+    float m = 0.0f;
+    for (float r2 : radius2) m = std::max(m, r2);
+    float r = std::sqrt(m);
+    while (r * r < m) r = std::nextafter(r, INFINITY);
+    return r;
 }
 
 float shrinkVolumeRadius2(float radius2, uint32_t pass, float alpha) {

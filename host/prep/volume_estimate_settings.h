@@ -18,7 +18,12 @@ enum class BeamKernel { Box, Biweight };
 uint32_t beamKernelCode(BeamKernel k);  // PCL_BEAM_KERNEL_*
 
 struct VolumeEstimateSettings {
-    float radius = 0.0f;                       // r > 0 (defaultVolumeRadius, or the pass's shrunk radius)
+    // r > 0: every photon's radius (defaultVolumeRadius, or the pass's shrunk radius), or with
+    // per-photon radii the map's reach, the largest of them.
+    float radius = 0.0f;
+    // Per-photon radii (Jarosz, Zwicker & Jensen 2008): empty, or r_p² of each photon in map
+    // order, each in (0, radius²] (volumePhotonRadii2). Empty: every photon's r_p = radius.
+    std::vector<float> photonRadius2;
     BeamKernel kernel = BeamKernel::Biweight;  // the paper's choice: smooth at the disc's edge
     // Single scattering (bounce-0 photons) is left to next-event estimation in the eye pass.
     bool skipDirect = false;
@@ -41,8 +46,8 @@ struct VolumeSegments {
 // negative or not finite, a direction not of unit length (±1e-3), a non-finite start or
 // throughput, or a record other than its i.
 void validateVolumeSegments(const VolumeSegments& s, size_t mediumCount);
-// InternalError unless r is positive and finite and every photon is a volume photon with a
-// finite position.
+// InternalError unless r is positive and finite, every photon is a volume photon with a finite
+// position and photonRadius2 is empty or holds one r_p² in (0, r²] per photon.
 void validateVolumeEstimateInput(const std::vector<PclPhoton>& photons, const VolumeEstimateSettings& settings);
 
 // The default radius of a volume map: the median, over up to `samples` of the photons inside
@@ -54,6 +59,16 @@ void validateVolumeEstimateInput(const std::vector<PclPhoton>& photons, const Vo
 // at most k photons, or none in the region (no radius can be derived: the caller must give one).
 float defaultVolumeRadius(const std::vector<PclPhoton>& photons, const Bounds3& region = Bounds3{}, uint32_t k = 32,
                           uint32_t samples = 128);
+
+// Per-photon radii² from each photon's squared distance to its k-th nearest other photon
+// (kthDist2[j]; a photon with fewer than k others within reach passes a negative value or
+// anything above rMax²): clamped to [rMin², rMax²], then scaled by scale2 (the progressive
+// shrinking, 1 at the first pass). InternalError unless 0 < rMin ≤ rMax and scale2 in (0, 1].
+std::vector<float> clampVolumePhotonRadii2(const std::vector<float>& kthDist2, float rMin, float rMax, float scale2);
+
+// The smallest float r whose r·r (in float) is ≥ every entry (0 for none): the reach of a map
+// with these per-photon radii².
+float volumeReach(const std::vector<float>& radius2);
 
 // Progressive shrinking of a 2-D kernel's radius (Knaus & Zwicker 2011, probabilistic progressive
 // photon mapping, for a 2-D kernel): r²_{i+1} = r²_i (i + α)/(i + 1), i ≥ 1 the pass whose radius

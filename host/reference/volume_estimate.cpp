@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <unordered_map>
 
 #include "core/error.h"
@@ -36,10 +37,15 @@ Decoded decode(const PclPhoton& p, const VolumeEstimateSettings& s) {
     return d;
 }
 
+// Photon j's r_p² (float, as the kernel reads it): its own, or the map's r².
+float photonRadius2(const VolumeEstimateSettings& s, size_t j) {
+    return s.photonRadius2.empty() ? s.radius * s.radius : s.photonRadius2[j];
+}
+
 // One photon's contribution to L of a segment (0 when outside the beam or not selected). The
 // selection is the spec's float arithmetic, left to right (as the kernel, FP_CONTRACT off), so a
 // photon at d ≈ r is in or out on both sides alike; the weights are in double.
-void addBeamContribution(const Decoded& p, const VolumeEstimateSettings& s, const PclVolumeSegment& seg,
+void addBeamContribution(const Decoded& p, float r2, const VolumeEstimateSettings& s, const PclVolumeSegment& seg,
                          const PclMedium& m, double l[3]) {
     if (!p.counts) return;
     const float vx = float(p.x) - seg.ox, vy = float(p.y) - seg.oy, vz = float(p.z) - seg.oz;
@@ -47,7 +53,6 @@ void addBeamContribution(const Decoded& p, const VolumeEstimateSettings& s, cons
     if (!(t >= 0.0f) || !(t <= seg.length)) return;
     const float wx = vx - t * seg.dx, wy = vy - t * seg.dy, wz = vz - t * seg.dz;
     const float d2 = wx * wx + wy * wy + wz * wz;
-    const float r2 = s.radius * s.radius;
     if (!(d2 < r2)) return;
     const double k = referenceBeamKernel(s.kernel, d2, r2);
     const double mu = p.w[0] * seg.dx + p.w[1] * seg.dy + p.w[2] * seg.dz;
@@ -108,6 +113,37 @@ std::vector<uint32_t> candidates(const CellMap& map, double cell, double r, cons
 
 }  // namespace
 
+std::vector<float> referenceKthNeighbourDist2(const std::vector<PclPhoton>& photons, uint32_t k, float rMax,
+                                              unsigned threads) {
+    if (!(rMax > 0.0f) || !std::isfinite(rMax))
+        throw InternalError("volume radii: rMax " + std::to_string(rMax) + ", expected positive and finite");
+    std::vector<float> out(photons.size(), -1.0f);
+    if (photons.empty()) return out;
+    const CellMap map(photons, double(rMax));
+    const float r2max = rMax * rMax;
+    referenceParallelFor(photons.size(), threads, [&](size_t q) {
+        const PclPhoton& a = photons[q];
+        const int64_t cx = map.coord(a.x), cy = map.coord(a.y), cz = map.coord(a.z);
+        std::vector<float> d2;
+        for (int64_t z = cz - 1; z <= cz + 1; ++z)
+            for (int64_t y = cy - 1; y <= cy + 1; ++y)
+                for (int64_t x = cx - 1; x <= cx + 1; ++x)
+                    if (const std::vector<uint32_t>* c = map.find(x, y, z))
+                        for (uint32_t j : *c) {
+                            const PclPhoton& p = photons[j];
+                            // Each photon once: only through the cell that is its own (hash clashes).
+                            if (map.coord(p.x) != x || map.coord(p.y) != y || map.coord(p.z) != z) continue;
+                            const float dx = p.x - a.x, dy = p.y - a.y, dz = p.z - a.z;
+                            const float e = (dx * dx + dy * dy) + dz * dz;
+                            if (e <= r2max) d2.push_back(e);
+                        }
+        if (d2.size() < size_t(k) + 1) return;
+        std::nth_element(d2.begin(), d2.begin() + k, d2.end());
+        out[q] = d2[k];
+    });
+    return out;
+}
+
 double referenceBeamPhase(double mu, double g) {
     const double den = 1.0 + g * g - 2.0 * g * mu;
     return (1.0 - g * g) / (4.0 * kPiD * std::pow(den, 1.5));
@@ -137,7 +173,8 @@ std::vector<PclRadiance> referenceVolumeEstimate(const std::vector<PclPhoton>& p
             if (seg.medium == PCL_NO_MEDIUM || !(seg.length > 0.0f)) continue;
             const PclMedium& m = media[size_t(seg.medium)];
             double l[3] = {0, 0, 0};
-            for (uint32_t j : candidates(map, cell, r, seg)) addBeamContribution(decoded[j], settings, seg, m, l);
+            for (uint32_t j : candidates(map, cell, r, seg))
+                addBeamContribution(decoded[j], photonRadius2(settings, j), settings, seg, m, l);
             for (int c = 0; c < 3; ++c) sum[c] += double(seg.throughput[c]) * l[c];
         }
         out[i] = PclRadiance{float(sum[0]), float(sum[1]), float(sum[2]), 0.0f};
@@ -150,7 +187,8 @@ Vec3 referenceBeamEstimateBruteForce(const std::vector<PclPhoton>& photons, cons
     validateVolumeEstimateInput(photons, settings);
     double l[3] = {0, 0, 0};
     if (segment.length > 0.0f)
-        for (const PclPhoton& p : photons) addBeamContribution(decode(p, settings), settings, segment, medium, l);
+        for (size_t j = 0; j < photons.size(); ++j)
+            addBeamContribution(decode(photons[j], settings), photonRadius2(settings, j), settings, segment, medium, l);
     return {float(l[0]), float(l[1]), float(l[2])};
 }
 

@@ -16,6 +16,13 @@
 
 namespace pcl {
 
+// The twin of pipeline/volume_estimate's volumeKthNeighbourDist2 (written from the knn spec,
+// kernels/README.md): per photon, the (k+1)-th smallest squared distance (float, ((dx² + dy²) +
+// dz²)) over every photon of the map, itself included, among those ≤ rMax²; −1 when fewer than
+// k + 1. Through a grid of cells ≥ rMax (27 cells per photon). threads: 0 = all cores.
+std::vector<float> referenceKthNeighbourDist2(const std::vector<PclPhoton>& photons, uint32_t k, float rMax,
+                                              unsigned threads = 0);
+
 // volume[i] for every record of `segments` (validated as the pipeline does). threads 0: all cores.
 std::vector<PclRadiance> referenceVolumeEstimate(const std::vector<PclPhoton>& photons,
                                                  const VolumeEstimateSettings& settings, const VolumeSegments& segments,

@@ -80,8 +80,8 @@ void DeviceRenderStages::buildMaps(const PassMapSpec& spec) {
     const VolumeMapSpec* volume[2] = {&spec.volume, &spec.volumeCaustic};
     for (int v = 0; v < 2; ++v)
         if (volume[v]->photons && !volume[v]->photons->empty()) {
-            maps_->volume[v] = std::make_unique<DeviceVolumeMap>(
-                buildVolumeMap(device_, *volume[v]->photons, volume[v]->settings.radius));
+            maps_->volume[v] =
+                std::make_unique<DeviceVolumeMap>(buildVolumeMap(device_, *volume[v]->photons, volume[v]->settings));
             maps_->volumeSettings[v] = volume[v]->settings;
         }
     if (spec.histogramPhotons)
@@ -103,6 +103,11 @@ void DeviceRenderStages::eyePaths(const PclEyeParams& params) {
     }
     traceEyePaths(device_, dscene_, lights_, params, rays_, hits_, segments_, segmentCounts_);
     lastEye_ = params;
+}
+
+std::vector<float> DeviceRenderStages::volumeKthNeighbourDist2(const std::vector<PclPhoton>& photons, uint32_t k,
+                                                               float rMax) {
+    return pcl::volumeKthNeighbourDist2(device_, photons, k, rMax);
 }
 
 void DeviceRenderStages::volumeEstimate() {

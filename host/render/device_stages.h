@@ -35,6 +35,7 @@ public:
     void globalEstimate(const PclEyeEstimateParams& params) override;
     void finalGather(const PclGatherParams& params) override;
     void volumeEstimate() override;
+    std::vector<float> volumeKthNeighbourDist2(const std::vector<PclPhoton>& photons, uint32_t k, float rMax) override;
     void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) override;
 
 private:

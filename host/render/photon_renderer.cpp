@@ -152,6 +152,7 @@ private:
     PassPhotons tracePhotons(uint32_t pass);
     double firstRadius2(const PassPhotons& pass0) const;
     void firstVolumeRadii(const PassPhotons& pass0);
+    void volumeRadii(PassPhotons& photons, uint32_t pass);
     void specifyMaps(const PassPhotons& photons, float radius2, PassMaps& m) const;
     // est_ with the first kNN bound for k-nearest queries into a map of `photons` (speed only).
     EstimateSettings hinted(size_t photons, uint32_t k) const {
@@ -189,6 +190,7 @@ private:
     // pass's (shrunk between passes by progressive).
     double volumeR0Squared_[2] = {0.0, 0.0};
     double volumePassRadius2_[2] = {0.0, 0.0};
+    std::vector<float> volumePhotonRadius2_[2];  // volumePhotonRadii: this pass's r_p² per photon
     PhotonRenderResult result_;
 };
 
@@ -214,7 +216,7 @@ void PhotonRenderer::firstVolumeRadii(const PassPhotons& pass0) {
     const std::vector<PclPhoton>* maps[2] = {&pass0.volume, &pass0.volumeCaustic};
     for (int v = 0; v < 2; ++v) {
         if (volumeR0Squared_[v] > 0.0) continue;
-        double r = defaultVolumeRadius(*maps[v], geometry_.bounds());
+        double r = defaultVolumeRadius(*maps[v], geometry_.bounds(), s_.volumeK);
         if (!(r > 0.0)) {
             if (maps[v]->empty()) continue;  // the next pass with photons decides
             r = maxRadius_;
@@ -224,6 +226,42 @@ void PhotonRenderer::firstVolumeRadii(const PassPhotons& pass0) {
         }
         volumeR0Squared_[v] = r * r;
         if (s_.log) std::fprintf(stderr, "volume %s map: beam radius %.4g\n", v == 0 ? "global" : "caustic", r);
+    }
+}
+
+// The pass's volume radii. Photons that no eye segment can reach are dropped first: segments run
+// between the camera's lens and the scene (a hit, or the exit of the bounding sphere the eye pass
+// clips escaping rays to), so none leaves the box of that sphere and the lens; a photon further
+// than its radius from that box never counts (in cornell-fog most of the global map scatters in
+// the fog outside the box, where no eye looks). The margin is 4 r_0: the largest radius (2 r_0)
+// and, for the per-photon radii, the reach of a kept photon's k-th neighbour search.
+void PhotonRenderer::volumeRadii(PassPhotons& photons, uint32_t pass) {
+    const bool progressive = s_.method == RenderMethod::Progressive;
+    const double scale2 = progressive ? progressiveRadius2(1.0, s_.alpha, pass) : 1.0;
+    Bounds3 reach;
+    const Vec3 c = buffers_.sceneCentre, rad(buffers_.sceneRadius);
+    reach.extend(c - rad);
+    reach.extend(c + rad);
+    const Vec3 lens(scene_.camera.apertureRadius);
+    reach.extend(scene_.camera.position - lens);
+    reach.extend(scene_.camera.position + lens);
+    std::vector<PclPhoton>* maps[2] = {&photons.volume, &photons.volumeCaustic};
+    for (int v = 0; v < 2; ++v) {
+        volumePassRadius2_[v] = volumeR0Squared_[v] * scale2;
+        volumePhotonRadius2_[v].clear();
+        if (!(volumeR0Squared_[v] > 0.0)) continue;
+        const float r0 = float(std::sqrt(volumeR0Squared_[v]));
+        const float m = 4.0f * r0;
+        std::vector<PclPhoton>& map = *maps[v];
+        map.erase(std::remove_if(map.begin(), map.end(),
+                                 [&](const PclPhoton& p) {
+                                     return p.x < reach.lo.x - m || p.x > reach.hi.x + m || p.y < reach.lo.y - m ||
+                                            p.y > reach.hi.y + m || p.z < reach.lo.z - m || p.z > reach.hi.z + m;
+                                 }),
+                  map.end());
+        if (s_.volumePhotonRadii && !map.empty())
+            volumePhotonRadius2_[v] = clampVolumePhotonRadii2(
+                stages_.volumeKthNeighbourDist2(map, s_.volumeK, 2.0f * r0), 0.25f * r0, 2.0f * r0, float(scale2));
     }
 }
 
@@ -263,13 +301,15 @@ void PhotonRenderer::specifyMaps(const PassPhotons& photons, float radius2, Pass
     // Media: the beam radiance estimate along the eye's medium segments over the photons
     // keepCountedVolumePhotons kept (so the estimate's own skip flags stay off).
     if (maps_.volume) {
-        auto volume = [&](const std::vector<PclPhoton>& v, float r2, VolumeMapSpec& out) {
+        auto volume = [&](const std::vector<PclPhoton>& v, float r2, const std::vector<float>& perPhoton,
+                          VolumeMapSpec& out) {
             if (v.empty()) return;
             out.photons = &v;
-            out.settings.radius = std::sqrt(r2);
+            out.settings.radius = perPhoton.empty() ? std::sqrt(r2) : volumeReach(perPhoton);
+            out.settings.photonRadius2 = perPhoton;
         };
-        volume(photons.volume, volumePassRadius2_[0], spec.volume);
-        volume(photons.volumeCaustic, volumePassRadius2_[1], spec.volumeCaustic);
+        volume(photons.volume, volumePassRadius2_[0], volumePhotonRadius2_[0], spec.volume);
+        volume(photons.volumeCaustic, volumePassRadius2_[1], volumePhotonRadius2_[1], spec.volumeCaustic);
     }
     // The importance histograms read the global map's k nearest photons directly.
     if (fg && s_.histogramCells > 0 && spec.global.reader != MapReader::None) spec.histogramPhotons = &photons.global;
@@ -484,9 +524,7 @@ PhotonRenderResult PhotonRenderer::run() {
         }
         if (maps_.volume) {
             firstVolumeRadii(photons);
-            for (int v = 0; v < 2; ++v)
-                volumePassRadius2_[v] = progressive ? progressiveRadius2(volumeR0Squared_[v], s_.alpha, pass)
-                                                    : volumeR0Squared_[v];
+            timed(stages_, result_.times.maps, [&] { volumeRadii(photons, pass); });
         }
         PassMaps maps;
         specifyMaps(photons, radius2, maps);

@@ -180,6 +180,14 @@ std::string ResolvedSettings::log() const {
     return out;
 }
 
+// Media (scripts/media_accuracy.py, 3 seeds of default renders each, 2026-12-02): per-photon radii
+// gave the same error (relMSE 0.00142-0.00144 vs 0.00144-0.00145 on cornell-fog, 0.0038-0.0040 vs
+// 0.0039-0.0041 on hazy-room, both at the references' own noise) at 1.2-2.9x the time (the kNN
+// search, and a reach of 2 r0 for the search).
+constexpr const char* kVolumeRadiiReason =
+    "one radius per pass: per-photon radii gave the same error on the media scenes at more time";
+constexpr const char* kVolumeKReason = "about 32 volume photons in the first radius";
+
 // The defaults below were measured on the 2-core PoCL machine (README, "Commands"):
 // cornell-spheres at 256×256 renders in under a minute with them.
 ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan& plan, int width, int height) {
@@ -204,6 +212,12 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
     if (q.lightSamples) s.lightSamples = q.lightSamples;
     if (q.strata && s.method != RenderMethod::PathTracing) s.strata = q.strata;
     if (q.gatherRays && s.method == RenderMethod::FinalGather) s.gatherRays = q.gatherRays;
+    if (q.volumeK) s.volumeK = q.volumeK;
+    if (!q.volumeRadii.empty()) {
+        if (q.volumeRadii != "fixed" && q.volumeRadii != "photon")
+            throw InputError("render: volume radii \"" + q.volumeRadii + "\", expected fixed or photon");
+        s.volumePhotonRadii = q.volumeRadii == "photon";
+    }
     if (s.method == RenderMethod::PathTracing) {
         s.passes = q.passes;  // samples per pixel; the path tracer's caller chooses when 0
         return r;
@@ -261,6 +275,11 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
          causticEye ? "Jensen's 50 photons per estimate; 20 per caustic estimate, made at every eye sample (16 per "
                       "pixel and pass average its noise, and it blurs the caustic less)"
                     : "Jensen's 50 photons per estimate");
+    if (built.volume) {
+        note("volume radii " + std::string(s.volumePhotonRadii ? "photon" : "fixed"), !q.volumeRadii.empty(),
+             kVolumeRadiiReason);
+        note("volume k " + std::to_string(s.volumeK), q.volumeK != 0, kVolumeKReason);
+    }
     return r;
 }
 
@@ -269,7 +288,7 @@ std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const R
     // A new setting must be added here or among the controls of PhotonRenderSettings that change
     // no pixel; this fails to compile until one of the two is done.
 #if defined(__x86_64__) && defined(__GLIBCXX__)
-    static_assert(sizeof(PhotonRenderSettings) == 160,
+    static_assert(sizeof(PhotonRenderSettings) == 168,
                   "PhotonRenderSettings changed: add the new setting to settingsFields (or say why it changes no "
                   "pixel), then update this size");
 #endif
@@ -301,6 +320,10 @@ std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const R
         add("alpha", exact(s.alpha));
         add("progressiveK0", exact(s.progressiveK0));
         add("radius", exact(s.initialRadius));
+        if (maps.volume) {  // only with media, so the other scenes' settings (and hashes) stay as they were
+            add("volumeK", std::to_string(s.volumeK));
+            add("volumeRadii", s.volumePhotonRadii ? "photon" : "fixed");
+        }
     }
     add("fixedPointBits", std::to_string(FixedPointFilm::kFractionBits));
     return f;

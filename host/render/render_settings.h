@@ -66,6 +66,11 @@ struct PhotonRenderSettings {
     float alpha = 2.0f / 3.0f;
     float progressiveK0 = 20.0f;
     float initialRadius = 0.0f;  // progressive r_0; 0: from progressiveK0
+    // Media: the beam radiance estimate's radii. volumeK: the k of the first radius (the median
+    // distance to the k-th nearest volume photon) and, with volumePhotonRadii, of each photon's
+    // own radius (its k-th nearest, clamped to [r_0/4, 2 r_0]); both shrink per pass like r².
+    uint32_t volumeK = 32;
+    bool volumePhotonRadii = false;
     uint64_t seed = 0;
 
     // ---- How much, and how the run goes (no pixel depends on these) --------------------------
@@ -110,6 +115,8 @@ struct RenderRequest {
     uint32_t passes = 0;   // 0: defaultPasses (unless seconds is given)
     double seconds = 0.0;  // time budget instead of a pass count
     uint32_t globalPhotons = 0, causticPhotons = 0, k = 0, causticK = 0, lightSamples = 0, strata = 0, gatherRays = 0;
+    uint32_t volumeK = 0;     // 0: the default
+    std::string volumeRadii;  // "fixed", "photon"; empty: the default
 };
 
 // One resolved setting, as `render` logs it: "gather rays 64  (default: <reason>)" or "(given)".

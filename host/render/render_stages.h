@@ -101,6 +101,10 @@ public:
     // The beam radiance estimate along the medium segments the last eyePaths wrote, from the
     // pass's volume maps (spec.volume, spec.volumeCaustic), summed → volume.
     virtual void volumeEstimate() = 0;
+    // Per-photon radii of a volume map: each photon's squared distance to its k-th nearest other
+    // photon within rMax, −1 where fewer (pipeline/volume_estimate, volumeKthNeighbourDist2).
+    virtual std::vector<float> volumeKthNeighbourDist2(const std::vector<PclPhoton>& photons, uint32_t k,
+                                                       float rMax) = 0;
     // The chunk's records and the parts it got (the others zero-filled), `count` each.
     virtual void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) = 0;
 };

@@ -43,6 +43,9 @@ public:
     void globalEstimate(const PclEyeEstimateParams& p) override { inner_.globalEstimate(p); }
     void finalGather(const PclGatherParams& p) override { inner_.finalGather(p); }
     void volumeEstimate() override { inner_.volumeEstimate(); }
+    std::vector<float> volumeKthNeighbourDist2(const std::vector<PclPhoton>& photons, uint32_t k, float rMax) override {
+        return inner_.volumeKthNeighbourDist2(photons, k, rMax);
+    }
     void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) override { inner_.readChunk(count, parts, out); }
 
 private:

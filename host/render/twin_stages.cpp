@@ -107,6 +107,11 @@ void TwinRenderStages::finalGather(const PclGatherParams& params) {
                     .radiance;
 }
 
+std::vector<float> TwinRenderStages::volumeKthNeighbourDist2(const std::vector<PclPhoton>& photons, uint32_t k,
+                                                             float rMax) {
+    return referenceKthNeighbourDist2(photons, k, rMax);
+}
+
 void TwinRenderStages::volumeEstimate() {
     if (segments_.perRecord == 0)
         throw std::logic_error("render (twin): a volume estimate asked of eye paths without medium segments");

@@ -459,13 +459,13 @@ PCL_STATIC_ASSERT(sizeof(PclEyeEstimateParams) == 16, PclEyeEstimateParams_size)
 #define PCL_BEAM_KERNEL_BIWEIGHT 1u /* K = 3/(π r²) (1 − d²/r²)² (Silverman) */
 typedef struct PclVolumeEstimateParams {
     pcl_f32 ox, oy, oz;          /* the hash grid's origin, cell size and table (PclGridParams) */
-    pcl_f32 cellSize;            /* ≥ 2 radius */
+    pcl_f32 cellSize;            /* ≥ radius (the slab walk) */
     pcl_f32 invCellSize;
     pcl_u32 tableSize;
     pcl_u32 photonCount;
-    pcl_f32 radius;              /* r: the kernel's radius around the segment */
+    pcl_f32 radius;              /* r: the map's reach, every photon's own radius r_p ≤ r */
     pcl_f32 radius2;             /* r² */
-    pcl_f32 kernelScale;         /* K's factor: 1/(π r²) box, 3/(π r²) biweight */
+    pcl_f32 kernelNorm;          /* K's factor times r_p²: 1/π box, 3/π biweight */
     pcl_u32 kernelShape;         /* PCL_BEAM_KERNEL_* ("kernel" is an OpenCL C keyword) */
     pcl_u32 skipDirect;          /* 1: photons of bounce 0 (single scattering, done by NEE) do not count */
     pcl_u32 skipSpecularPaths;   /* 1: photons of L S+ V paths do not count (the volume caustic map has them) */

@@ -238,9 +238,9 @@ TEST(MemoryPlan, VolumeEstimatePlansItsMapGridAndRadiance) {
     for (const char* name : {"global", "caustic"}) {
         log.phase = std::string(name) + " volume estimate";
         const std::vector<PclPhoton> map(photons.begin(), photons.begin() + (name[0] == 'g' ? 30000 : 7000));
-        const DeviceVolumeMap vm = buildVolumeMap(device, map, 0.05f);
         VolumeEstimateSettings settings;
         settings.radius = 0.05f;
+        const DeviceVolumeMap vm = buildVolumeMap(device, map, settings);
         const PclVolumeEstimateParams p = volumeEstimateParams(vm, settings, s.sampleCount, 1, 1);
         estimateVolumeRadiance(device, vm, p, segs, counts, media);
     }

@@ -18,6 +18,7 @@
 #include "eye_test_scenes.h"
 #include "pipeline/volume_estimate.h"
 #include "prep/volume_estimate_settings.h"
+#include "reference/knn.h"
 #include "reference/volume_estimate.h"
 #include "shared/sampling.h"
 
@@ -265,6 +266,148 @@ TEST(VolumeEstimate, BeamWeighsThePhaseTowardTheEyeCollimated) {
     expectBeamMatchesDensity({-1, 0, 0}, 0.6f, BeamKernel::Biweight, true);
     expectBeamMatchesDensity({1, 0, 0}, 0.6f, BeamKernel::Biweight, true);
     expectBeamMatchesDensity({0, 1, 0}, 0.6f, BeamKernel::Box, false);
+}
+
+// ---- (b') per-photon radii (Jarosz, Zwicker & Jensen 2008) -------------------------------
+
+// Photons in the unit cube, a quarter of them packed into a 0.2 cube (64× denser there): radii
+// that differ by a factor of ~4 across the map.
+std::vector<PclPhoton> unevenPhotons(size_t n, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<PclPhoton> out;
+    for (size_t j = 0; j < n; ++j) {
+        const bool dense = j % 4 == 0;
+        const Vec3 x = dense ? Vec3(0.4f + 0.2f * u(rng), 0.4f + 0.2f * u(rng), 0.4f + 0.2f * u(rng))
+                             : Vec3(u(rng), u(rng), u(rng));
+        out.push_back(volumePhoton(x, uniformDirection(rng), {u(rng) * 1e-4f, u(rng) * 1e-4f, u(rng) * 1e-4f},
+                                   1 + uint32_t(u(rng) * 2.0f)));
+    }
+    return out;
+}
+
+// The k-th neighbour distances on the device (kd-tree search) are the twin's (grid) bit for bit,
+// and the brute force's (reference knn: the (k+1)-th nearest with the photon itself).
+TEST(VolumePhotonRadii, KthNeighbourOnDeviceEqualsTwinAndBruteForce) {
+    const std::vector<PclPhoton> photons = unevenPhotons(20000, 5);
+    const uint32_t k = 16;
+    const float rMax = 0.07f;  // about the sparse part's 16th-neighbour distance: some have fewer
+    const std::vector<float> d = volumeKthNeighbourDist2(test::testDevice(), photons, k, rMax);
+    const std::vector<float> t = referenceKthNeighbourDist2(photons, k, rMax);
+    ASSERT_EQ(d.size(), t.size());
+    size_t equal = 0, found = 0;
+    for (size_t j = 0; j < t.size(); ++j) {
+        equal += d[j] == t[j];
+        found += t[j] >= 0.0f;
+    }
+    std::printf("[figure] k-th neighbour d²: %zu/%zu equal, %zu within rMax\n", equal, t.size(), found);
+    EXPECT_EQ(equal, t.size());
+    EXPECT_GT(found, t.size() / 2);
+    EXPECT_LT(found, t.size());  // the sparse part has photons with fewer than k within rMax
+    std::vector<PclKnnQuery> queries;
+    for (size_t j = 0; j < photons.size(); j += 97)
+        queries.push_back({photons[j].x, photons[j].y, photons[j].z, rMax * rMax, k + 1, 0, 0, 0});
+    const ReferenceKnn b = referenceKnnBruteForce(photons, queries);
+    for (size_t q = 0; q < queries.size(); ++q) EXPECT_EQ(t[q * 97], b.counts[q] == k + 1 ? b.radius2[q] : -1.0f) << q;
+}
+
+TEST(VolumePhotonRadii, ClampAndShrink) {
+    const std::vector<float> r2 = clampVolumePhotonRadii2({-1.0f, 0.0f, 0.0004f, 0.01f, 1.0f, NAN}, 0.01f, 0.1f, 0.5f);
+    const std::vector<float> expected = {0.005f, 0.00005f, 0.0002f, 0.005f, 0.005f, 0.005f};
+    ASSERT_EQ(r2.size(), expected.size());
+    for (size_t j = 0; j < r2.size(); ++j) EXPECT_FLOAT_EQ(r2[j], expected[j]) << j;
+    const float reach = volumeReach(r2);
+    EXPECT_GE(reach * reach, 0.005f);
+    EXPECT_LT(reach, std::sqrt(0.005f) * 1.00001f);
+    EXPECT_THROW(clampVolumePhotonRadii2({1.0f}, 0.2f, 0.1f, 1.0f), InternalError);
+    EXPECT_THROW(clampVolumePhotonRadii2({1.0f}, 0.1f, 0.2f, 0.0f), InternalError);
+}
+
+// The kernel with per-photon radii against its twin, and the twin's grid search against the
+// brute force over every photon, on the uneven map (both kernels, both skips).
+TEST(VolumePhotonRadii, KernelMatchesTwinAndBruteForce) {
+    std::vector<PclPhoton> photons = unevenPhotons(60000, 9);
+    for (size_t j = 0; j < photons.size(); j += 5) photons[j].packed |= PCL_PHOTON_AFTER_SPECULAR;
+    const float r0 = defaultVolumeRadius(photons, Bounds3{}, 16);
+    const std::vector<float> r2 =
+        clampVolumePhotonRadii2(referenceKthNeighbourDist2(photons, 16, 2.0f * r0), 0.25f * r0, 2.0f * r0, 0.7f);
+    std::mt19937_64 rng(13);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<PclVolumeSegment> list;
+    for (uint32_t i = 0; i < 2000; ++i)
+        list.push_back(segment({1.2f * u(rng) - 0.1f, 1.2f * u(rng) - 0.1f, 1.2f * u(rng) - 0.1f},
+                               uniformDirection(rng), 1.2f * u(rng), 0, i, {u(rng), u(rng), u(rng)}));
+    const std::vector<PclMedium> media = {medium({0.1f, 0.2f, 0.4f}, {0.9f, 0.6f, 0.3f}, 0.5f)};
+    for (BeamKernel kernel : {BeamKernel::Box, BeamKernel::Biweight})
+        for (bool skip : {false, true}) {
+            VolumeEstimateSettings settings;
+            settings.photonRadius2 = r2;
+            settings.radius = volumeReach(r2);
+            settings.kernel = kernel;
+            settings.skipDirect = settings.skipSpecularPaths = skip;
+            const std::vector<PclRadiance> d =
+                volumeEstimateOnDevice(test::testDevice(), photons, settings, oneEach(list), media);
+            const std::vector<PclRadiance> t = referenceVolumeEstimate(photons, settings, oneEach(list), media);
+            size_t matched = 0, nonzero = 0;
+            for (size_t i = 0; i < t.size(); ++i) {
+                double rel = 0;
+                for (int c = 0; c < 3; ++c) {
+                    ASSERT_TRUE(std::isfinite(channel(d[i], c)));
+                    const double m = std::max(std::fabs(channel(d[i], c)), std::fabs(channel(t[i], c)));
+                    if (m > 0) rel = std::max(rel, std::fabs(channel(d[i], c) - channel(t[i], c)) / m);
+                }
+                matched += rel <= 1e-4;
+                nonzero += t[i].r != 0.0f;
+            }
+            std::printf("[figure] per-photon radii, kernel %d skip %d: %zu/%zu within 1e-4, %zu nonzero\n", int(kernel),
+                        int(skip), matched, t.size(), nonzero);
+            EXPECT_GE(double(matched), 0.999 * double(t.size()));
+            EXPECT_GT(nonzero, t.size() / 4);
+            for (size_t i = 0; i < list.size(); i += 40) {
+                const Vec3 b = referenceBeamEstimateBruteForce(photons, settings, list[i], media[0]);
+                for (int c = 0; c < 3; ++c) {
+                    const double bt = double(b[c]) * list[i].throughput[c];  // the brute force has no throughput
+                    EXPECT_NEAR(channel(t[i], c), bt, 1e-5 * std::fabs(bt) + 1e-12) << i;
+                }
+            }
+        }
+}
+
+// Uniform density with each photon's radius from its own 16th neighbour: the kernel over each
+// photon's disc integrates to 1 whatever its radius, so E[L] = ρ_Φ E[p] ∫ Tr dt as with one
+// radius; Var ≈ ΔΦ² E[p²] ∫Tr² Σ_p ∫K_p² dA / (disc areas): within 4 σ over 25 segments.
+TEST(VolumePhotonRadii, BeamOnUniformDensityEqualsDensityTimesPhase) {
+    const size_t n = 400000;
+    const std::vector<PclPhoton> photons = boxPhotons(n, {2.0f, 1.0f, 0.5f}, {0, 0, 0}, 21);
+    const Vec3 phi = decodedPower(photons[0]);
+    const Vec3 sigmaT(0.5f, 1.0f, 2.0f);
+    const float g = 0.6f;
+    const std::vector<PclMedium> media = {medium(sigmaT * 0.25f, sigmaT * 0.75f, g)};
+    const float length = 0.8f;
+    const std::vector<PclVolumeSegment> list = gridSegments(0, 0.1f, length);
+    const float r0 = defaultVolumeRadius(photons, Bounds3{}, 16);
+    VolumeEstimateSettings settings;
+    settings.photonRadius2 = clampVolumePhotonRadii2(
+        volumeKthNeighbourDist2(test::testDevice(), photons, 16, 2.0f * r0), 0.25f * r0, 2.0f * r0, 1.0f);
+    settings.radius = volumeReach(settings.photonRadius2);
+    settings.kernel = BeamKernel::Biweight;
+    const std::vector<PclRadiance> est =
+        volumeEstimateOnDevice(test::testDevice(), photons, settings, oneEach(list), media);
+    const PhaseMoments pm = phaseMoments(photons, {1, 0, 0}, g);
+    double k2 = 0;  // the mean over photons of ∫K_p² dA
+    for (float r2 : settings.photonRadius2) k2 += kernelSquareIntegral(settings.kernel, std::sqrt(double(r2)));
+    k2 /= double(n);
+    for (int c = 0; c < 3; ++c) {
+        double mean = 0;
+        for (const PclRadiance& r : est) mean += channel(r, c);
+        mean /= double(est.size());
+        const double expected = double(n) * phi[c] * pm.mean * trIntegral(sigmaT[c], length);
+        const double var = double(n) * phi[c] * phi[c] * pm.meanSquare * k2 * trIntegral(sigmaT[c], length, 2.0);
+        const double sigma = std::sqrt(var / double(est.size()));
+        std::printf("[figure] per-photon radii (r0 %.4f), channel %d: mean %.5f, expected %.5f (%.2f %%), σ %.2f %%\n",
+                    r0, c, mean, expected, 100.0 * (mean / expected - 1.0), 100.0 * sigma / expected);
+        EXPECT_NEAR(mean, expected, 4.0 * sigma) << "channel " << c;
+    }
 }
 
 // ---- (c) the point estimate ---------------------------------------------------------------
