@@ -9,6 +9,7 @@
 #include "reference/medium.h"
 #include "reference/parallel_for.h"
 #include "reference/sampler.h"
+#include "reference/textured_material.h"
 
 namespace pcl {
 namespace {
@@ -152,7 +153,7 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
         const float dn = dot(d, n);
         const Vec3 nf = dn < 0.0f ? n : -n;
         const uint32_t mat = buffers.primInfo[hit.prim].material;
-        const PclMaterial& m = buffers.materials[mat];
+        const PclMaterial m = texturedMaterial(buffers, params.triangleCount, hit);  // ρd at the hit
         if (hasMedia) {
             if (m.flags & PCL_MATERIAL_INTERFACE) {
                 // An invisible boundary: straight on in the medium beyond, not a hit of the chain.

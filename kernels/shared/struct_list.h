@@ -37,6 +37,8 @@
     X(PclGatherHit)           \
     X(PclEyeEstimateParams)   \
     X(PclVolumeSegment)       \
-    X(PclVolumeEstimateParams)
+    X(PclVolumeEstimateParams) \
+    X(PclTexture)              \
+    X(PclTriangleUv)
 
 #endif /* PCL_STRUCT_LIST_H */
