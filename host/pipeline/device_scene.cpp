@@ -16,6 +16,7 @@ DeviceScene::DeviceScene(Device& device, const SceneGeometry& g, const SceneBuff
       texels(device.upload(b.textures.textured() ? b.textures.texels : std::vector<float>(1), CL_MEM_READ_ONLY,
                            "scene: texels")),
       triangleUvs(device.upload(b.textures.textured() ? b.textures.triangleUvs : std::vector<PclTriangleUv>(1),
-                                CL_MEM_READ_ONLY, "scene: triangle texture coordinates")) {}
+                                CL_MEM_READ_ONLY, "scene: triangle texture coordinates")),
+      textured(b.textures.textured()) {}
 
 }  // namespace pcl

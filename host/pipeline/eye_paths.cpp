@@ -51,7 +51,7 @@ cl::Event traceEyePaths(Device& device, const DeviceScene& scene, const DeviceAr
     auto kernel =
         device.kernel<PclEyeParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                       cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                      cl::Buffer, cl::Buffer>("eye_paths", "eye_paths", scene.geometry.programOptions());
+                      cl::Buffer, cl::Buffer>("eye_paths", "eye_paths", scene.programOptions());
     return device.launchLocal("eye_paths", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, rays, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
                               scene.primInfo, scene.materials, scene.lights, lights.cdf, lights.lightOfPrim,

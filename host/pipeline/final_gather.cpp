@@ -63,7 +63,7 @@ cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const Device
     auto kernel =
         device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                       cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
-            "final_gather", "final_gather_trace", scene.geometry.programOptions());
+            "final_gather", "final_gather_trace", scene.programOptions());
     return device.launchLocal("final_gather", kernel, photonGlobalRange(gatherRayCount(params)),
                               cl::NDRange(kPhotonGroup), params, hits, scene.geometry.nodes, scene.geometry.packets,
                               scene.geometry.spheres, scene.primInfo, scene.materials, scene.lights, lights.lightOfPrim,

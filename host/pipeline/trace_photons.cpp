@@ -34,7 +34,7 @@ cl::Event tracePhotons(Device& device, const DeviceScene& scene, const PclPhoton
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "trace_photons", params.pass == PCL_PASS_CAUSTIC ? "trace_photons_caustic" : "trace_photons_global",
-        scene.geometry.programOptions());
+        scene.programOptions());
     return device.launchLocal("trace_photons", kernel, photonGlobalRange(params.batchSize), cl::NDRange(kPhotonGroup),
                               params, rays, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
                               scene.primInfo, scene.materials, slots, counts, ends, scene.media, scene.primMedia,

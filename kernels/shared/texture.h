@@ -81,10 +81,16 @@ PCL_INLINE void texture_bilinear(const PclTexture t, PCL_GLOBAL const float* tex
 /* ρd of material `material` at barycentrics (bu, bv) of primitive `prim` (p = p0 + bu (p1 − p0)
  * + bv (p2 − p0)): rhoD (the material's constant, rgb) times its texture at the interpolated
  * texture coordinates, in place. Untouched when the material has no texture or the primitive
- * is not a triangle (spheres carry no texture coordinates; the loaders refuse textured spheres). */
+ * is not a triangle (spheres carry no texture coordinates; the loaders refuse textured spheres).
+ * On the device only with PCL_TEXTURED defined (the scene has textures). */
 PCL_INLINE void texture_rho_d(PCL_GLOBAL const PclTexture* materialTextures, PCL_GLOBAL const float* texels,
                               PCL_GLOBAL const PclTriangleUv* triangleUvs, pcl_u32 material, pcl_u32 prim,
                               pcl_u32 triangleCount, float bu, float bv, float rhoD[4]) {
+#if PCL_DEVICE && !defined(PCL_TEXTURED)
+    /* A program built for a scene without textures (DeviceScene::programOptions): every material
+     * has width 0, so nothing to read; compiled away, the kernels run as they did before. */
+    return;
+#endif
     const PclTexture t = materialTextures[material];
     if (t.width == 0u || prim >= triangleCount) return;
     PCL_GLOBAL const float* s = triangleUvs[prim].uv[t.texCoord & 1u];
