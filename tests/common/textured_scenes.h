@@ -54,7 +54,7 @@ inline int addTexturedQuad(Scene& s, Vec3 corner, Vec3 u, Vec3 v, int material) 
 
 // A closed 2 × 2 × 2 room lit by a point light under the ceiling, seen from inside: a checkered
 // floor (repeat, the transform scales by 3 and turns by 0.3 rad), a gradient back wall (mirror
-// wrap, scaled by 2), the other walls plain; a mirror-and-diffuse block so some paths reach a
+// and clamp wrap, scaled by 2, read through coordinate set 1), the other walls plain; a mirror-and-diffuse block so some paths reach a
 // texture after a specular bounce. Exercises every textured stage of both passes.
 inline Scene texturedRoom(int width = 48, int height = 36) {
     Scene s;
@@ -69,13 +69,15 @@ inline Scene texturedRoom(int width = 48, int height = 36) {
     TextureTransform wallT;
     wallT.scale[0] = wallT.scale[1] = 2.0f;
     const int gradient = addTexture(s, gradientImage(5, 4), TextureWrap::Mirror, TextureWrap::Clamp, wallT);
+    s.textures[size_t(gradient)].texCoord = 1;
     const int floorMat = addMaterial(s, Vec3(1.0f));
     s.materials[size_t(floorMat)].rhoDTexture = checker;
     const int wallMat = addMaterial(s, Vec3(0.9f, 0.9f, 0.9f));
     s.materials[size_t(wallMat)].rhoDTexture = gradient;
     const int block = addMaterial(s, Vec3(0.3f), Vec3(0.6f), SpecularKind::Mirror);
-    addTexturedQuad(s, Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), floorMat);      // floor, facing +y
-    addTexturedQuad(s, Vec3(-1, 0, -1), Vec3(2, 0, 0), Vec3(0, 2, 0), wallMat);       // back wall, +z
+    addTexturedQuad(s, Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), floorMat);                  // floor, facing +y
+    const int wall = addTexturedQuad(s, Vec3(-1, 0, -1), Vec3(2, 0, 0), Vec3(0, 2, 0), wallMat);  // back wall, +z
+    s.meshes[size_t(wall)].uv[1] = {0, 1, 0, 0, 1, 0, 1, 1};                          // set 1: set 0 turned a quarter
     addQuad(s, Vec3(-1, 2, -1), Vec3(2, 0, 0), Vec3(0, 0, 2), plain);                 // ceiling, −y
     addQuad(s, Vec3(-1, 0, 1), Vec3(0, 0, -2), Vec3(0, 2, 0), plain);                 // left, +x
     addQuad(s, Vec3(1, 0, -1), Vec3(0, 0, 2), Vec3(0, 2, 0), plain);                  // right, −x
