@@ -11,6 +11,7 @@ namespace pcl {
 inline PclMaterial texturedMaterial(const SceneBuffers& b, uint32_t triangleCount, const PclHit& hit) {
     const uint32_t mat = b.primInfo[hit.prim].material;
     PclMaterial m = b.materials[mat];
+    if (mat >= b.textures.materialTextures.size()) return m;  // buffers made without buildTextureBuffers
     texture_rho_d(b.textures.materialTextures.data(), b.textures.texels.data(), b.textures.triangleUvs.data(), mat,
                   hit.prim, triangleCount, hit.u, hit.v, m.rhoD);
     return m;
