@@ -13,11 +13,16 @@
  *                              boundaries it crosses (shared/eye_medium.h), starting in the
  *                              medium on the record's side of its surface (primMedia: outside
  *                              when n_f is the outside normal)
+ *      env, envData[]          the sky (shared/environment.h)
  * out: radiance[i]             PclRadiance: throughput × ρd/π × Σ (0 without a diffuse hit)
  *
  * Point, spot, directional lights: every one, one exact shadow ray each. Triangle lights: M
  * samples m; random numbers stream LIGHT, path = pixel, bounce = k·M + m, block 0: u0 chooses
- * the light (the first l with u0 < areaCdf[l]), (u1, u2) the point. */
+ * the light (the first l with u0 < areaCdf[l]), (u1, u2) the point.
+ *
+ * The sky: M more samples m by its map (shared/environment.h), block 1 of the same counters:
+ * (u0, u1) the direction; MIS (power heuristic) against the N gather rays as for triangle
+ * lights (final_gather adds the sky a gather ray escapes to with the other half). */
 #include "shared/types.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
@@ -25,6 +30,7 @@
 #include "shared/eye.h"
 #include "shared/eye_medium.h"
 #include "shared/light_sample.h"
+#include "shared/environment.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -34,7 +40,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
                            __global const PclMaterial* materials, __global const PclLight* lights,
                            __global const float* areaCdf, __global const float* histograms,
                            __global const PclMedium* media, __global const PclPrimMedium* primMedia,
-                           __global PclRadiance* radiance) {
+                           __global PclRadiance* radiance, const PclEnvironment env, __global const float* envData) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
     const PclEyeHit h = hits[i];
@@ -62,7 +68,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
     /* Delta lights: exact. */
     for (uint l = 0u; l < params.lightCount; ++l) {
         const PclLight L = lights[l];
-        if (L.type == PCL_LIGHT_TRIANGLE) continue;
+        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
         PclV3 wi;
         float tr[3];
         const float g = light_delta(nodes, packets, spheres, em, medium, L, p, nf, o, tau, &wi, tr);
@@ -94,6 +100,32 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
             for (int c = 0; c < 3; ++c) area[c] = area[c] + le[c] * f;
         }
         for (int c = 0; c < 3; ++c) sum[c] = sum[c] + area[c] / (float)M;
+    }
+
+    /* The sky: M samples by its map, MIS against N gather rays. */
+    if (env_active(env) && M > 0u) {
+        float sky[3] = {0.0f, 0.0f, 0.0f};
+        for (uint m = 0u; m < M; ++m) {
+            uint w[4];
+            rng_block(seed, h.pixel, h.sample * M + m, 1u, PCL_RNG_STREAM_LIGHT, w);
+            PclV3 wi;
+            float Lsky[3], tr[3];
+            const float pdfL = env_sample(env, envData, rng_u01(w[0]), rng_u01(w[1]), &wi, Lsky);
+            if (!(pdfL > 0.0f)) continue;
+            const float cosS = sampling_dot(nf, wi);
+            if (!(cosS > 0.0f)) continue;
+            if (!light_shadow(nodes, packets, spheres, em, medium, o, wi, INFINITY, tau, tr)) continue;
+            float pdfB = cosS / PCL_PI_F;
+            if (params.histogramCells > 0u) {
+                const uint G = params.histogramCells;
+                __global const float* cdf = histograms + (size_t)i * G * G;
+                pdfB = pdfB * ((float)(G * G) * eye_cell_probability(cdf, eye_cell_of_direction(nf, wi, G)));
+            }
+            const float wMis = params.gatherRays == 0u ? 1.0f : eye_mis_weight(M, pdfL, params.gatherRays, pdfB);
+            const float f = cosS * wMis / pdfL;
+            for (int c = 0; c < 3; ++c) sky[c] = sky[c] + Lsky[c] * tr[c] * f;
+        }
+        for (int c = 0; c < 3; ++c) sum[c] = sum[c] + sky[c] / (float)M;
     }
     float L3[3];
     for (int c = 0; c < 3; ++c) {

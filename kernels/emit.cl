@@ -6,14 +6,22 @@
  *      lightFirst[lightCount+1] photons of light l are [lightFirst[l], lightFirst[l+1]) of this
  *                              pass (largest-remainder allocation, prep/photon_allocation)
  *      projCells[]             marked projection-map cells, light l's at [projFirst, +projCount)
+ *      env, envData[]          the sky (shared/environment.h), read by its light entry only
  * out: rays[i], i < batchSize  PclPhotonRay of photon j = firstPhoton + i: origin, time, unit
  *                              direction, light index, flux Φ_l / n_l (caustic: Φ_l f_l / n_l)
  *
  * Random numbers: bounce 0 of (pass seed, j), stream PHOTON or CAUSTIC; u0 projection cell,
- * (u1, u2) position, u3 time, (u4, u5) direction. */
+ * (u1, u2) position, u3 time, (u4, u5) direction.
+ *
+ * The sky (PCL_LIGHT_ENVIRONMENT): the direction toward the sky w by importance sampling its map
+ * from (u4, u5), the photon travelling d = −w from a point of the disc of radius R (u1, u2)
+ * perpendicular to d, 2R before the scene centre; its flux per channel is
+ * π R² L_c(w) / (p(w) n) (caustic: × f), which sums to Φ = π R² ∫ L dω in expectation and exactly
+ * for the channel average (p ∝ avg L). */
 #include "shared/types.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
+#include "shared/environment.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -33,7 +41,8 @@ inline uint emit_light_of(__global const uint* lightFirst, uint lightCount, uint
 
 __kernel void emit_photons(const PclPhotonParams params, __global const PclLight* lights,
                            __global const uint* lightFirst, __global const uint* projCells,
-                           __global PclPhotonRay* rays) {
+                           __global PclPhotonRay* rays, const PclEnvironment env,
+                           __global const float* envData) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.batchSize) return;
     const uint j = params.firstPhoton + i;
@@ -69,7 +78,22 @@ __kernel void emit_photons(const PclPhotonParams params, __global const PclLight
     const PclV3 axis = sampling_v3(L.axis[0], L.axis[1], L.axis[2]);
     PclV3 o = sampling_v3(L.p[0], L.p[1], L.p[2]);
     PclV3 d;
-    if (L.type == PCL_LIGHT_POINT) {
+    float skyScale[3] = {0.0f, 0.0f, 0.0f}; /* the sky: π R² L_c(w) / p(w) */
+    if (L.type == PCL_LIGHT_ENVIRONMENT) {
+        PclV3 w;
+        float Ls[3];
+        const float pdf = env_sample(env, envData, s1, s2, &w, Ls);
+        d = sampling_v3(-w.x, -w.y, -w.z);
+        float x, y;
+        sampling_concentric_disk(u1, u2, &x, &y);
+        PclV3 t, b;
+        sampling_basis(d, &t, &b);
+        const float R = L.radius;
+        o.x = L.p[0] + R * (x * t.x + y * b.x) - 2.0f * R * d.x;
+        o.y = L.p[1] + R * (x * t.y + y * b.y) - 2.0f * R * d.y;
+        o.z = L.p[2] + R * (x * t.z + y * b.z) - 2.0f * R * d.z;
+        for (int c = 0; c < 3; ++c) skyScale[c] = pdf > 0.0f ? PCL_PI_F * R * R * Ls[c] / pdf : 0.0f;
+    } else if (L.type == PCL_LIGHT_POINT) {
         d = sampling_uniform_sphere(s1, s2);
     } else if (L.type == PCL_LIGHT_SPOT) {
         d = sampling_cone_direction(axis, sampling_spot_cos_theta(s1, L.cosInner, L.cosOuter),
@@ -105,7 +129,9 @@ __kernel void emit_photons(const PclPhotonParams params, __global const PclLight
     r.dz = d.z;
     r.light = l;
     const float fn = (float)n;
-    if (caustic) {
+    if (L.type == PCL_LIGHT_ENVIRONMENT) {
+        for (int c = 0; c < 3; ++c) r.power[c] = skyScale[c] * (caustic ? flux : 1.0f) / fn;
+    } else if (caustic) {
         r.power[0] = L.power[0] * flux / fn;
         r.power[1] = L.power[1] * flux / fn;
         r.power[2] = L.power[2] * flux / fn;

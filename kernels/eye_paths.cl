@@ -10,6 +10,9 @@
  *      lights[], areaCdf[l],   next-event estimation at glossy hits (direct_light's light
  *      lightOfPrim[prim]       sampling) and the MIS weight of an emitter the glossy lobe finds
  *      media[], primMedia[prim] participating media (read only when volumeSegments > 0)
+ *      env, envData[]          the sky (shared/environment.h): a chain that leaves the scene
+ *                              collects its radiance (LE, LS+E, through glossy lobes in full:
+ *                              the glossy hits' light samples leave the sky out)
  * out: hits[i]                 PclEyeHit: the hit whose diffuse part was chosen (position,
  *                              viewer-side normal, wo, throughput, ρd, material, depth), the
  *                              light the chain collects before it (`emitted`: emission, the
@@ -43,6 +46,7 @@
 #include "shared/eye.h"
 #include "shared/eye_medium.h"
 #include "shared/light_sample.h"
+#include "shared/environment.h"
 #include "shared/texture.h"
 
 #pragma OPENCL FP_CONTRACT OFF
@@ -59,7 +63,7 @@ inline void eye_single_scatter(const PclEyeParams params, __global const PclBvhN
     const uint base = segment * (params.lightCount + 1u);
     for (uint l = 0u; l < params.lightCount; ++l) {
         const PclLight L = lights[l];
-        if (L.type == PCL_LIGHT_TRIANGLE) continue;
+        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
         uint w[4];
         rng_block(seed, pixel, k, base + 1u + l, PCL_RNG_STREAM_EYE_MEDIUM, w);
         const float u = rng_u01(w[0]);
@@ -133,9 +137,9 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                         __global const PclLight* lights, __global const float* areaCdf,
                         __global const uint* lightOfPrim, __global const PclMedium* media,
                         __global const PclPrimMedium* primMedia, __global PclEyeHit* hits,
-                        __global PclVolumeSegment* segments, __global uint* segmentCounts,
-                        __global const PclTexture* materialTextures, __global const float* texels,
-                        __global const PclTriangleUv* triangleUvs) {
+                        __global PclVolumeSegment* segments, __global uint* segmentCounts, const PclEnvironment env,
+                        __global const float* envData, __global const PclTexture* materialTextures,
+                        __global const float* texels, __global const PclTriangleUv* triangleUvs) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
     const uint s = params.firstSample + i;
@@ -207,7 +211,14 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
             eye_medium_tr(m, tEnd, tr);
             for (int c = 0; c < 3; ++c) T[c] = T[c] * tr[c];
         }
-        if (!found) break;
+        if (!found) {
+            if (env_active(env)) { /* out to the sky */
+                float Lsky[3];
+                env_radiance(env, envData, d, Lsky);
+                for (int c = 0; c < 3; ++c) Le[c] = Le[c] + T[c] * Lsky[c];
+            }
+            break;
+        }
         const PclV3 p = eye_add_scaled(o, d, hit.t);
         const PclV3 n = eye_normal(primInfo, hit.prim, params.triangleCount, p, tau);
         const float dn = sampling_dot(d, n);
@@ -259,7 +270,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
             float sum[3] = {0.0f, 0.0f, 0.0f};
             for (uint l = 0u; l < params.lightCount; ++l) {
                 const PclLight L = lights[l];
-                if (L.type == PCL_LIGHT_TRIANGLE) continue;
+                if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
                 PclV3 wi;
                 float tr[3];
                 const float g = light_delta(nodes, packets, spheres, em, medium, L, p, nf, lifted, tau, &wi, tr);

@@ -12,6 +12,10 @@
  *                              maxRadius2), or maxRadius2 = 0 at the origin when there is none
  *      gathered[j]             PclGatherHit: weight (chain throughput × ρd/π / P_d) and emitted
  *                              (chain throughput × Le × MIS weight)
+ *      env, envData[]          the sky (shared/environment.h): a gather ray that leaves the
+ *                              scene straight from the eye hit adds its radiance with the MIS
+ *                              weight against direct_light's M sky samples; after a specular
+ *                              bounce in full, or not at all when the caustic map is read
  * Random numbers: stream GATHER, path = pixel, bounce = k·N + g; block 0: (u0, u1) the cosine
  * direction; block b + 1 at gather hit b: u0 lobe, u1 reflect/refract, (u2, u3) glossy direction
  * (drawn only where the hit has a specular lobe).
@@ -24,6 +28,7 @@
 #include "shared/sampling.h"
 #include "shared/bvh.h"
 #include "shared/eye.h"
+#include "shared/environment.h"
 #include "shared/texture.h"
 
 #pragma OPENCL FP_CONTRACT OFF
@@ -34,6 +39,7 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
                                  __global const PclMaterial* materials, __global const PclLight* lights,
                                  __global const uint* lightOfPrim, __global const float* histograms,
                                  __global PclEstimateQuery* queries, __global PclGatherHit* gathered,
+                                 const PclEnvironment env, __global const float* envData,
                                  __global const PclTexture* materialTextures, __global const float* texels,
                                  __global const PclTriangleUv* triangleUvs) {
     const uint j = (uint)get_global_id(0);
@@ -83,7 +89,17 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
     for (uint b = 0u; b <= params.maxSpecular; ++b) {
         const PclRay ray = bvh_ray(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY, tau);
         PclHit hit;
-        if (!bvh_trace(nodes, packets, spheres, ray, false, &hit)) break;
+        if (!bvh_trace(nodes, packets, spheres, ray, false, &hit)) {
+            if (env_active(env) && !(afterSpecular && params.causticMapRead != 0u)) {
+                float Lsky[3];
+                const float pdfL = env_radiance(env, envData, d, Lsky);
+                const float wMis = !afterSpecular && params.lightSamples > 0u
+                                       ? eye_mis_weight(N, pdfB, params.lightSamples, pdfL)
+                                       : 1.0f;
+                for (int c = 0; c < 3; ++c) Le[c] = Le[c] + T[c] * Lsky[c] * wMis;
+            }
+            break;
+        }
         const PclV3 p = eye_add_scaled(o, d, hit.t);
         const PclV3 n = eye_normal(primInfo, hit.prim, params.triangleCount, p, tau);
         const float dn = sampling_dot(d, n);

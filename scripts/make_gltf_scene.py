@@ -44,6 +44,25 @@ class Buffer:
         return self.add("H", idx, len(idx), "SCALAR", 5123, 34963)
 
 
+class MaterialMeshes:
+    """glTF binds materials to primitives, not nodes: one copy of a bare mesh per (shape, material),
+    made on first use. Calling it gives the copy's index in `meshes`, the list to write (the bare
+    meshes themselves are not written)."""
+
+    def __init__(self, bare, materials):
+        self.bare, self.materials, self.meshes, self.index = bare, materials, [], {}
+
+    def __call__(self, shape, material):
+        key = (shape, material)
+        if key not in self.index:
+            m = json.loads(json.dumps(self.bare[shape]))
+            m["name"] = f'{m["name"]}-{self.materials[material]["name"]}'
+            m["primitives"][0]["material"] = material
+            self.meshes.append(m)
+            self.index[key] = len(self.meshes) - 1
+        return self.index[key]
+
+
 def cross(a, b):
     return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
@@ -99,18 +118,7 @@ def main():
          "emissiveFactor": [1.0, 0.9, 0.8], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 30}}},
     ]
     PLASTER, TERRACOTTA, WOOD, METAL, POLISHED, GLASS, LAMP = range(7)
-    # A mesh per (shape, material): glTF binds materials to primitives, not nodes.
-    mesh_for = {}
-
-    def mesh(shape, material):
-        key = (shape, material)
-        if key not in mesh_for:
-            m = json.loads(json.dumps(meshes[shape]))
-            m["name"] = f'{m["name"]}-{materials[material]["name"]}'
-            m["primitives"][0]["material"] = material
-            meshes.append(m)
-            mesh_for[key] = len(meshes) - 1
-        return mesh_for[key]
+    mesh = MaterialMeshes(meshes, materials)
 
     nodes = []
 
@@ -150,17 +158,13 @@ def main():
         "scene": 0,
         "scenes": [{"name": "room", "nodes": room + [table, mirror, bulb, camera]}],
         "nodes": nodes,
-        "meshes": meshes[2:],  # only the material-bound copies are used
+        "meshes": mesh.meshes,
         "materials": materials,
         "cameras": [{"type": "perspective", "perspective": {"yfov": math.radians(60), "aspectRatio": 4 / 3, "znear": 0.01}}],
         "accessors": buf.accessors,
         "bufferViews": buf.views,
         "buffers": [{"byteLength": len(buf.data), "uri": data_uri}],
     }
-    # meshes[2:] shifted every index by 2.
-    for n in nodes:
-        if "mesh" in n:
-            n["mesh"] -= 2
     with open(out, "w") as f:
         json.dump(gltf, f, indent=1)
         f.write("\n")

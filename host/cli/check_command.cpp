@@ -47,7 +47,7 @@ Run addCheckCommand(CLI::App& app) {
     return [o] {
         if (o->device == "ref") throw InputError("check: --device ref has no kernels to check; pick an OpenCL device");
         const Scene scene = loadScene(o->scene);
-        refuseEnvironmentWithoutPathTracer(scene, "check --stage " + o->stage);
+        refuseEnvironmentInMediaWithoutPathTracer(scene, "check --stage " + o->stage);
         // The photon-pass stages trace media (volume photons), eye_paths and direct_light handle
         // them (transmittance, single scattering, the medium segments), volume_estimate reads the
         // volume maps; the other eye-pass stages (estimates, final gather) keep refusing media.

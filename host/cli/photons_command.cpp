@@ -37,7 +37,7 @@ int runPhotons(const PhotonsOptions& o) {
 
     Scene scene = loadScene(o.scene);
     refuseMediaWithoutPathTracer(scene, "photons (the photon pass)");
-    refuseEnvironmentWithoutPathTracer(scene, "photons (the photon pass)");
+    refuseEnvironmentInMediaWithoutPathTracer(scene, "photons (the photon pass)");
     const PreparedScene prepared = prepareScene(scene, o.settings);
     const SceneGeometry& geometry = prepared.geometry;
     const SceneBuffers& buffers = prepared.buffers;

@@ -272,11 +272,16 @@ int runRender(const RenderOptions& given) {
 
     Scene scene = loadScene(o.scene);
     // fg's gather rays do not carry media yet: a scene with media renders progressive unless told.
-    if (!o.methodGiven && q.method == "fg" && scene.hasMedia()) {
-        o.request.method = "progressive";
-        if (!o.quiet)
-            std::fprintf(stderr, "method progressive: the scene has participating media, which fg's gather rays do "
-                                 "not carry yet (--method to choose)\n");
+    // auto's pilot weighs fg against the path tracer, so it has nothing to weigh there either.
+    if ((!o.methodGiven && q.method == "fg") || (q.method == "auto" && scene.hasMedia())) {
+        if (scene.hasMedia()) {
+            if (!o.quiet)
+                std::fprintf(stderr,
+                             "method %sprogressive: the scene has participating media, which fg's gather rays "
+                             "do not carry yet (--method to choose)\n",
+                             q.method == "auto" ? "auto: " : "");
+            o.request.method = "progressive";
+        }
     }
     // One of --width/--height alone keeps the camera's aspect ratio.
     const Camera& cam = scene.camera;
@@ -294,9 +299,8 @@ int runRender(const RenderOptions& given) {
         std::fprintf(stderr, "scene %s: %zu triangles, %zu spheres, %zu lights; BVH %zu nodes in %.2fs\n",
                      o.scene.c_str(), scene.triangleCount(), scene.spheres.size(), scene.lights.size(),
                      prepared.geometry.stats().nodes, prepared.geometry.stats().buildSeconds);
-    if (q.method == "fg" || q.method == "auto")
-        refuseMediaWithoutPathTracer(scene, "--method " + q.method + " (fg's gather rays do not carry media yet)");
-    if (!path) refuseEnvironmentWithoutPathTracer(scene, "--method " + q.method);
+    if (q.method == "fg") refuseMediaWithoutPathTracer(scene, "--method fg (fg's gather rays do not carry media yet)");
+    if (!path) refuseEnvironmentInMediaWithoutPathTracer(scene, "--method " + q.method);
     if (q.method == "auto") return runAutoMethod(o, scene, prepared, output, start);
     if (!path) return runPhotonRender(o, scene, prepared, output, start);
     if (!o.quiet)
@@ -325,8 +329,8 @@ Run addRenderCommand(CLI::App& app) {
                "whose radius shrinks as r²_{i+1} = r²_i (i+α)/(i+1), converging to the reference; path: the CPU "
                "reference path tracer; auto: fg or path, whichever a pilot of each at a quarter of the size "
                "(about 2-5 s, paid from --time) says reaches a lower error in the same time. A scene with "
-               "participating media renders progressive unless --method is given (fg and auto refuse media: "
-               "fg's gather rays do not carry them yet)")
+               "participating media renders progressive unless --method is given, and with --method auto (fg "
+               "refuses media: its gather rays do not carry them yet)")
             ->check(CLI::IsMember({"fg", "direct", "progressive", "path", "auto"}))
             ->capture_default_str();
     sub->add_option("--device", o->device,

@@ -12,6 +12,8 @@ DeviceScene::DeviceScene(Device& device, const SceneGeometry& g, const SceneBuff
                               "scene: primitive media")),
       lightMedia(
           device.upload(b.hasMedia ? b.lightMedia : std::vector<int32_t>(1), CL_MEM_READ_ONLY, "scene: light media")),
+      sky(b.sky.environment), skyData(device.upload(b.sky.data, CL_MEM_READ_ONLY, "scene: environment")),
+
       materialTextures(
           device.upload(b.textures.materialTextures.empty() ? std::vector<PclTexture>(1) : b.textures.materialTextures,
                         CL_MEM_READ_ONLY, "scene: material textures")),

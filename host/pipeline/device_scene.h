@@ -22,6 +22,9 @@ struct DeviceScene {
     // Media (SceneBuffers::hasMedia); one zeroed placeholder each in a scene without media, which
     // the kernels never read (PclPhotonParams::hasMedia = 0).
     cl::Buffer media, primMedia, lightMedia;
+    // The sky (shared/environment.h): width 0 and one float of data without one.
+    PclEnvironment sky;
+    cl::Buffer skyData;
     // Textures (TextureBuffers): a descriptor per material; texels and triangle coordinates are
     // one-element placeholders in a scene without textures (every descriptor then has width 0).
     cl::Buffer materialTextures, texels, triangleUvs;

@@ -39,12 +39,12 @@ cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceArea
                       const PclDirectParams& params, const cl::Buffer& hits, const cl::Buffer& histograms,
                       cl::Buffer& radiance) {
     auto kernel = device.kernel<PclDirectParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
-        "direct_light", "direct_light", scene.geometry.programOptions());
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, PclEnvironment,
+                                cl::Buffer>("direct_light", "direct_light", scene.geometry.programOptions());
     return device.launchLocal("direct_light", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, hits, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
                               scene.primInfo, scene.materials, scene.lights, lights.cdf, histograms, scene.media,
-                              scene.primMedia, radiance);
+                              scene.primMedia, radiance, scene.sky, scene.skyData);
 }
 
 }  // namespace pcl

@@ -113,12 +113,13 @@ bool EnvironmentMap::sample(float u1, float u2, Vec3& w, float& pdf) const {
     return pdf > 0.0f;
 }
 
-void refuseEnvironmentWithoutPathTracer(const Scene& scene, const std::string& what) {
-    if (!scene.environment.active()) return;
+void refuseEnvironmentInMediaWithoutPathTracer(const Scene& scene, const std::string& what) {
+    if (!scene.environment.active() || !scene.hasMedia()) return;
     failInput(scene.path, "environment",
-              "a scene without an environment light for " + what +
-                  " (the sky is rendered only by --method path for now)",
-              scene.environment.imagePath.empty() ? "a constant sky" : "the sky " + scene.environment.imagePath);
+              "a scene without an environment light or without participating media for " + what +
+                  " (the photon methods do not carry the sky through media; --method path renders both)",
+              (scene.environment.imagePath.empty() ? "a constant sky" : "the sky " + scene.environment.imagePath) +
+                  " and " + std::to_string(scene.media.size()) + " medium(s)");
 }
 
 }  // namespace pcl

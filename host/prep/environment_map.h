@@ -51,10 +51,12 @@ private:
     Vec3 integral_{0.0f};
 };
 
-// The photon methods and the device stages do not read the sky yet (no environment photons, no
-// sky lookups in the eye pass): they refuse a scene with one instead of rendering it dark.
-// Throws InputError "SCENE: environment: expected a scene without an environment light for WHAT
-// (...), got ..." when scene.environment is active.
-void refuseEnvironmentWithoutPathTracer(const Scene& scene, const std::string& what);
+// The photon methods and the device stages read the sky (its photons, eye rays that escape,
+// direct light by its map: kernels/shared/environment.h) but do not carry it through
+// participating media: they refuse a scene with both instead of rendering it wrong.
+// Throws InputError "SCENE: environment: expected a scene without an environment light or
+// without participating media for WHAT (...), got ..." when scene.environment is active and
+// the scene has a medium.
+void refuseEnvironmentInMediaWithoutPathTracer(const Scene& scene, const std::string& what);
 
 }  // namespace pcl

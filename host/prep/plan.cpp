@@ -38,7 +38,8 @@ std::vector<Prim> gather(const Scene& scene, const SceneGeometry& geometry, cons
             const Vec3 c(info.a, info.b, info.c);
             const float reach = info.radius + length(Vec3(info.mx, info.my, info.mz));
             for (const PclLight& l : buffers.lights)
-                if (l.type != PCL_LIGHT_DIRECTIONAL && length(Vec3(l.p[0], l.p[1], l.p[2]) - c) < reach)
+                if (l.type != PCL_LIGHT_DIRECTIONAL && l.type != PCL_LIGHT_ENVIRONMENT &&
+                    length(Vec3(l.p[0], l.p[1], l.p[2]) - c) < reach)
                     p.litInside = true;
         } else {
             const TriangleMesh& mesh = scene.meshes[ref.object];
@@ -131,9 +132,11 @@ LightPaths classifyLightPaths(const Scene& scene, const SceneGeometry& geometry,
     std::string specNames = names(scene, prims, [](const Prim& p) { return p.specular; });
 
     // LE
-    lp.visibleEmitters = facing > 0;
+    const bool sky = scene.environment.active();
+    lp.visibleEmitters = facing > 0 || sky;
     std::string why;
-    if (lp.areaTriangles == 0) why = "no emitting surfaces (point, spot and directional lights are not visible)";
+    if (sky) why = "the sky, where eye rays leave the scene";
+    else if (lp.areaTriangles == 0) why = "no emitting surfaces (point, spot and directional lights are not visible)";
     else if (facing == 0) why = "no emitting triangle faces the camera";
     else why = std::to_string(facing) + " of " + plural(lp.areaTriangles, "emitting triangle") + " face the camera";
     lp.list.push_back({"LE", "emitters seen directly", lp.visibleEmitters, why});
@@ -264,10 +267,14 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
         plan.reasons.push_back(moving == 0 ? "nothing moves" : "the shutter is closed: no motion blur");
     }
 
-    plan.areaLightSampling = lp.areaTriangles > 0;
-    plan.reasons.push_back(plan.areaLightSampling ? plural(lp.areaTriangles, "emitting triangle") +
-                                                        ": soft shadows by sampling points on them"
-                                                  : "point, spot and directional lights only: one shadow ray each");
+    plan.areaLightSampling = lp.areaTriangles > 0 || scene.environment.active();
+    if (scene.environment.active())
+        plan.reasons.push_back("the sky: directions sampled by its map" +
+                               (lp.areaTriangles > 0 ? ", and " + plural(lp.areaTriangles, "emitting triangle") : ""));
+    else
+        plan.reasons.push_back(plan.areaLightSampling ? plural(lp.areaTriangles, "emitting triangle") +
+                                                            ": soft shadows by sampling points on them"
+                                                      : "point, spot and directional lights only: one shadow ray each");
 
     plan.glossySampling = lp.glossyPrims > 0;
     plan.reasons.push_back(plan.glossySampling
@@ -296,7 +303,7 @@ std::string formatPlan(const Scene& scene, const LightPaths& lp, const RenderPla
     if (scene.environment.active())
         out += "environment light: " +
                (scene.environment.imagePath.empty() ? std::string("a constant sky") : scene.environment.imagePath) +
-               " (rendered only by --method path for now: the light paths below leave it out)\n";
+               " (the last light entry: its photons cross a disc of the scene's bounding sphere)\n";
     out += "light paths (L light, D diffuse, S specular, V scattering in a medium, E eye):\n";
     for (const LightPath& p : lp.list) {
         std::snprintf(buf, sizeof buf, "  %-19s %-3s %-40s %s\n", p.notation.c_str(), p.present ? "yes" : "no",

@@ -312,6 +312,9 @@ std::vector<uint32_t> markCells(const PclLight& light, const std::vector<Ball>& 
         for (uint32_t k = 0; k < PCL_PROJ_GRID * PCL_PROJ_GRID; ++k) cells.push_back(k);
         return cells;
     };
+    // The sky: a photon's fate depends on its direction and its disc position together (four
+    // dimensions), so its caustic photons go unaimed: every cell, f = 1.
+    if (light.type == PCL_LIGHT_ENVIRONMENT) return all();
 
     if (light.type == PCL_LIGHT_DIRECTIONAL) {
         Frame f = frameOf(light.axis);

@@ -145,6 +145,9 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
         }
     }
 
+    b.sky = buildEnvironmentBuffers(scene.environment);
+    if (env_active(b.sky.environment)) b.lights.push_back(environmentLight(b.sky, b.sceneCentre, b.sceneRadius));
+
     if (scene.hasMedia()) {
         b.hasMedia = true;
         for (const Medium& m : scene.media) {

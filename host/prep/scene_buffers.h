@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "geometry/scene_geometry.h"
+#include "prep/environment_buffers.h"
 #include "prep/texture_buffers.h"
 #include "scene/scene.h"
 #include "shared/types.h"
@@ -30,6 +31,9 @@ struct SceneBuffers {
     TextureBuffers textures;   // ρd textures (prep/texture_buffers.h); descriptors of width 0 without
     float rayEpsilon = 1e-6f;  // spawn offset: 1e-4 of the bounds' diagonal, at least 1e-6
     bool hasMotion = false;
+    // The sky (prep/environment_buffers): its tables, and its photon light entry, the last of
+    // lights, when the scene has one.
+    EnvironmentBuffers sky;
 };
 
 SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry);

@@ -6,6 +6,7 @@
 #include "reference/eye_scatter.h"
 #include "reference/light_sample.h"
 #include "reference/parallel_for.h"
+#include "reference/sky.h"
 #include "shared/rng.h"
 
 namespace pcl {
@@ -28,7 +29,7 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
     Vec3 sum(0.0f);
     for (uint32_t l = 0; l < params.lightCount; ++l) {
         const PclLight& L = buffers.lights[l];
-        if (L.type == PCL_LIGHT_TRIANGLE) continue;
+        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
         Vec3 wi, tr;
         const float g = lightDelta(geometry, buffers, sm, L, p, nf, o, tau, wi, tr);
         if (g > 0.0f) sum = sum + eyeVec(L.power) * g * tr;
@@ -54,6 +55,31 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
             area = area + le * (cosS * wMis / pdfL);
         }
         sum = sum + area / Vec3(float(M));
+    }
+    // The sky: M samples by its map (block 1 of the same counters), MIS against the gather rays.
+    if (skyActive(buffers) && M > 0) {
+        const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
+        Vec3 sky(0.0f);
+        for (uint32_t m = 0; m < M; ++m) {
+            uint32_t w[4];
+            rng_block(seed, h.pixel, h.sample * M + m, 1, PCL_RNG_STREAM_LIGHT, w);
+            Vec3 wi, Lsky, tr;
+            const float pdfL = skySample(buffers, rng_u01(w[0]), rng_u01(w[1]), wi, Lsky);
+            if (!(pdfL > 0.0f)) continue;
+            const float cosS = dot(nf, wi);
+            if (!(cosS > 0.0f)) continue;
+            tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, wi,
+                                        std::numeric_limits<float>::infinity(), tau);
+            if (!(maxComponent(tr) > 0.0f)) continue;
+            float pdfB = cosS / kPi;
+            if (params.histogramCells > 0 && cdf) {
+                const uint32_t G = params.histogramCells;
+                pdfB = pdfB * (float(G * G) * eyeCellProbability(cdf, eyeCellOfDirection(nf, wi, G)));
+            }
+            const float wMis = params.gatherRays == 0 ? 1.0f : eyeMisWeight(M, pdfL, params.gatherRays, pdfB);
+            sky = sky + Lsky * tr * (cosS * wMis / pdfL);
+        }
+        sum = sum + sky / Vec3(float(M));
     }
     const Vec3 T = eyeVec(h.throughput), rho = eyeVec(h.albedo);
     Vec3 L3 = T * (rho / Vec3(kPi)) * sum;

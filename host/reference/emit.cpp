@@ -6,6 +6,7 @@
 
 #include "reference/parallel_for.h"
 #include "reference/sampling.h"
+#include "shared/environment.h"
 #include "shared/rng.h"
 
 namespace pcl {
@@ -85,7 +86,23 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
 
     Vec3 origin, direction;
     const Vec3 axis = vec(light.axis);
+    Vec3 skyScale(0.0f);  // the sky: π R² L_c(w) / p(w), the map's texel and density (shared/environment.h)
     switch (light.type) {
+        case PCL_LIGHT_ENVIRONMENT: {  // parallel from a disc of radius R facing −w, 2R back
+            PclV3 w;
+            float Ls[3];
+            const float pdf = env_sample(buffers.sky.environment, buffers.sky.data.data(), s1, s2, &w, Ls);
+            direction = Vec3(-w.x, -w.y, -w.z);
+            float x, y;
+            sampleConcentricDisk(u[1], u[2], x, y);
+            Vec3 t, b;
+            makeBasis(direction, t, b);
+            const float R = light.radius;
+            origin = vec(light.p) + (t * x + b * y) * R - direction * (2.0f * R);
+            if (pdf > 0.0f)
+                skyScale = Vec3(kPi * R * R * Ls[0] / pdf, kPi * R * R * Ls[1] / pdf, kPi * R * R * Ls[2] / pdf);
+            break;
+        }
         case PCL_LIGHT_POINT:
             origin = vec(light.p);
             direction = sampleUniformSphere(s1, s2);
@@ -126,7 +143,10 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
     r.dy = direction.y;
     r.dz = direction.z;
     r.light = li;
-    for (int c = 0; c < 3; ++c) r.power[c] = light.power[c] * f / n;
+    const Vec3 power = light.type == PCL_LIGHT_ENVIRONMENT ? skyScale : vec(light.power);
+    r.power[0] = power.x * f / n;
+    r.power[1] = power.y * f / n;
+    r.power[2] = power.z * f / n;
     r.power[3] = 0.0f;
     return r;
 }

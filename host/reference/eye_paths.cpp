@@ -9,6 +9,7 @@
 #include "reference/medium.h"
 #include "reference/parallel_for.h"
 #include "reference/sampler.h"
+#include "reference/sky.h"
 #include "reference/textured_material.h"
 
 namespace pcl {
@@ -30,7 +31,7 @@ Vec3 singleScatter(const SceneGeometry& geometry, const SceneBuffers& buffers, c
     const uint32_t base = segment * (params.lightCount + 1);
     for (uint32_t l = 0; l < params.lightCount; ++l) {
         const PclLight& L = buffers.lights[l];
-        if (L.type == PCL_LIGHT_TRIANGLE) continue;
+        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
         uint32_t w[4];
         rng_block(seed, pixel, k, base + 1 + l, PCL_RNG_STREAM_EYE_MEDIUM, w);
         const float u = rng_u01(w[0]);
@@ -147,7 +148,10 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
             }
             T = T * eyeMediumTransmittance(med, tEnd);
         }
-        if (!found) break;
+        if (!found) {
+            if (skyActive(buffers)) Le = Le + T * skyRadiance(buffers, d);  // out to the sky
+            break;
+        }
         const Vec3 p = o + d * hit.t;
         const Vec3 n = eyeNormalAt(buffers, hit.prim, params.triangleCount, p, ray.time);
         const float dn = dot(d, n);
@@ -186,7 +190,7 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
             Vec3 sum(0.0f);
             for (uint32_t l = 0; l < params.lightCount; ++l) {
                 const PclLight& L = buffers.lights[l];
-                if (L.type == PCL_LIGHT_TRIANGLE) continue;
+                if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
                 Vec3 wi, tr;
                 const float g = lightDelta(geometry, buffers, sm, L, p, nf, lifted, ray.time, wi, tr);
                 if (g > 0.0f) sum = sum + eyeVec(L.power) * (g * eyePhongCosPower(d, nf, wi, e)) * tr;

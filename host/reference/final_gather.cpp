@@ -8,6 +8,7 @@
 #include "reference/eye_scatter.h"
 #include "reference/knn.h"
 #include "reference/parallel_for.h"
+#include "reference/sky.h"
 #include "reference/textured_material.h"
 #include "reference/trace_photons.h"
 #include "shared/rng.h"
@@ -110,7 +111,17 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
     bool afterSpecular = false;
     for (uint32_t b = 0; b <= params.maxSpecular; ++b) {
         PclHit hit;
-        if (!geometry.intersect(eyeRay(o, d, std::numeric_limits<float>::infinity(), tau), hit)) break;
+        if (!geometry.intersect(eyeRay(o, d, std::numeric_limits<float>::infinity(), tau), hit)) {
+            // The sky: the gather half of the MIS pair with direct light's sky samples.
+            if (skyActive(buffers) && !(afterSpecular && params.causticMapRead)) {
+                float pdfL;
+                const Vec3 Lsky = skyRadiance(buffers, d, &pdfL);
+                const float wMis =
+                    !afterSpecular && params.lightSamples > 0 ? eyeMisWeight(N, pdfB, params.lightSamples, pdfL) : 1.0f;
+                Le = Le + T * Lsky * Vec3(wMis);
+            }
+            break;
+        }
         const Vec3 p = o + d * hit.t;
         const Vec3 n = eyeNormalAt(buffers, hit.prim, params.triangleCount, p, tau);
         const float dn = dot(d, n);

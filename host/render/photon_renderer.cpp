@@ -527,7 +527,7 @@ void requirePhotonRender(const PhotonRenderSettings& settings, const Scene& scen
     validateRenderSettings(settings);
     if (settings.method == RenderMethod::FinalGather)
         refuseMediaWithoutPathTracer(scene, "--method fg (its gather rays do not carry media yet)");
-    refuseEnvironmentWithoutPathTracer(scene, std::string("--method ") + renderMethodName(settings.method));
+    refuseEnvironmentInMediaWithoutPathTracer(scene, std::string("--method ") + renderMethodName(settings.method));
 }
 
 }  // namespace

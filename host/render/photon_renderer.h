@@ -39,6 +39,12 @@ struct StageTimes {
     double photons = 0, maps = 0, camera = 0, eyePaths = 0, direct = 0, caustic = 0, indirect = 0, volume = 0,
            accumulate = 0, total = 0;
     std::string table() const;  // one "stage  seconds  share" line per stage
+    StageTimes& operator+=(const StageTimes& t) {
+        photons += t.photons, maps += t.maps, camera += t.camera, eyePaths += t.eyePaths, direct += t.direct;
+        caustic += t.caustic, indirect += t.indirect, volume += t.volume, accumulate += t.accumulate;
+        total += t.total;
+        return *this;
+    }
 };
 
 // Per-part films (RenderSettings::aovs): each part's radiance per sample, averaged like the film.

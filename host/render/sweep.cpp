@@ -20,6 +20,7 @@
 #include "prep/media_support.h"
 #include "prep/prepared_scene.h"
 #include "reference/path_tracer.h"
+#include "render/auto_method.h"
 #include "render/path_render.h"
 #include "scene/load_scene.h"
 
@@ -41,7 +42,21 @@ struct Curve {
     RenderMethod method;
     std::string variant;  // what differs from the method's defaults ("" for none)
     std::function<void(PhotonRenderSettings&)> tweak;
+    // `render --method auto --time T`: every point a fresh render of T seconds, its pilot paid from
+    // T (as a user's is), the method the pilot picks; `method` is then only its first candidate.
+    bool autoMethod = false;
 };
+
+// The auto curve's budgets: maxSeconds/8, /4, /2 and maxSeconds, none below kAutoMinSeconds (the
+// pilot alone takes 1.5-3 s at 256²).
+constexpr double kAutoMinSeconds = 5.0;
+std::vector<double> autoBudgets(double maxSeconds) {
+    std::vector<double> b;
+    for (double t = maxSeconds / 8; t < maxSeconds * 0.99; t *= 2)
+        if (t >= kAutoMinSeconds) b.push_back(t);
+    b.push_back(std::max(maxSeconds, kAutoMinSeconds));
+    return b;
+}
 
 std::vector<Curve> allCurves() {
     auto none = [](PhotonRenderSettings&) {};
@@ -52,6 +67,7 @@ std::vector<Curve> allCurves() {
          [](PhotonRenderSettings& s) { s.gatherSource = GatherSource::Estimate; }},
         {"fg-precomputed", RenderMethod::FinalGather, "", none},
         {"progressive", RenderMethod::Progressive, "", none},
+        {"auto", RenderMethod::FinalGather, "render --method auto --time T", none, /*autoMethod=*/true},
         // Variants (full form): one setting changed at a time.
         {"fg-precomputed-rays/4", RenderMethod::FinalGather, "gather rays / 4",
          [](PhotonRenderSettings& s) { s.gatherRays = std::max(1u, s.gatherRays / 4); }},
@@ -109,12 +125,66 @@ std::string fmt(double v) {
     return b;
 }
 
+// One point of the auto curve: what `render --method auto --time T` renders (the pilot, then the
+// method it picks for the rest of T), timed as a whole.
+struct AutoPoint {
+    SweepRow row;  // method "auto: <choice>", passes / samples per pixel, times, settings
+    Image image;
+};
+AutoPoint autoPoint(Device& device, const Scene& scene, const PreparedScene& prepared, double T, uint64_t seed,
+                    int threads) {
+    const Clock::time_point start = Clock::now();
+    RenderRequest q;
+    q.method = "auto";
+    q.seed = seed;
+    q.seconds = T;
+    const AutoMethodChoice choice = chooseRenderMethod(device, scene, prepared, q);
+    RenderRequest chosen = choice.best().request;
+    chosen.seconds = std::max(0.1, T - choice.pilotSeconds);
+    chosen.seed = seed;
+    AutoPoint p;
+    SweepRow& row = p.row;
+    row.method = "auto: " + choice.best().name;
+    row.seed = std::to_string(seed);
+    std::string log = choice.log();
+    if (!log.empty() && log.back() == '\n') log.pop_back();
+    if (chosen.method == "path") {
+        PathRenderSettings ps;
+        ps.seed = seed;
+        ps.threads = threads;
+        ps.samples = 0;
+        ps.seconds = chosen.seconds;
+        const PathRenderResult r = renderPathTraced(scene, prepared.geometry, ps);
+        p.image = r.film.resolve();
+        row.passes = row.samplesPerPixel = r.samples;
+    } else {
+        const int w = scene.camera.width, h = scene.camera.height;
+        PhotonRenderSettings s = resolveRenderSettings(chosen, prepared.plan, w, h).settings;
+        s.photonBatch =
+            planRenderMemory(device.info(), prepared.geometry, prepared.buffers, s, prepared.plan).photonBatch;
+        const PhotonRenderResult r =
+            renderPhotonMapped(device, scene, prepared.geometry, prepared.buffers, prepared.plan, s);
+        p.image = r.film.resolve();
+        row.times = r.times;
+        row.passes = r.passes;
+        row.samplesPerPixel = uint64_t(r.passes) * s.strata * s.strata;
+        log += "; " + r.summary;
+    }
+    row.times.total = since(start);  // the pilot included
+    char budget[48];
+    std::snprintf(budget, sizeof budget, "render --method auto --time %g; ", T);
+    row.settings = budget + log;
+    return p;
+}
+
 }  // namespace
 
 std::vector<std::string> sweepCurveNames(bool quick) {
     std::vector<std::string> names;
     for (const Curve& c : allCurves()) {
-        if (quick && !c.variant.empty() && c.name != "fg-estimate") continue;
+        if (quick && !c.variant.empty() && c.name != "fg-estimate")
+            continue;  // auto too: its pilot alone
+                       // outlasts a quick curve
         names.push_back(c.name);
     }
     return names;
@@ -176,7 +246,7 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
     // Refused before any curve runs, not after the path tracer's. Media: fg's gather rays do not
     // carry them yet, so a sweep of a scene with media leaves its fg curves out (refused when asked
     // for by name); the path tracer, direct and progressive render media.
-    refuseEnvironmentWithoutPathTracer(scene, "sweep (its photon-method curves)");
+    refuseEnvironmentInMediaWithoutPathTracer(scene, "sweep (its photon-method curves)");
     if (scene.hasMedia()) {
         for (const Curve& c : curves)
             if (c.method == RenderMethod::FinalGather && !o.curves.empty())
@@ -188,8 +258,8 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
                      curves.end());
         if (curves.size() != before)
             std::fprintf(stderr,
-                         "sweep: %zu fg curve(s) left out: the scene has participating media, which fg's "
-                         "gather rays do not carry yet\n",
+                         "sweep: %zu fg curve(s) left out (auto's included): the scene has participating media, "
+                         "which fg's gather rays (and so auto's pilot) do not carry yet\n",
                          before - curves.size());
     }
     Camera& cam = scene.camera;
@@ -222,6 +292,19 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
         if (o.progress) o.progress(line);
     };
     const uint32_t maxBudget = 1u << 20;
+    // A point's errors against the reference: the row is kept (and reported), the image's moments
+    // added for the bias²/variance split.
+    auto record = [&](SweepRow& row, const Image& image, std::vector<SeedMoments>& moments, size_t bi,
+                      const std::string& amount) {
+        ImageErrors e = compare(image, reference);
+        row.rmse = e.rmse, row.relMse = e.relMse, row.meanRatio = e.meanRatio, row.maxError = e.maxAbsDiff;
+        row.mse = mse(e);
+        rows.push_back(row);
+        if (o.seeds > 1) moments[bi].add(image, row.mse, row.times.total);
+        say(sceneName + " " + row.curve + " seed " + row.seed + ": " + amount + ", " + fmt(row.times.total) +
+            " s, relMSE " + fmt(row.relMse) + ", RMSE " + fmt(row.rmse) + ", mean ratio " + fmt(row.meanRatio));
+        if (onRow) onRow(rows);
+    };
 
     for (const Curve& curve : curves) {
         const bool path = curve.method == RenderMethod::PathTracing;
@@ -250,6 +333,16 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
             StageTimes cumulative;
             uint32_t done = 0;  // passes (or samples per pixel) in `film`
             for (size_t bi = 0;; ++bi) {
+                if (curve.autoMethod) {
+                    const std::vector<double> seconds = autoBudgets(o.maxSeconds);
+                    if (bi >= seconds.size()) break;
+                    if (si == 0) budgets.push_back(uint32_t(bi)), moments.emplace_back();
+                    AutoPoint point = autoPoint(*device, scene, prepared, seconds[bi], seed, o.threads);
+                    SweepRow& row = point.row;
+                    row.scene = sceneName, row.curve = curve.name, row.device = deviceName;
+                    record(row, point.image, moments, bi, fmt(seconds[bi]) + " s budget");
+                    continue;
+                }
                 uint32_t target;
                 if (si == 0) {
                     if (bi == 0) {
@@ -311,11 +404,7 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
                         s.seed = incrementSeed(seed, uint32_t(bi));
                         r = renderPhotonMapped(*device, scene, geometry, buffers, plan, s);
                         film.merge(r.film);
-                        StageTimes& c = cumulative;
-                        const StageTimes& t = r.times;
-                        c.photons += t.photons, c.maps += t.maps, c.camera += t.camera, c.eyePaths += t.eyePaths;
-                        c.direct += t.direct, c.caustic += t.caustic, c.indirect += t.indirect;
-                        c.accumulate += t.accumulate, c.total += t.total;
+                        cumulative += r.times;
                     }
                     if (r.nonFiniteSamples)
                         say("warning: " + std::to_string(r.nonFiniteSamples) + " non-finite samples dropped");
@@ -326,16 +415,7 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
                 row.passes = target;
                 row.times = cumulative;
                 row.settings = (curve.variant.empty() ? std::string() : curve.variant + "; ") + settingsText;
-                Image image = film.resolve();
-                ImageErrors e = compare(image, reference);
-                row.rmse = e.rmse, row.relMse = e.relMse, row.meanRatio = e.meanRatio, row.maxError = e.maxAbsDiff;
-                row.mse = mse(e);
-                rows.push_back(row);
-                if (o.seeds > 1) moments[bi].add(image, row.mse, row.times.total);
-                say(sceneName + " " + curve.name + " seed " + row.seed + ": " + std::to_string(target) +
-                    (path ? " spp" : " passes") + ", " + fmt(row.times.total) + " s, relMSE " + fmt(row.relMse) +
-                    ", RMSE " + fmt(row.rmse) + ", mean ratio " + fmt(row.meanRatio));
-                if (onRow) onRow(rows);
+                record(row, film.resolve(), moments, bi, std::to_string(target) + (path ? " spp" : " passes"));
             }
         }
         if (o.seeds > 1) {
@@ -354,11 +434,14 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
                 SweepRow row;
                 row.scene = sceneName;
                 row.curve = curve.name;
-                row.method = renderMethodName(curve.method);
+                row.method = curve.autoMethod ? "auto" : renderMethodName(curve.method);
                 row.device = deviceName;
                 row.seed = "all";
-                row.passes = budgets[bi];
-                row.samplesPerPixel = path ? budgets[bi] : uint64_t(budgets[bi]) * base.strata * base.strata;
+                // The auto curve's budgets are seconds (its points' own rows say what they rendered).
+                row.passes = curve.autoMethod ? 0 : budgets[bi];
+                row.samplesPerPixel = curve.autoMethod ? 0
+                                      : path           ? budgets[bi]
+                                                       : uint64_t(budgets[bi]) * base.strata * base.strata;
                 row.times.total = m.secondsSum / S;
                 row.settings = (curve.variant.empty() ? std::string() : curve.variant + "; ") + "mean image over " +
                                std::to_string(m.count) + " seeds";

@@ -6,6 +6,7 @@
 #define PCL_STRUCT_LIST_H
 
 #include "types.h"
+#include "environment.h"
 
 #define PCL_SHARED_STRUCTS(X) \
     X(PclRay)                 \
@@ -38,6 +39,7 @@
     X(PclEyeEstimateParams)   \
     X(PclVolumeSegment)       \
     X(PclVolumeEstimateParams) \
+    X(PclEnvironment)          \
     X(PclTexture)              \
     X(PclTriangleUv)
 

@@ -128,6 +128,7 @@ PCL_STATIC_ASSERT(sizeof(PclPrimMedium) == 8, PclPrimMedium_size);
 #define PCL_LIGHT_SPOT 1u
 #define PCL_LIGHT_TRIANGLE 2u
 #define PCL_LIGHT_DIRECTIONAL 3u
+#define PCL_LIGHT_ENVIRONMENT 4u /* the sky: p, radius = the scene's bounding sphere (photons only; shared/environment.h) */
 
 typedef struct PclLight {
     pcl_u32 type;       /* PCL_LIGHT_* */

@@ -26,57 +26,16 @@
 #include "reference/sampling.h"
 
 using namespace pcl;
+using test_scenes::addBoundaryMaterial;
+using test_scenes::addBox;
 using test_scenes::addEmitter;
+using test_scenes::addGlass;
 using test_scenes::addMaterial;
+using test_scenes::addMedium;
+using test_scenes::addMediumSphere;
 
 namespace {
 
-int addBoundaryMaterial(Scene& scene) {
-    int m = addMaterial(scene, Vec3(0.0f));
-    scene.materials[size_t(m)].interface = true;
-    return m;
-}
-int addGlass(Scene& scene, float ior) {
-    int m = addMaterial(scene, Vec3(0.0f));
-    scene.materials[size_t(m)].specular = SpecularKind::Dielectric;
-    scene.materials[size_t(m)].rhoS = Vec3(1.0f);
-    scene.materials[size_t(m)].ior = ior;
-    return m;
-}
-int addMedium(Scene& scene, Vec3 sigmaA, Vec3 sigmaS, float g) {
-    Medium m;
-    m.name = "medium" + std::to_string(scene.media.size());
-    m.sigmaA = sigmaA;
-    m.sigmaS = sigmaS;
-    m.g = g;
-    scene.media.push_back(m);
-    return static_cast<int>(scene.media.size()) - 1;
-}
-
-// The box lo..hi as 12 triangles facing outward (inward = true: facing inward, as six quads).
-void addBox(Scene& scene, Vec3 lo, Vec3 hi, int material, int medium, bool inward = false) {
-    TriangleMesh m;
-    m.name = "box" + std::to_string(scene.meshes.size());
-    for (int i = 0; i < 8; ++i)
-        m.positions.push_back(Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z));
-    // Outward, counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
-    m.indices = {0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4,
-                 2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
-    if (inward)
-        for (size_t t = 0; t < m.indices.size(); t += 3) std::swap(m.indices[t + 1], m.indices[t + 2]);
-    m.material = material;
-    m.medium = medium;
-    scene.meshes.push_back(m);
-}
-void addSphere(Scene& scene, Vec3 c, float r, int material, int medium) {
-    Sphere s;
-    s.name = "sphere" + std::to_string(scene.spheres.size());
-    s.centre = c;
-    s.radius = r;
-    s.material = material;
-    s.medium = medium;
-    scene.spheres.push_back(s);
-}
 void setCamera(Scene& scene, Vec3 pos, Vec3 at, float vfov, int w, int h) {
     test_scenes::setCamera(scene, pos, at, Vec3(0, 1, 0), vfov, w, h);
 }
@@ -128,9 +87,9 @@ TEST(MediumAccuracy, TransmittanceThroughSlabAndSphere) {
     const int milk = addMedium(scene, Vec3(0.1f), Vec3(3.0f, 4.0f, 5.0f), 0.8f);
     const int fog = addMedium(scene, Vec3(0.01f), Vec3(0.05f, 0.1f, 0.2f), 0.0f);
     addBox(scene, Vec3(-5, -5, 0.0f), Vec3(5, 5, 0.8f), boundary, slab);  // 0.8 m thick along z
-    addSphere(scene, Vec3(20, 0, 0), 0.5f, boundary, milk);
+    addMediumSphere(scene, Vec3(20, 0, 0), 0.5f, boundary, milk);
     const int glass = addGlass(scene, 1.5f);
-    addSphere(scene, Vec3(-20, 0, 0), 0.5f, glass, -1);
+    addMediumSphere(scene, Vec3(-20, 0, 0), 0.5f, glass, -1);
     addBox(scene, Vec3(40, -1, -1), Vec3(41, 1, 1), addMaterial(scene, Vec3(0.5f)), -1);
     scene.camera.position = Vec3(0, 0, 10);
     scene.camera.lookAt = Vec3(0, 0, 0);
@@ -225,7 +184,7 @@ TEST(MediumAccuracy, SingleScatteringFromPointLightMatchesAirlight) {
             const Vec3 sigmaS(0.5f, 0.3f, 0.8f), sigmaA(0.1f, 0.3f, 0.05f);
             scene.globalMedium = addMedium(scene, sigmaA, sigmaS, g);
             // One black sphere far behind the camera: a scene needs a shape; e^{−σt 1000} is 0.
-            addSphere(scene, Vec3(0, 0, 1000), 1.0f, addMaterial(scene, Vec3(0.0f)), -1);
+            addMediumSphere(scene, Vec3(0, 0, 1000), 1.0f, addMaterial(scene, Vec3(0.0f)), -1);
             Light light;
             light.type = LightType::Point;
             light.position = Vec3(1.2f, 0.3f, -2.0f);  // just outside the view: no pixel sees the light
@@ -297,8 +256,8 @@ TEST(MediumAccuracy, NonAbsorbingMediaInTheFurnaceStayUniform) {
     Scene scene;
     addBox(scene, Vec3(-1), Vec3(1), addEmitter(scene, Vec3(rho), Le), -1, /*inward=*/true);
     scene.globalMedium = addMedium(scene, Vec3(0.0f), Vec3(1.0f, 2.0f, 0.5f), 0.5f);
-    addSphere(scene, Vec3(0.3f, 0.1f, -0.4f), 0.35f, addGlass(scene, 1.33f),
-              addMedium(scene, Vec3(0.0f), Vec3(6.0f, 4.0f, 8.0f), 0.8f));
+    addMediumSphere(scene, Vec3(0.3f, 0.1f, -0.4f), 0.35f, addGlass(scene, 1.33f),
+                    addMedium(scene, Vec3(0.0f), Vec3(6.0f, 4.0f, 8.0f), 0.8f));
     addBox(scene, Vec3(-0.7f, -0.6f, -0.8f), Vec3(-0.2f, -0.1f, -0.3f), addBoundaryMaterial(scene),
            addMedium(scene, Vec3(0.0f), Vec3(3.0f), -0.4f));
     setCamera(scene, Vec3(0.1f, 0.2f, 0.8f), Vec3(0.0f, -0.1f, -1.0f), 80.0f, 12, 12);
@@ -337,7 +296,8 @@ TEST(MediumAccuracy, DeterministicAcrossThreads) {
     Scene scene;
     addBox(scene, Vec3(-1), Vec3(1), addEmitter(scene, Vec3(0.6f), Vec3(1.0f)), -1, /*inward=*/true);
     scene.globalMedium = addMedium(scene, Vec3(0.2f), Vec3(1.0f), 0.3f);
-    addSphere(scene, Vec3(0.2f, 0, -0.3f), 0.3f, addGlass(scene, 1.5f), addMedium(scene, Vec3(0.5f), Vec3(4.0f), 0.7f));
+    addMediumSphere(scene, Vec3(0.2f, 0, -0.3f), 0.3f, addGlass(scene, 1.5f),
+                    addMedium(scene, Vec3(0.5f), Vec3(4.0f), 0.7f));
     setCamera(scene, Vec3(0, 0, 0.8f), Vec3(0, 0, -1), 70.0f, 20, 20);
     SceneGeometry geometry = SceneGeometry::build(scene);
     PathTracerSettings settings;

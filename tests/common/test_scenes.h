@@ -131,4 +131,55 @@ inline Light pointLight(Vec3 p) {
     return l;
 }
 
+// An invisible medium boundary (paths pass straight through); returns the material index.
+inline int addBoundaryMaterial(Scene& scene) {
+    int m = addMaterial(scene, Vec3(0.0f));
+    scene.materials[size_t(m)].interface = true;
+    return m;
+}
+// A clear dielectric of index ior.
+inline int addGlass(Scene& scene, float ior) {
+    int m = addMaterial(scene, Vec3(0.0f));
+    scene.materials[size_t(m)].specular = SpecularKind::Dielectric;
+    scene.materials[size_t(m)].rhoS = Vec3(1.0f);
+    scene.materials[size_t(m)].ior = ior;
+    return m;
+}
+// A homogeneous medium; returns its index (scene.globalMedium or a shape's medium).
+inline int addMedium(Scene& scene, Vec3 sigmaA, Vec3 sigmaS, float g) {
+    Medium m;
+    m.name = "medium" + std::to_string(scene.media.size());
+    m.sigmaA = sigmaA;
+    m.sigmaS = sigmaS;
+    m.g = g;
+    scene.media.push_back(m);
+    return static_cast<int>(scene.media.size()) - 1;
+}
+
+// The box lo..hi as 12 triangles facing outward (inward = true: facing inward, as six quads).
+inline void addBox(Scene& scene, Vec3 lo, Vec3 hi, int material, int medium, bool inward = false) {
+    TriangleMesh m;
+    m.name = "box" + std::to_string(scene.meshes.size());
+    for (int i = 0; i < 8; ++i)
+        m.positions.push_back(Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z));
+    // Outward, counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
+    m.indices = {0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4,
+                 2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
+    if (inward)
+        for (size_t t = 0; t < m.indices.size(); t += 3) std::swap(m.indices[t + 1], m.indices[t + 2]);
+    m.material = material;
+    m.medium = medium;
+    scene.meshes.push_back(m);
+}
+// A sphere holding `medium` (−1: none) inside.
+inline void addMediumSphere(Scene& scene, Vec3 c, float r, int material, int medium) {
+    Sphere s;
+    s.name = "sphere" + std::to_string(scene.spheres.size());
+    s.centre = c;
+    s.radius = r;
+    s.material = material;
+    s.medium = medium;
+    scene.spheres.push_back(s);
+}
+
 }  // namespace pcl::test_scenes

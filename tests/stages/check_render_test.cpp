@@ -39,6 +39,24 @@ void runCheck(const char* name, RenderCheckOptions o = {}) {
 
 TEST(CheckRender, CornellBox) { runCheck("cornell-box.json"); }
 TEST(CheckRender, CornellSpheres) { runCheck("cornell-spheres.json"); }
+// Under a sky (no other light): escapes in eye_paths and final_gather, sky samples in direct_light.
+TEST(CheckRender, SkySpheres) { runCheck("sky-spheres.json"); }
+// The same under an image sky (16 × 8 texels of unequal colour, turned 40°): the twin reads the
+// same texels and samples the same directions (shared/environment.h).
+TEST(CheckRender, SkySpheresUnderAnImageSky) {
+    Scene scene = loadScene(shippedScene("sky-spheres.json"));
+    scene.environment.scale = Vec3(1.5f);
+    scene.environment.image = Image(16, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 16; ++x)
+            scene.environment.image.set(x, y,
+                                        Vec3(0.2f + 0.1f * x, 0.5f + 0.3f * y, (x + 2 * y) % 5 == 0 ? 6.0f : 0.3f));
+    scene.environment.imagePath = "synthetic";
+    scene.environment.rotationDegrees = 40.0f;
+    const RenderCheckReport r = checkRender(test::testDevice(), scene, RenderCheckOptions{});
+    std::printf("%s", r.table().c_str());
+    EXPECT_TRUE(r.passed());
+}
 TEST(CheckRender, CornellGlossy) {
     RenderCheckOptions o;
     o.films = false;  // (4.5 s of twin renders; the render twin test holds this scene's films)

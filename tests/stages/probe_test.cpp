@@ -20,11 +20,15 @@ TEST(Probe, DeviceStructSizesEqualHost) {
         EXPECT_EQ(device[i], structs[i].hostSize) << structs[i].name << " on " << pcl::test::testDevice().info().name;
 }
 
-// The probe is only as good as its list: every struct types.h defines must be in it.
+// The probe is only as good as its list: every struct types.h (and environment.h, the sky's
+// header) defines must be in it.
 TEST(Probe, EveryStructInTypesHIsProbed) {
-    std::ifstream in(PHOTONCL_SOURCE_DIR "/kernels/shared/types.h");
-    ASSERT_TRUE(in);
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string text;
+    for (const char* header : {"/types.h", "/environment.h"}) {
+        std::ifstream in(std::string(PHOTONCL_SOURCE_DIR "/kernels/shared") + header);
+        ASSERT_TRUE(in) << header;
+        text += std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    }
     std::set<std::string> listed;
     for (const auto& s : pcl::sharedStructs()) listed.insert(s.name);
     static const std::regex def(R"(typedef\s+struct\s+(\w+))");

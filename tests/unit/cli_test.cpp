@@ -200,6 +200,20 @@ TEST_F(CliTest, RenderLogsThePlan) {
     EXPECT_NE(r.output.find("LS+DE"), std::string::npos) << r.output;
 }
 
+// A sky-lit scene (environment light, no other): every stage runs and passes, and the photon
+// methods render it.
+TEST_F(CliTest, CheckAllPassesUnderASky) {
+    Result r = run("check " + scene("sky-spheres.json") + " --device cpu --stage all --photons 4000 --rays 5000");
+    EXPECT_EQ(r.status, 0) << r.output;
+    for (const char* stage : {"emit", "trace_photons", "pass", "eye_paths", "direct_light", "render"})
+        EXPECT_NE(r.output.find(std::string("stage ") + stage + ": PASSED"), std::string::npos) << stage << r.output;
+    for (const char* method : {"fg", "direct", "progressive"}) {
+        Result m = run("render " + scene("sky-spheres.json") + " -o " + (dir / "sky.exr").string() +
+                       " --width 16 --height 12 --passes 1 --no-png --method " + method);
+        EXPECT_EQ(m.status, 0) << method << m.output;
+    }
+}
+
 TEST_F(CliTest, CheckPhotonStagesPassOnAShippedScene) {
     for (const char* stage :
          {"emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate", "render"}) {
@@ -239,6 +253,12 @@ TEST_F(CliTest, RenderPicksProgressiveForMediaAndFgRefusesThem) {
     r = run("render " + scene("media/cornell-fog.json") + " --method fg --width 16 --passes 1 -o " + out);
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find("--method fg (fg's gather rays do not carry media yet)"), std::string::npos) << r.output;
+    // auto: its pilot weighs fg, so media go to progressive, said so.
+    r = run("render " + scene("media/cornell-fog.json") +
+            " --method auto --width 16 --time 1 --global-photons 5000 --caustic-photons 5000 -o " + out);
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("method auto: progressive: the scene has participating media"), std::string::npos)
+        << r.output;
 }
 
 // volume_estimate reads the volume maps of a scene with media (and passes there); it refuses a

@@ -246,19 +246,24 @@ TEST(EnvironmentScene, RefusesBadSkiesWithTheUsualMessage) {
     expectRefused(folder, R"({"image": "sky.pfm", "scale": 0})", {"environment.scale", "> 0"});
 }
 
-TEST(EnvironmentScene, PhotonMethodsRefuseASky) {
+TEST(EnvironmentScene, PhotonMethodsRefuseASkyOnlyWithMedia) {
     SceneFolder folder;
     const Scene s = loadJsonScene(folder.write(R"({"radiance": [1, 1, 1]})"));
+    EXPECT_NO_THROW(refuseEnvironmentInMediaWithoutPathTracer(s, "--method fg"));  // the photon methods read skies
+    Scene fog = s;
+    fog.media.push_back(Medium{"fog", Vec3(0.1f), Vec3(0.1f), 0.0f});
+    fog.globalMedium = 0;
     try {
-        refuseEnvironmentWithoutPathTracer(s, "--method fg");
+        refuseEnvironmentInMediaWithoutPathTracer(fog, "--method fg");
         ADD_FAILURE() << "not refused";
     } catch (const InputError& e) {
-        EXPECT_NE(
-            std::string(e.what()).find("environment: expected a scene without an environment light for --method fg"),
-            std::string::npos)
+        EXPECT_NE(std::string(e.what()).find("environment: expected a scene without an environment light or without "
+                                             "participating media for --method fg"),
+                  std::string::npos)
             << e.what();
+        EXPECT_NE(std::string(e.what()).find("a constant sky and 1 medium(s)"), std::string::npos) << e.what();
     }
-    Scene plain = s;
+    Scene plain = fog;
     plain.environment = Environment{};
-    EXPECT_NO_THROW(refuseEnvironmentWithoutPathTracer(plain, "--method fg"));
+    EXPECT_NO_THROW(refuseEnvironmentInMediaWithoutPathTracer(plain, "--method fg"));
 }

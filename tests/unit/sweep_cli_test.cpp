@@ -191,9 +191,13 @@ TEST_F(SweepCliTest, MediaSweepLeavesFgOut) {
     for (const auto& row : table.rows) {
         ++rows[row.at("curve")];
         if (row.at("curve") == "progressive") volumeSeconds += std::stod(row.at("seconds_volume"));
+        // direct renders its budgets in increments: their volume seconds add up too.
+        if (row.at("curve") == "direct" && row.at("seed") != "all")
+            EXPECT_GT(std::stod(row.at("seconds_volume")), 0.0) << row.at("passes");
     }
     EXPECT_GT(rows["path"], 0);
     EXPECT_GT(rows["progressive"], 0);
+    EXPECT_GT(rows["direct"], 0);
     for (const auto& [curve, n] : rows) EXPECT_EQ(curve.rfind("fg", 0), std::string::npos) << curve;
     EXPECT_GT(volumeSeconds, 0.0);
 }
@@ -219,4 +223,27 @@ TEST_F(SweepCliTest, ClearErrors) {
                        (dir / "a-file").string());
     EXPECT_EQ(noDir.status, 2) << noDir.output;
     EXPECT_NE(noDir.output.find("exists and is not a folder"), std::string::npos) << noDir.output;
+}
+
+// The auto curve: `render --method auto --time T` per point (here one point of 5 s at 64 wide),
+// the pilot's pick named in the method column, the whole time (pilot included) in seconds.
+TEST_F(SweepCliTest, AutoCurveRendersTimedPointsWithThePilotsChoice) {
+    Result r = run("sweep " + source("scenes/cornell-box.json") + " --reference " +
+                   source("tests/data/ref-cornell-box.exr") + " --curves auto --max-seconds 5 -o " + dir.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    Csv table = readCsv(dir / "sweep-cornell-box.csv");
+    ASSERT_EQ(table.rows.size(), 1u) << r.output;
+    auto& row = table.rows[0];
+    std::printf("[figure] sweep auto cornell-box 64 wide, 5 s: %s, %s s, %s passes, relMSE %s, mean ratio %s\n",
+                row["method"].c_str(), row["seconds"].c_str(), row["passes"].c_str(), row["relmse"].c_str(),
+                row["mean_ratio"].c_str());
+    const std::set<std::string> picks = {"auto: fg", "auto: fg 6x6x2", "auto: path"};
+    EXPECT_EQ(picks.count(row["method"]), 1u) << row["method"];
+    EXPECT_NE(row["variant_settings"].find("render --method auto --time 5; method auto: "), std::string::npos)
+        << row["variant_settings"];
+    // The budget is spent, not skipped: --time stops within half a pass of T, and the pilot is
+    // paid from T (no upper bound: a loaded machine stretches the last pass).
+    EXPECT_GT(std::stod(row["seconds"]), 2.5);
+    EXPECT_GT(std::stoull(row["passes"]), 0u);
+    EXPECT_NEAR(std::stod(row["mean_ratio"]), 1.0, 0.05);
 }
