@@ -29,6 +29,7 @@
 #include "shared/bvh.h"
 #include "shared/eye.h"
 #include "shared/environment.h"
+#include "shared/texture.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -38,7 +39,9 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
                                  __global const PclMaterial* materials, __global const PclLight* lights,
                                  __global const uint* lightOfPrim, __global const float* histograms,
                                  __global PclEstimateQuery* queries, __global PclGatherHit* gathered,
-                                 const PclEnvironment env, __global const float* envData) {
+                                 const PclEnvironment env, __global const float* envData,
+                                 __global const PclTexture* materialTextures, __global const float* texels,
+                                 __global const PclTriangleUv* triangleUvs) {
     const uint j = (uint)get_global_id(0);
     const uint N = params.gatherRays;
     if (j >= params.sampleCount * N) return;
@@ -101,7 +104,10 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
         const PclV3 n = eye_normal(primInfo, hit.prim, params.triangleCount, p, tau);
         const float dn = sampling_dot(d, n);
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
-        const PclMaterial M = materials[primInfo[hit.prim].material];
+        const uint mat = primInfo[hit.prim].material;
+        PclMaterial M = materials[mat];
+        texture_rho_d(materialTextures, texels, triangleUvs, mat, hit.prim, params.triangleCount, hit.u, hit.v,
+                      M.rhoD);
 
         if (dn < 0.0f && sampling_max3(M.emission[0], M.emission[1], M.emission[2]) > 0.0f &&
             !(afterSpecular && params.causticMapRead != 0u)) {

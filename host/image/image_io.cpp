@@ -253,6 +253,29 @@ Image readImageLayer(const std::string& path, const std::string& layer) {
 #endif
 }
 
+StoredImage readStoredImage(const std::string& path) {
+    StoredImage s;
+    if (isPfm(path)) {
+        const Image image = readPfm(path);
+        s.width = image.width;
+        s.height = image.height;
+        s.channels = 3;
+        s.pixels = image.rgb;
+        return s;
+    }
+#ifdef PHOTONCL_HAVE_OIIO
+    AllChannels a = readAllChannels(path);
+    s.width = a.spec.width;
+    s.height = a.spec.height;
+    s.channels = a.spec.nchannels;
+    s.integer = !a.spec.format.is_floating_point();
+    s.pixels = std::move(a.pixels);
+    return s;
+#else
+    throw InputError(path + ": this build reads PFM only (built without OpenImageIO)");
+#endif
+}
+
 Image readImage(const std::string& path, ImageMetadata* metadata) {
     if (isPfm(path)) {
         if (metadata) *metadata = ImageMetadata{};

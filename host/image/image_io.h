@@ -57,6 +57,16 @@ bool writeSrgbPng(const std::string& path, const Image& image);
 // OpenImageIO reads, or from PFM in any build. Fills metadata when asked and present.
 Image readImage(const std::string& path, ImageMetadata* metadata = nullptr);
 
+// An image as its file stores it, for textures: every channel (interleaved, as floats; integer
+// formats normalised to [0,1]) and whether the file holds integers (8/16-bit: display-encoded,
+// sRGB by convention) or floats (linear). InputError when it cannot be read or is empty.
+struct StoredImage {
+    int width = 0, height = 0, channels = 0;
+    bool integer = false;
+    std::vector<float> pixels;  // width * height * channels, top row first
+};
+StoredImage readStoredImage(const std::string& path);
+
 // One layer written by writeLinearImage with layers: the channels "<layer>.R/G/B" of an EXR, or
 // the PFM "<stem>.<layer>.pfm" beside a PFM. InputError naming the layer when it is not there.
 Image readImageLayer(const std::string& path, const std::string& layer);

@@ -25,6 +25,14 @@ struct DeviceScene {
     // The sky (shared/environment.h): width 0 and one float of data without one.
     PclEnvironment sky;
     cl::Buffer skyData;
+    // Textures (TextureBuffers): a descriptor per material; texels and triangle coordinates are
+    // one-element placeholders in a scene without textures (every descriptor then has width 0).
+    cl::Buffer materialTextures, texels, triangleUvs;
+    bool textured = false;
+    // The options of the programs that read materials at hits (trace_photons, eye_paths,
+    // final_gather): the BVH's, and PCL_TEXTURED when the scene has textures, so an untextured
+    // scene runs the same code as before textures existed (kernels/shared/texture.h).
+    std::string programOptions() const { return geometry.programOptions() + (textured ? " -DPCL_TEXTURED=1" : ""); }
 };
 
 }  // namespace pcl

@@ -132,6 +132,9 @@ private:
         add("scene", "scene: primitive media", s.media ? s.primInfo : 0, sizeof(PclPrimMedium));
         add("scene", "scene: light media", s.media ? s.lights : 0, sizeof(int32_t));
         add("scene", "scene: environment", s.skyFloats, sizeof(float));
+        add("scene", "scene: material textures", s.materials, sizeof(PclTexture));
+        add("scene", "scene: texels", s.texelFloats, sizeof(float));
+        add("scene", "scene: triangle texture coordinates", s.triangleUvs, sizeof(PclTriangleUv));
     }
 
     // runPhotonPass's buildMap: per batch emit → trace → deposit; the map buffer from
@@ -260,6 +263,8 @@ SceneBufferCounts sceneBufferCounts(const SceneGeometry& geometry, const SceneBu
     s.projCells = buffers.projCells.size();
     s.media = buffers.hasMedia ? buffers.media.size() : 0;
     s.skyFloats = buffers.sky.data.size();
+    s.texelFloats = buffers.textures.textured() ? buffers.textures.texels.size() : 0;
+    s.triangleUvs = buffers.textures.textured() ? buffers.textures.triangleUvs.size() : 0;
     return s;
 }
 

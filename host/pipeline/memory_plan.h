@@ -44,6 +44,9 @@ struct SceneBufferCounts {
     size_t nodes = 0, packets = 0, spheres = 0, materials = 0, primInfo = 0, lights = 0, projCells = 0;
     size_t media = 0;      // media in the scene (0: DeviceScene uploads one-element placeholders)
     size_t skyFloats = 1;  // the sky's texels and tables (one float without a sky)
+    // Textures (TextureBuffers): floats of texels and triangles with coordinates (0 without
+    // textures: one-element placeholders); the per-material descriptors are `materials` long.
+    size_t texelFloats = 0, triangleUvs = 0;
 };
 SceneBufferCounts sceneBufferCounts(const SceneGeometry& geometry, const SceneBuffers& buffers);
 

@@ -10,6 +10,7 @@
 #include "reference/parallel_for.h"
 #include "reference/sampler.h"
 #include "reference/sky.h"
+#include "reference/textured_material.h"
 
 namespace pcl {
 namespace {
@@ -156,7 +157,7 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
         const float dn = dot(d, n);
         const Vec3 nf = dn < 0.0f ? n : -n;
         const uint32_t mat = buffers.primInfo[hit.prim].material;
-        const PclMaterial& m = buffers.materials[mat];
+        const PclMaterial m = texturedMaterial(buffers, params.triangleCount, hit);  // ρd at the hit
         if (hasMedia) {
             if (m.flags & PCL_MATERIAL_INTERFACE) {
                 // An invisible boundary: straight on in the medium beyond, not a hit of the chain.

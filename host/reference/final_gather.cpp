@@ -9,6 +9,7 @@
 #include "reference/knn.h"
 #include "reference/parallel_for.h"
 #include "reference/sky.h"
+#include "reference/textured_material.h"
 #include "reference/trace_photons.h"
 #include "shared/rng.h"
 
@@ -125,7 +126,7 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
         const Vec3 n = eyeNormalAt(buffers, hit.prim, params.triangleCount, p, tau);
         const float dn = dot(d, n);
         const Vec3 nf = dn < 0.0f ? n : -n;
-        const PclMaterial& m = buffers.materials[buffers.primInfo[hit.prim].material];
+        const PclMaterial m = texturedMaterial(buffers, params.triangleCount, hit);  // ρd at the hit
         // Light reached through a specular chain is the caustic map's when that is read.
         if (dn < 0.0f && maxComponent(eyeVec(m.emission)) > 0.0f && !(afterSpecular && params.causticMapRead)) {
             float wMis = 1.0f;

@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "prep/texture_buffers.h"
+#include "shared/texture.h"
+
 namespace pcl {
 namespace {
 
@@ -40,6 +43,17 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
             }
         }
         s.material = &scene.materials[mesh.material];
+        s.rhoD = s.material->rhoD;
+        if (s.material->rhoDTexture >= 0) {  // the kernels' lookup (kernels/shared/texture.h)
+            const Texture& texture = scene.textures[size_t(s.material->rhoDTexture)];
+            const float* uv = mesh.uv[texture.texCoord].data();
+            const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(ref.index)];
+            const float u = w * uv[2 * idx[0]] + hit.u * uv[2 * idx[1]] + hit.v * uv[2 * idx[2]];
+            const float v = w * uv[2 * idx[0] + 1] + hit.u * uv[2 * idx[1] + 1] + hit.v * uv[2 * idx[2] + 1];
+            float texel[3];
+            texture_bilinear(textureDescriptor(texture, 0), texture.image.rgb.data(), u, v, texel);
+            s.rhoD = s.rhoD * Vec3(texel[0], texel[1], texel[2]);
+        }
     } else {
         const Sphere& sphere = scene.spheres[ref.object];
         Vec3 c = sphere.centre + sphere.motion * ray.time;
@@ -48,6 +62,7 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
         s.p = c + s.ng * sphere.radius;  // re-projected onto the surface
         s.ns = s.ng;
         s.material = &scene.materials[sphere.material];
+        s.rhoD = s.material->rhoD;
     }
     return s;
 }

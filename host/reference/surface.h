@@ -14,6 +14,7 @@ struct SurfacePoint {
     Vec3 ng;  // geometric normal, unit: the emitting / outside side (not flipped toward the ray)
     Vec3 ns;  // shading normal, unit, on the same side as ng
     const Material* material = nullptr;
+    Vec3 rhoD;  // ρd here: the material's constant times its texture at the hit (if any)
     uint32_t prim = PCL_NO_HIT;
     float time = 0.0f;
 };

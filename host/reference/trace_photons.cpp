@@ -7,6 +7,7 @@
 #include "reference/medium.h"
 #include "reference/parallel_for.h"
 #include "reference/sampling.h"
+#include "reference/textured_material.h"
 #include "shared/rng.h"
 
 namespace pcl {
@@ -228,8 +229,8 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
                            ? Vec3(info.a, info.b, info.c)
                            : (p - (Vec3(info.a, info.b, info.c) + Vec3(info.mx, info.my, info.mz) * time)) /
                                  info.radius;
-        const PclMaterial& m = buffers.materials[info.material];
-        const Vec3 nf = dot(d, n) < 0.0f ? n : -n;  // the side the photon arrives on
+        const PclMaterial m = texturedMaterial(buffers, params.triangleCount, hit);  // ρd at the hit
+        const Vec3 nf = dot(d, n) < 0.0f ? n : -n;                                   // the side the photon arrives on
         if (params.hasMedia) {
             if (m.flags & PCL_MATERIAL_INTERFACE) {
                 // An invisible medium boundary: straight on in the medium beyond, same bounce.

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <tiny_gltf.h>
@@ -21,6 +22,7 @@
 #include "scene/json_parse.h"
 #include "scene/scene_error.h"
 #include "scene/scene_paths.h"
+#include "scene/texture_image.h"
 
 namespace pcl {
 
@@ -32,7 +34,7 @@ using json = nlohmann::json;
 constexpr double kLumensPerWatt = 683.0;
 
 const char* const kSupportedExtensions[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                            "KHR_materials_transmission", "KHR_materials_ior"};
+                                            "KHR_materials_transmission", "KHR_materials_ior", "KHR_texture_transform"};
 
 std::string at(const std::string& what, size_t i) { return what + "[" + std::to_string(i) + "]"; }
 
@@ -154,12 +156,23 @@ void preflight(json& root, const std::string& file, bool binary) {
         }
     }
 
-    // Textures and animation are not used by this renderer; cut them out before tinygltf parses
-    // them (and would decode images with stb_image).
-    bool textured = root.contains("textures") || root.contains("images");
+    // Images, textures and samplers are read here (GltfTextures, from the JSON kept aside), not by
+    // tinygltf, which would decode images with stb_image; animation is not used. Cut them out.
     for (const char* unused : {"images", "textures", "samplers", "animations", "skins"}) root.erase(unused);
-    if (textured) warnInput(file, "textures are ignored; materials use their constant factors only");
 }
+
+// What the loader reads of a file's textures itself: the arrays preflight cuts out, and each
+// material's texture references (scenes/README.md, "glTF: textures").
+struct GltfTextures {
+    json images = json::array(), textures = json::array(), samplers = json::array(), materials = json::array();
+    explicit GltfTextures(const json& root) {
+        for (auto [key, out] : {std::make_pair("images", &images), std::make_pair("textures", &textures),
+                                std::make_pair("samplers", &samplers), std::make_pair("materials", &materials)}) {
+            auto it = root.find(key);
+            if (it != root.end() && it->is_array()) *out = *it;
+        }
+    }
+};
 
 // tinygltf reads files through these, so a path it builds (including its "./" fallback that
 // would search the working directory) is refused unless it lies in the scene's folder.
@@ -189,12 +202,16 @@ bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, i
 
 class GltfReader {
 public:
-    GltfReader(Scene& scene, const tinygltf::Model& model, const std::string& file, const GltfImportOptions& options)
-        : scene_(scene), model_(model), file_(file), options_(options) {}
+    GltfReader(Scene& scene, const tinygltf::Model& model, const std::string& file, const GltfImportOptions& options,
+               const GltfTextures& textures)
+        : scene_(scene), model_(model), file_(file), options_(options), textures_(textures) {}
 
     GltfImportResult read() {
         materialIndex_.assign(model_.materials.size(), -1);
         walkNodes();
+        if (!ignoredTextures_.empty())
+            warnInput(file_, "textures ignored: " + ignoredTextures_ +
+                                 " (only baseColorTexture from an image file is read; materials use their factors)");
         return result_;
     }
 
@@ -302,12 +319,19 @@ private:
         if (a.sparse.isSparse)
             fail(af + ".sparse", "a dense accessor (sparse accessors are not supported)", "a sparse one");
         if (a.type != type)
-            fail(af + ".type", type == TINYGLTF_TYPE_VEC3 ? "VEC3" : "SCALAR", "type code " + std::to_string(a.type));
+            fail(af + ".type",
+                 type == TINYGLTF_TYPE_VEC3   ? "VEC3"
+                 : type == TINYGLTF_TYPE_VEC2 ? "VEC2"
+                                              : "SCALAR",
+                 "type code " + std::to_string(a.type));
         bool allowed = false;
         for (int c : componentTypes) allowed = allowed || a.componentType == c;
         if (!allowed)
             fail(af + ".componentType",
-                 type == TINYGLTF_TYPE_VEC3 ? "FLOAT (5126)" : "UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT",
+                 type == TINYGLTF_TYPE_VEC3 ? "FLOAT (5126)"
+                 : type == TINYGLTF_TYPE_VEC2
+                     ? "FLOAT (5126), or normalized UNSIGNED_BYTE (5121) or UNSIGNED_SHORT (5123)"
+                     : "UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT",
                  std::to_string(a.componentType));
         View v;
         v.componentType = a.componentType;
@@ -351,6 +375,34 @@ private:
         View v = view(index, field, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
         std::vector<Vec3> out(v.count);
         for (size_t i = 0; i < v.count; ++i) std::memcpy(&out[i], v.data + i * v.stride, sizeof(float) * 3);
+        return out;
+    }
+
+    // TEXCOORD_n: (u, v) per vertex, FLOAT or normalized unsigned integers (glTF 2.0 §3.7.2.1).
+    std::vector<float> readTexCoords(int index, const std::string& field) {
+        View v = view(index, field, TINYGLTF_TYPE_VEC2,
+                      {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+        const tinygltf::Accessor& a = model_.accessors[size_t(index)];
+        if (v.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !a.normalized)
+            fail(at("accessors", size_t(index)) + ".normalized", "true for integer texture coordinates", "false");
+        std::vector<float> out(2 * v.count);
+        for (size_t i = 0; i < v.count; ++i) {
+            const unsigned char* p = v.data + i * v.stride;
+            for (int c = 0; c < 2; ++c) {
+                if (v.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                    std::memcpy(&out[2 * i + size_t(c)], p + 4 * c, 4);
+                    if (!std::isfinite(out[2 * i + size_t(c)]))
+                        fail(field, "finite texture coordinates", show(out[2 * i + size_t(c)]));
+                } else if (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+                    out[2 * i + size_t(c)] = float(p[c]) / 255.0f;
+                } else {
+                    uint16_t s;
+                    std::memcpy(&s, p + 2 * c, 2);
+                    out[2 * i + size_t(c)] = float(s) / 65535.0f;
+                }
+            }
+        }
         return out;
     }
 
@@ -402,6 +454,16 @@ private:
                     fail(field + ".attributes.NORMAL",
                          std::to_string(out.positions.size()) + " normals (one per position)",
                          std::to_string(out.normals.size()));
+            }
+            for (int set = 0; set < 2; ++set) {
+                const std::string name = "TEXCOORD_" + std::to_string(set);
+                auto tc = prim.attributes.find(name);
+                if (tc == prim.attributes.end()) continue;
+                out.uv[set] = readTexCoords(tc->second, field + ".attributes." + name);
+                if (out.uv[set].size() != 2 * out.positions.size())
+                    fail(field + ".attributes." + name,
+                         std::to_string(out.positions.size()) + " coordinates (one per position)",
+                         std::to_string(out.uv[set].size() / 2));
             }
             std::vector<uint32_t> vertices;
             if (present(prim.indices, field + ".indices")) {
@@ -462,8 +524,9 @@ private:
         int& mapped = materialIndex_[size_t(gltfIndex)];
         if (mapped < 0) {
             mapped = int(scene_.materials.size());
-            scene_.materials.push_back(
-                mapMaterial(model_.materials[size_t(gltfIndex)], at("materials", size_t(gltfIndex))));
+            Material m = mapMaterial(model_.materials[size_t(gltfIndex)], at("materials", size_t(gltfIndex)));
+            mapTextures(size_t(gltfIndex), m);
+            scene_.materials.push_back(m);
         }
         return mapped;
     }
@@ -545,6 +608,118 @@ private:
         return m;
     }
 
+    // ---- Textures (scenes/README.md, "glTF: textures")
+
+    // A material's baseColorTexture multiplies its ρd (the factor-derived constant); the other
+    // texture kinds are noted as ignored.
+    void mapTextures(size_t gltfIndex, Material& m) {
+        if (gltfIndex >= textures_.materials.size() || !textures_.materials[gltfIndex].is_object()) return;
+        const json& g = textures_.materials[gltfIndex];
+        const std::string field = at("materials", gltfIndex);
+        for (const char* other : {"normalTexture", "occlusionTexture", "emissiveTexture"})
+            if (g.contains(other)) noteIgnored(other);
+        auto pbr = g.find("pbrMetallicRoughness");
+        if (pbr == g.end() || !pbr->is_object()) return;
+        if (pbr->contains("metallicRoughnessTexture")) noteIgnored("metallicRoughnessTexture");
+        auto base = pbr->find("baseColorTexture");
+        if (base == pbr->end()) return;
+        m.rhoDTexture = textureFor(*base, field + ".pbrMetallicRoughness.baseColorTexture");
+    }
+
+    void noteIgnored(const std::string& what) {
+        if (ignoredTextures_.find(what) == std::string::npos)
+            ignoredTextures_ += (ignoredTextures_.empty() ? "" : ", ") + what;
+    }
+
+    // The Scene::textures index of a textureInfo {index, texCoord, extensions}, or -1 when its
+    // image is embedded (a data URI or a bufferView: not decoded here, noted as ignored).
+    int textureFor(const json& info, const std::string& field) {
+        if (!info.is_object()) fail(field, "a textureInfo object", showJson(info));
+        const int index = intIn(info, "index", field, -1, int(textures_.textures.size()) - 1, -1);
+        if (index < 0)
+            fail(field + ".index", "a texture index below " + std::to_string(textures_.textures.size()), "none");
+        int texCoord = intIn(info, "texCoord", field, 0, 1, 0);
+        TextureTransform transform;
+        if (auto ext = info.find("extensions"); ext != info.end() && ext->is_object()) {
+            if (auto tt = ext->find("KHR_texture_transform"); tt != ext->end()) {
+                const std::string tf = field + ".extensions.KHR_texture_transform";
+                if (!tt->is_object()) fail(tf, "an object", showJson(*tt));
+                pairIn(*tt, "offset", tf, transform.offset);
+                pairIn(*tt, "scale", tf, transform.scale);
+                if (auto r = tt->find("rotation"); r != tt->end()) {
+                    if (!r->is_number() || !std::isfinite(r->get<double>()))
+                        fail(tf + ".rotation", "a number of radians", showJson(*r));
+                    transform.rotation = float(r->get<double>());
+                }
+                texCoord = intIn(*tt, "texCoord", tf, 0, 1, texCoord);
+            }
+        }
+        const json& t = textures_.textures[size_t(index)];
+        const std::string tfield = at("textures", size_t(index));
+        if (!t.is_object()) fail(tfield, "an object", showJson(t));
+        const int source = intIn(t, "source", tfield, 0, int(textures_.images.size()) - 1, -1);
+        if (source < 0)
+            fail(tfield + ".source", "an image index below " + std::to_string(textures_.images.size()), "none");
+        Texture tex;
+        const int sampler = intIn(t, "sampler", tfield, 0, int(textures_.samplers.size()) - 1, -1);
+        if (sampler >= 0) {
+            const json& s = textures_.samplers[size_t(sampler)];
+            const std::string sf = at("samplers", size_t(sampler));
+            if (!s.is_object()) fail(sf, "an object", showJson(s));
+            tex.wrapU = wrapIn(s, "wrapS", sf);
+            tex.wrapV = wrapIn(s, "wrapT", sf);
+        }
+        tex.transform = transform;
+        tex.texCoord = texCoord;
+        const json& image = textures_.images[size_t(source)];
+        const std::string ifield = at("images", size_t(source));
+        if (!image.is_object()) fail(ifield, "an object", showJson(image));
+        auto uri = image.find("uri");
+        if (uri == image.end() || !uri->is_string() || uri->get<std::string>().rfind("data:", 0) == 0) {
+            noteIgnored("baseColorTexture of an embedded image (" + ifield + ")");
+            return -1;
+        }
+        tex.path = resolveInsideFolder(file_, ifield + ".uri", percentDecode(uri->get<std::string>()));
+        // Shared by every use with the same image, sampler, coordinates and transform.
+        const std::string key = std::to_string(source) + "/" + std::to_string(sampler) + "/" +
+                                std::to_string(texCoord) + "/" + show(transform.offset[0]) + "," +
+                                show(transform.offset[1]) + "," + show(transform.scale[0]) + "," +
+                                show(transform.scale[1]) + "," + show(transform.rotation);
+        if (auto it = textureIndex_.find(key); it != textureIndex_.end()) return it->second;
+        tex.image = loadTextureImage(file_, ifield + ".uri", tex.path, TextureEncoding::Srgb);  // base colour: sRGB
+        scene_.textures.push_back(std::move(tex));
+        const int added = int(scene_.textures.size()) - 1;
+        textureIndex_[key] = added;
+        return added;
+    }
+
+    // An optional integer `key` of `object` in [lo, hi]; `fallback` when absent.
+    int intIn(const json& object, const char* key, const std::string& field, int lo, int hi, int fallback) {
+        auto it = object.find(key);
+        if (it == object.end()) return fallback;
+        if (!it->is_number_integer() || it->get<int64_t>() < lo || it->get<int64_t>() > hi)
+            fail(field + "." + key, "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]",
+                 showJson(*it));
+        return int(it->get<int64_t>());
+    }
+    void pairIn(const json& object, const char* key, const std::string& field, float out[2]) {
+        auto it = object.find(key);
+        if (it == object.end()) return;
+        if (!it->is_array() || it->size() != 2 || !(*it)[0].is_number() || !(*it)[1].is_number() ||
+            !std::isfinite((*it)[0].get<double>()) || !std::isfinite((*it)[1].get<double>()))
+            fail(field + "." + key, "2 finite numbers", showJson(*it));
+        out[0] = float((*it)[0].get<double>());
+        out[1] = float((*it)[1].get<double>());
+    }
+    TextureWrap wrapIn(const json& sampler, const char* key, const std::string& field) {
+        const int code = intIn(sampler, key, field, 0, 1 << 30, 10497);
+        if (code == 10497) return TextureWrap::Repeat;
+        if (code == 33071) return TextureWrap::Clamp;
+        if (code == 33648) return TextureWrap::Mirror;
+        fail(field + "." + key, "10497 (REPEAT), 33071 (CLAMP_TO_EDGE) or 33648 (MIRRORED_REPEAT)",
+             std::to_string(code));
+    }
+
     // ---- KHR_lights_punctual
     void addLight(const tinygltf::Value& ext, const Transform& world, const std::string& nodeField) {
         std::string field = nodeField + ".extensions.KHR_lights_punctual.light";
@@ -618,8 +793,11 @@ private:
     const std::string& file_;
     const GltfImportOptions& options_;
     GltfImportResult result_;
+    const GltfTextures& textures_;
     std::vector<int> materialIndex_;
     int defaultMaterial_ = -1;
+    std::map<std::string, int> textureIndex_;  // Scene::textures of the uses seen so far
+    std::string ignoredTextures_;              // texture kinds not read, for one warning
 };
 
 }  // namespace
@@ -634,6 +812,7 @@ GltfImportResult importGltfFromMemory(Scene& scene, const std::vector<unsigned c
         glb.json.assign(bytes.begin(), bytes.end());
     }
     json root = parseSceneJson(glb.json, path);
+    const GltfTextures textures(root);
     preflight(root, path, binary);
     std::string text = root.dump(-1, ' ', false, json::error_handler_t::replace);
 
@@ -659,7 +838,7 @@ GltfImportResult importGltfFromMemory(Scene& scene, const std::vector<unsigned c
     for (auto& c : err)
         if (c == '\n') c = ';';
     if (!ok) failInput(path, "", "a valid glTF 2.0 file", "tinygltf error: " + (err.empty() ? "unknown" : err));
-    return GltfReader(scene, model, path, options).read();
+    return GltfReader(scene, model, path, options, textures).read();
 }
 
 GltfImportResult importGltf(Scene& scene, const std::string& path, const GltfImportOptions& options) {

@@ -15,6 +15,7 @@
 #include "scene/json_parse.h"
 #include "scene/scene_error.h"
 #include "scene/scene_paths.h"
+#include "scene/texture_image.h"
 #include "scene/transform.h"
 #ifdef PHOTONCL_HAVE_GLTF
 #include "scene/gltf_loader.h"
@@ -215,7 +216,13 @@ private:
         if (m.name.empty()) fail(keyPath(path, "name"), "a non-empty name", value["name"]);
         if (materialIndex_.count(m.name))
             failInput(file_, keyPath(path, "name"), "a name not used by another material", "\"" + m.name + "\" again");
-        if (auto* v = optional(value, "rho_d")) m.rhoD = reflectance(*v, keyPath(path, "rho_d"));
+        if (auto* v = optional(value, "rho_d")) {
+            if (v->is_object()) {
+                m.rhoDTexture = readTexture(*v, keyPath(path, "rho_d"), m.rhoD);
+            } else {
+                m.rhoD = reflectance(*v, keyPath(path, "rho_d"));
+            }
+        }
         if (auto* v = optional(value, "emission")) m.emission = radiometric(*v, keyPath(path, "emission"));
         if (auto* s = optional(value, "specular")) readSpecular(*s, keyPath(path, "specular"), m);
         Vec3 sum = m.rhoD + m.rhoS;
@@ -226,6 +233,56 @@ private:
         }
         materialIndex_[m.name] = int(scene_.materials.size());
         scene_.materials.push_back(m);
+    }
+
+    // {"texture": "wood.png", "factor": [r,g,b], "wrap": "repeat" | "clamp" | "mirror" | [u, v],
+    // "offset": [u, v], "scale": [u, v], "rotation": degrees, "encoding": "srgb" | "linear"}: an
+    // image beside the scene file; ρd = factor × the texture. Returns its Scene::textures index.
+    int readTexture(const json& value, const std::string& path, Vec3& factor) {
+        checkObject(value, path, {"texture", "factor", "wrap", "offset", "scale", "rotation", "encoding"});
+        Texture t;
+        const std::string field = keyPath(path, "texture");
+        const std::string name = text(required(value, path, "texture", "an image file name"), field);
+        t.path = resolveInsideFolder(file_, field, name);
+        TextureEncoding encoding = TextureEncoding::Auto;
+        if (auto* e = optional(value, "encoding")) {
+            const std::string kind = text(*e, keyPath(path, "encoding"));
+            if (kind == "srgb") encoding = TextureEncoding::Srgb;
+            else if (kind == "linear") encoding = TextureEncoding::Linear;
+            else fail(keyPath(path, "encoding"), "srgb or linear", *e);
+        }
+        t.image = loadTextureImage(file_, field, t.path, encoding);
+        factor = Vec3(1.0f);
+        if (auto* f = optional(value, "factor")) factor = reflectance(*f, keyPath(path, "factor"));
+        if (auto* w = optional(value, "wrap")) {
+            const std::string wp = keyPath(path, "wrap");
+            if (w->is_array()) {
+                if (w->size() != 2) fail(wp, "a wrap mode or two (u, v)", *w);
+                t.wrapU = wrapMode((*w)[0], indexPath(wp, 0));
+                t.wrapV = wrapMode((*w)[1], indexPath(wp, 1));
+            } else {
+                t.wrapU = t.wrapV = wrapMode(*w, wp);
+            }
+        }
+        if (auto* o = optional(value, "offset")) pair(*o, keyPath(path, "offset"), t.transform.offset);
+        if (auto* k = optional(value, "scale")) pair(*k, keyPath(path, "scale"), t.transform.scale);
+        if (auto* r = optional(value, "rotation"))
+            t.transform.rotation =
+                float(number(*r, keyPath(path, "rotation"), -1e6, 1e6, "a number of degrees") * kPiD / 180.0);
+        scene_.textures.push_back(std::move(t));
+        return int(scene_.textures.size()) - 1;
+    }
+    TextureWrap wrapMode(const json& value, const std::string& path) {
+        const std::string w = value.is_string() ? value.get<std::string>() : "";
+        if (w == "repeat") return TextureWrap::Repeat;
+        if (w == "clamp") return TextureWrap::Clamp;
+        if (w == "mirror") return TextureWrap::Mirror;
+        fail(path, "repeat, clamp or mirror", value);
+    }
+    void pair(const json& value, const std::string& path, float out[2]) {
+        const std::string expected = "2 finite numbers";
+        if (!value.is_array() || value.size() != 2) fail(path, expected, value);
+        for (int i = 0; i < 2; ++i) out[i] = float(number(value[size_t(i)], path, -1e30, 1e30, expected));
     }
 
     void readSpecular(const json& value, const std::string& path, Material& m) {
@@ -414,7 +471,7 @@ private:
                 readGltfMesh(value, path);
             } else {
                 checkObject(value, path,
-                            {"type", "name", "material", "medium", "positions", "indices", "normals", "transform",
+                            {"type", "name", "material", "medium", "positions", "indices", "normals", "uv", "transform",
                              "motion"});
                 readInlineMesh(value, path);
             }
@@ -437,6 +494,7 @@ private:
         TriangleMesh mesh;
         mesh.positions = {c, c + u, c + u + v, c + v};
         mesh.indices = {0, 1, 2, 0, 2, 3};
+        mesh.uv[0] = {0, 0, 1, 0, 1, 1, 0, 1};  // u along edge_u, v along edge_v: the whole image once
         return mesh;
     }
 
@@ -456,6 +514,14 @@ private:
                 failInput(file_, keyPath(path, "normals"),
                           std::to_string(mesh.positions.size() * 3) + " numbers (one normal per position)",
                           std::to_string(mesh.normals.size() * 3));
+        }
+        if (auto* t = optional(value, "uv")) {
+            const std::string up = keyPath(path, "uv");
+            const std::string expected = std::to_string(mesh.positions.size() * 2) +
+                                         " finite numbers (u, v per position)";
+            if (!t->is_array() || t->size() != mesh.positions.size() * 2) fail(up, expected, *t);
+            for (size_t i = 0; i < t->size(); ++i)
+                mesh.uv[0].push_back(float(number((*t)[i], indexPath(up, i), -1e30, 1e30, "a finite number")));
         }
         const json& idx = required(value, path, "indices", "a flat array of 3M vertex indices");
         std::string ip = keyPath(path, "indices");

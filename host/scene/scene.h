@@ -7,6 +7,7 @@
 
 #include "core/vec3.h"
 #include "image/image.h"
+#include "scene/texture.h"
 
 namespace pcl {
 
@@ -25,6 +26,9 @@ struct Material {
     // No surface at all: rays pass straight through. Only the boundary of a medium (a shape with
     // a medium and no material in the scene file) has it; it reflects nothing and emits nothing.
     bool interface = false;
+    // Index into Scene::textures, or -1: ρd at a point is rhoD × the texture there (rhoD is the
+    // texture's factor, glTF's baseColorFactor). Meshes only (spheres have no coordinates).
+    int rhoDTexture = -1;
     bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };
 
@@ -46,6 +50,9 @@ struct TriangleMesh {
     std::vector<Vec3> positions;
     std::vector<Vec3> normals;      // optional per-vertex shading normals (empty: geometric)
     std::vector<uint32_t> indices;  // three per triangle
+    // Texture coordinate sets 0 and 1: (u, v) per vertex, or empty. A mesh whose material has a
+    // texture has the set it names.
+    std::vector<float> uv[2];
     int material = 0;
     Vec3 motion{0.0f};  // translation over the shutter interval
     int medium = -1;    // index into Scene::media filling the inside (closed, outward-facing mesh), or -1
@@ -110,8 +117,9 @@ struct Scene {
     std::vector<Sphere> spheres;
     std::vector<Light> lights;
     std::vector<Medium> media;
-    int globalMedium = -1;    // index into media filling all space outside the shapes with their own (fog), or -1
-    Environment environment;  // inactive (scale 0) unless the file names one
+    std::vector<Texture> textures;  // what Material::rhoDTexture indexes
+    int globalMedium = -1;          // index into media filling all space outside the shapes with their own (fog), or -1
+    Environment environment;        // inactive (scale 0) unless the file names one
     Camera camera;
     size_t droppedDegenerateTriangles = 0;
 
@@ -127,6 +135,11 @@ struct Scene {
             if (m.medium >= 0) return true;
         for (const auto& s : spheres)
             if (s.medium >= 0) return true;
+        return false;
+    }
+    bool hasTextures() const {
+        for (const auto& m : materials)
+            if (m.rhoDTexture >= 0) return true;
         return false;
     }
     bool hasMotion() const {

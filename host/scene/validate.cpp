@@ -266,10 +266,51 @@ void checkMedia(const Scene& s) {
                       "\"" + s.materials[i].name + "\"");
 }
 
+// Texture references and coordinates: a textured material names an existing texture, is used by
+// meshes only, and every such mesh has the coordinate set it names (2 finite numbers a vertex).
+void checkTextures(const Scene& s) {
+    for (size_t i = 0; i < s.materials.size(); ++i) {
+        const int t = s.materials[i].rhoDTexture;
+        if (t >= int(s.textures.size()) || t < -1)
+            failInput(s.path, at("materials", i) + " (\"" + s.materials[i].name + "\").rho_d",
+                      "a texture index below " + std::to_string(s.textures.size()), std::to_string(t));
+    }
+    for (size_t i = 0; i < s.meshes.size(); ++i) {
+        const TriangleMesh& m = s.meshes[i];
+        const std::string f = at("meshes", i) + " (\"" + m.name + "\")";
+        for (int set = 0; set < 2; ++set) {
+            const std::string field = f + ".uv" + (set == 0 ? "" : "1");
+            if (!m.uv[set].empty() && m.uv[set].size() != 2 * m.positions.size())
+                failInput(s.path, field, std::to_string(2 * m.positions.size()) + " numbers (u, v per position)",
+                          std::to_string(m.uv[set].size()));
+            for (float x : m.uv[set])
+                if (!std::isfinite(x)) failInput(s.path, field, "finite texture coordinates", std::to_string(x));
+        }
+        if (m.material < 0 || size_t(m.material) >= s.materials.size()) continue;
+        const int t = s.materials[size_t(m.material)].rhoDTexture;
+        if (t < 0) continue;
+        const int set = s.textures[size_t(t)].texCoord;
+        if (m.uv[set].empty())
+            failInput(s.path, f + ".uv" + (set == 0 ? "" : "1"),
+                      "texture coordinates (set " + std::to_string(set) + ") for the texture of material \"" +
+                          s.materials[size_t(m.material)].name + "\"",
+                      "none");
+    }
+    for (size_t i = 0; i < s.spheres.size(); ++i) {
+        const Sphere& sp = s.spheres[i];
+        if (sp.material >= 0 && size_t(sp.material) < s.materials.size() &&
+            s.materials[size_t(sp.material)].rhoDTexture >= 0)
+            failInput(s.path, at("spheres", i) + " (\"" + sp.name + "\").material",
+                      "an untextured material (spheres have no texture coordinates; use a mesh)",
+                      "\"" + s.materials[size_t(sp.material)].name + "\" with a texture");
+    }
+}
+
 }  // namespace
 
 void validateScene(Scene& scene) {
     checkMaterials(scene);
+    checkTextures(scene);
     checkMeshes(scene);
     checkSpheres(scene);
     dropDegenerateTriangles(scene);

@@ -39,6 +39,8 @@
     X(PclEyeEstimateParams)   \
     X(PclVolumeSegment)       \
     X(PclVolumeEstimateParams) \
-    X(PclEnvironment)
+    X(PclEnvironment)          \
+    X(PclTexture)              \
+    X(PclTriangleUv)
 
 #endif /* PCL_STRUCT_LIST_H */

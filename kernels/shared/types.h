@@ -475,4 +475,27 @@ typedef struct PclVolumeEstimateParams {
 } PclVolumeEstimateParams;
 PCL_STATIC_ASSERT(sizeof(PclVolumeEstimateParams) == 64, PclVolumeEstimateParams_size);
 
+/* ---- Image textures (shared/texture.h samples them; kernels/README.md, "Textures") ----------
+ * Texels of every texture, linear RGB floats (three per texel, rows top to bottom), packed one
+ * after another in one buffer; a material's ρd texture is described by its PclTexture (indexed
+ * by material; width 0: untextured, ρd is the constant). Texture coordinates per triangle vertex
+ * in PclTriangleUv (indexed by global primitive id; triangles only). */
+#define PCL_WRAP_REPEAT 0u
+#define PCL_WRAP_CLAMP 1u
+#define PCL_WRAP_MIRROR 2u
+typedef struct PclTexture {
+    pcl_u32 offset;         /* index of the first texel's first float in the texel buffer */
+    pcl_u32 width, height;  /* texels; width 0: no texture */
+    pcl_u32 wrap;           /* PCL_WRAP_* of u in bits 0..7, of v in bits 8..15 */
+    pcl_f32 m[6];           /* (u', v') = (m0 u + m1 v + m2, m3 u + m4 v + m5) (KHR_texture_transform) */
+    pcl_u32 texCoord;       /* texture coordinate set, 0 or 1 */
+    pcl_u32 pad0;
+} PclTexture;
+PCL_STATIC_ASSERT(sizeof(PclTexture) == 48, PclTexture_size);
+
+typedef struct PclTriangleUv {
+    pcl_f32 uv[2][6];       /* set s: u0, v0, u1, v1, u2, v2 of the triangle's vertices 0, 1, 2 */
+} PclTriangleUv;
+PCL_STATIC_ASSERT(sizeof(PclTriangleUv) == 48, PclTriangleUv_size);
+
 #endif /* PCL_TYPES_H */

@@ -1,0 +1,93 @@
+// Textures and textured scenes built in code for the texture tests (unit, stages, accuracy).
+#pragma once
+
+#include <cmath>
+
+#include "common/test_scenes.h"
+#include "scene/scene.h"
+
+namespace pcl::test_scenes {
+
+// A w × h checkerboard of squares `cell` texels wide, colours a and b (a at texel (0, 0)).
+inline Image checkerImage(int w, int h, int cell, Vec3 a, Vec3 b) {
+    Image img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) img.set(x, y, ((x / cell + y / cell) % 2 == 0) ? a : b);
+    return img;
+}
+
+// A w × h image linear in the texel index: texel (i, j) = (0.1 + 0.8 i/(w−1), 0.1 + 0.8 j/(h−1),
+// 0.5). Bilinear filtering reproduces the linear function exactly between the texel centres.
+inline Image gradientImage(int w, int h) {
+    Image img(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            img.set(x, y, Vec3(0.1f + 0.8f * float(x) / float(w - 1), 0.1f + 0.8f * float(y) / float(h - 1), 0.5f));
+    return img;
+}
+
+// The gradient's value at continuous coordinates (u, v) inside [½/W, 1 − ½/W] × [½/H, 1 − ½/H].
+inline Vec3 gradientAt(int w, int h, float u, float v) {
+    const float x = u * float(w) - 0.5f, y = v * float(h) - 0.5f;
+    return Vec3(0.1f + 0.8f * x / float(w - 1), 0.1f + 0.8f * y / float(h - 1), 0.5f);
+}
+
+// Adds `image` as a texture; returns its index.
+inline int addTexture(Scene& s, Image image, TextureWrap wrapU = TextureWrap::Repeat,
+                      TextureWrap wrapV = TextureWrap::Repeat, TextureTransform transform = {}) {
+    Texture t;
+    t.path = "(in memory " + std::to_string(s.textures.size()) + ")";
+    t.image = std::move(image);
+    t.wrapU = wrapU;
+    t.wrapV = wrapV;
+    t.transform = transform;
+    s.textures.push_back(std::move(t));
+    return int(s.textures.size()) - 1;
+}
+
+// addQuad with texture coordinates (0,0), (1,0), (1,1), (0,1) at corner, +u, +u+v, +v (a JSON quad's).
+inline int addTexturedQuad(Scene& s, Vec3 corner, Vec3 u, Vec3 v, int material) {
+    const int m = addQuad(s, corner, u, v, material);
+    s.meshes[size_t(m)].uv[0] = {0, 0, 1, 0, 1, 1, 0, 1};
+    return m;
+}
+
+// A closed 2 × 2 × 2 room lit by a point light under the ceiling, seen from inside: a checkered
+// floor (repeat, the transform scales by 3 and turns by 0.3 rad), a gradient back wall (mirror
+// and clamp wrap, scaled by 2, read through coordinate set 1), the other walls plain; a mirror-and-diffuse block so some paths reach a
+// texture after a specular bounce. Exercises every textured stage of both passes.
+inline Scene texturedRoom(int width = 48, int height = 36) {
+    Scene s;
+    s.path = "(textured room)";
+    const int plain = addMaterial(s, Vec3(0.6f, 0.6f, 0.6f));
+    TextureTransform floorT;
+    floorT.scale[0] = floorT.scale[1] = 3.0f;
+    floorT.rotation = 0.3f;
+    floorT.offset[0] = 0.25f;
+    const int checker = addTexture(s, checkerImage(8, 8, 2, Vec3(0.9f, 0.7f, 0.2f), Vec3(0.1f, 0.2f, 0.6f)),
+                                   TextureWrap::Repeat, TextureWrap::Repeat, floorT);
+    TextureTransform wallT;
+    wallT.scale[0] = wallT.scale[1] = 2.0f;
+    const int gradient = addTexture(s, gradientImage(5, 4), TextureWrap::Mirror, TextureWrap::Clamp, wallT);
+    s.textures[size_t(gradient)].texCoord = 1;
+    const int floorMat = addMaterial(s, Vec3(1.0f));
+    s.materials[size_t(floorMat)].rhoDTexture = checker;
+    const int wallMat = addMaterial(s, Vec3(0.9f, 0.9f, 0.9f));
+    s.materials[size_t(wallMat)].rhoDTexture = gradient;
+    const int block = addMaterial(s, Vec3(0.3f), Vec3(0.6f), SpecularKind::Mirror);
+    addTexturedQuad(s, Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), floorMat);                  // floor, facing +y
+    const int wall = addTexturedQuad(s, Vec3(-1, 0, -1), Vec3(2, 0, 0), Vec3(0, 2, 0), wallMat);  // back wall, +z
+    s.meshes[size_t(wall)].uv[1] = {0, 1, 0, 0, 1, 0, 1, 1};                          // set 1: set 0 turned a quarter
+    addQuad(s, Vec3(-1, 2, -1), Vec3(2, 0, 0), Vec3(0, 0, 2), plain);                 // ceiling, −y
+    addQuad(s, Vec3(-1, 0, 1), Vec3(0, 0, -2), Vec3(0, 2, 0), plain);                 // left, +x
+    addQuad(s, Vec3(1, 0, -1), Vec3(0, 0, 2), Vec3(0, 2, 0), plain);                  // right, −x
+    addQuad(s, Vec3(1, 0, 1), Vec3(-2, 0, 0), Vec3(0, 2, 0), plain);                  // front, −z
+    addQuad(s, Vec3(0.2f, 0.0f, -0.2f), Vec3(0, 0, -0.4f), Vec3(0, 0.6f, 0), block);  // a mirror panel
+    Light l = pointLight(Vec3(0.0f, 1.8f, 0.0f));
+    l.intensity = Vec3(4.0f);
+    s.lights.push_back(l);
+    setCamera(s, Vec3(0.0f, 1.0f, 0.9f), Vec3(0.0f, 0.6f, -1.0f), Vec3(0, 1, 0), 70.0f, width, height);
+    return s;
+}
+
+}  // namespace pcl::test_scenes

@@ -1,0 +1,207 @@
+// glTF textures (scenes/README.md, "glTF: textures"): baseColorTexture from an image file beside
+// the glTF is decoded from sRGB and multiplies the base-colour-derived ρd; TEXCOORD_0/1 are read
+// per vertex, the textureInfo's texCoord and KHR_texture_transform (which may override it) and
+// the sampler's wrap modes are kept; the texels reach the flat buffers and a triangle hit reads
+// the expected value. Embedded images are left out with a warning (the factor alone), and a bad
+// reference or image is refused with the usual message.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include "common/optional_feature.h"
+#include "core/error.h"
+#include "image/image_io.h"
+#include "prep/texture_buffers.h"
+#include "scene/load_scene.h"
+#include "scene/texture_image.h"
+#include "shared/texture.h"
+
+using namespace pcl;
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+class GltfTextureTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+#ifndef PHOTONCL_HAVE_GLTF
+        PCL_REQUIRE_FEATURE(false, "glTF support (tinygltf)");
+#endif
+        PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (PNG textures)");
+        dir_ = fs::temp_directory_path() / ("photoncl-gltf-texture-" + std::to_string(::getpid()) + "-" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+        // The unit quad in z = 0, facing +z; TEXCOORD_0 puts the image upright (v down), TEXCOORD_1
+        // is TEXCOORD_0 mirrored in u.
+        const float pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+        const float uv0[8] = {0, 1, 1, 1, 1, 0, 0, 0};
+        const float uv1[8] = {1, 1, 0, 1, 0, 0, 1, 0};
+        const uint16_t idx[6] = {0, 1, 2, 0, 2, 3};
+        std::string bin(sizeof pos + sizeof uv0 + sizeof uv1 + sizeof idx, '\0');
+        std::memcpy(&bin[0], pos, sizeof pos);
+        std::memcpy(&bin[48], uv0, sizeof uv0);
+        std::memcpy(&bin[80], uv1, sizeof uv1);
+        std::memcpy(&bin[112], idx, sizeof idx);
+        std::ofstream(dir_ / "quad.bin", std::ios::binary) << bin;
+        // A 2 × 2 sRGB PNG: top row white and black, bottom row code 0.5 grey and red.
+        Image img(2, 2);
+        img.set(0, 0, Vec3(1.0f));
+        img.set(1, 0, Vec3(0.0f));
+        img.set(0, 1, Vec3(srgbToLinear(128.0f / 255.0f)));
+        img.set(1, 1, Vec3(1.0f, 0.0f, 0.0f));
+        ASSERT_TRUE(writeSrgbPng((dir_ / "base.png").string(), img));
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    static json doc() {
+        return json::parse(R"({
+          "asset": {"version": "2.0"},
+          "extensionsUsed": ["KHR_lights_punctual"],
+          "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 683}]}},
+          "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+          "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.5, 0.5, 3]},
+                    {"translation": [0.5, 0.5, 2], "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+          "cameras": [{"type": "perspective", "perspective": {"yfov": 0.6, "znear": 0.1}}],
+          "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1, "TEXCOORD_1": 2}, "indices": 3, "material": 0}]}],
+          "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 1,
+                                                  "baseColorTexture": {"index": 0}}}],
+          "textures": [{"source": 0, "sampler": 0}],
+          "samplers": [{"wrapS": 33071, "wrapT": 33648}],
+          "images": [{"uri": "base.png"}],
+          "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+            {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}
+          ],
+          "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 32},
+            {"buffer": 0, "byteOffset": 80, "byteLength": 32},
+            {"buffer": 0, "byteOffset": 112, "byteLength": 12}
+          ],
+          "buffers": [{"uri": "quad.bin", "byteLength": 124}]
+        })");
+    }
+    std::string write(const json& d) {
+        const std::string p = (dir_ / "quad.gltf").string();
+        std::ofstream(p) << d.dump();
+        return p;
+    }
+    // ρd at barycentrics (b1, b2) of triangle `prim` through the flat buffers (the kernels' lookup).
+    static Vec3 rhoAt(const Scene& s, uint32_t prim, float b1, float b2) {
+        const SceneGeometry g = SceneGeometry::build(s);
+        const TextureBuffers b = buildTextureBuffers(s, g);
+        const Material& m = s.materials[size_t(s.meshes[0].material)];
+        float rho[4] = {m.rhoD.x, m.rhoD.y, m.rhoD.z, 0.0f};
+        texture_rho_d(b.materialTextures.data(), b.texels.data(), b.triangleUvs.data(), uint32_t(s.meshes[0].material),
+                      prim, g.triangleCount(), b1, b2, rho);
+        return Vec3(rho[0], rho[1], rho[2]);
+    }
+
+    fs::path dir_;
+};
+
+}  // namespace
+
+TEST_F(GltfTextureTest, BaseColorTextureLoadsWithItsSamplerAndCoordinates) {
+    const Scene s = loadScene(write(doc()));
+    ASSERT_EQ(s.textures.size(), 1u);
+    const Texture& t = s.textures[0];
+    const Material& m = s.materials[size_t(s.meshes[0].material)];
+    EXPECT_EQ(m.rhoDTexture, 0);
+    // ρd's constant from the factors: (1 − F0) b + F0 (F0 = 0.04; roughness 1 folds the coat
+    // into the diffuse part), b = (0.5, 1, 1): the texture multiplies it.
+    const float kd = 0.5f * 0.96f + 0.04f;
+    EXPECT_NEAR(m.rhoD.x, kd, 1e-6f);
+    EXPECT_NEAR(m.rhoD.y, 1.0f, 1e-6f);
+    EXPECT_EQ(t.wrapU, TextureWrap::Clamp);
+    EXPECT_EQ(t.wrapV, TextureWrap::Mirror);
+    EXPECT_EQ(t.texCoord, 0);
+    // sRGB decoded: code 0.5 grey is 0.214 linear; white 1, black 0.
+    ASSERT_EQ(t.image.width, 2);
+    EXPECT_NEAR(t.image.at(0, 0).x, 1.0f, 1e-6f);
+    EXPECT_EQ(t.image.at(1, 0).x, 0.0f);
+    EXPECT_NEAR(t.image.at(0, 1).x, srgbToLinear(128.0f / 255.0f), 1e-6f);
+    EXPECT_NEAR(t.image.at(0, 1).x, 0.2158605f, 1e-6f);
+    EXPECT_NEAR(t.image.at(1, 1).x, 1.0f, 1e-6f);
+    EXPECT_EQ(t.image.at(1, 1).y, 0.0f);
+    const std::vector<float> uv0 = {0, 1, 1, 1, 1, 0, 0, 0};
+    EXPECT_EQ(s.meshes[0].uv[0], uv0);
+    EXPECT_EQ(s.meshes[0].uv[1].size(), 8u);
+    // Triangle 0 is vertices (0, 1, 2) with uv (0,1), (1,1), (1,0). Barycentrics (0.25, 0.5):
+    // uv = 0.25 (0,1) + 0.25 (1,1) + 0.5 (1,0) = (0.75, 0.5): halfway down between the black
+    // texel (top right) and the red one (bottom right).
+    const Vec3 rho = rhoAt(s, 0, 0.25f, 0.5f);
+    EXPECT_NEAR(rho.x, kd * 0.5f, 1e-6f);
+    EXPECT_NEAR(rho.y, 0.0f, 1e-6f);
+    // At the white texel's centre, uv (0.25, 0.25): triangle 1 = (0, 2, 3) with uv (0,1), (1,0),
+    // (0,0): (0.25, 0.25) = 0.25 v0 + 0.25 v2 + 0.5 v3.
+    const Vec3 white = rhoAt(s, 1, 0.25f, 0.5f);
+    EXPECT_NEAR(white.x, kd, 1e-6f);
+    EXPECT_NEAR(white.y, 1.0f, 1e-6f);
+}
+
+TEST_F(GltfTextureTest, TexCoordAndKhrTextureTransform) {
+    json d = doc();
+    d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = json::parse(
+        R"({"index": 0, "texCoord": 0, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.25], "rotation": 0.5, "scale": [2, 3], "texCoord": 1}}})");
+    d["extensionsUsed"] = {"KHR_lights_punctual", "KHR_texture_transform"};
+    d["extensionsRequired"] = {"KHR_texture_transform"};
+    const Scene s = loadScene(write(d));
+    const Texture& t = s.textures[0];
+    EXPECT_EQ(t.texCoord, 1);  // the extension's texCoord overrides the textureInfo's
+    EXPECT_EQ(t.transform.offset[0], 0.5f);
+    EXPECT_EQ(t.transform.offset[1], 0.25f);
+    EXPECT_EQ(t.transform.scale[1], 3.0f);
+    EXPECT_EQ(t.transform.rotation, 0.5f);  // radians, as glTF gives it
+}
+
+TEST_F(GltfTextureTest, EmbeddedImageIsLeftOutWithTheFactorAlone) {
+    json d = doc();
+    d["images"][0] = {{"bufferView", 0}, {"mimeType", "image/png"}};
+    const Scene s = loadScene(write(d));
+    EXPECT_TRUE(s.textures.empty());
+    EXPECT_EQ(s.materials[size_t(s.meshes[0].material)].rhoDTexture, -1);
+}
+
+TEST_F(GltfTextureTest, BadReferencesAreRefused) {
+    auto expectError = [&](const json& d, std::initializer_list<std::string> fragments) {
+        const std::string p = write(d);
+        try {
+            loadScene(p);
+            ADD_FAILURE() << "loaded fine";
+        } catch (const InputError& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find(p), std::string::npos) << msg;
+            for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "lacks " << f << ": " << msg;
+        }
+    };
+    json d = doc();
+    d["images"][0]["uri"] = "missing.png";
+    expectError(d, {"images[0].uri", "missing.png", "no such file"});
+    d = doc();
+    d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 3;
+    expectError(d, {"baseColorTexture.index", "an integer in [-1, 0]", "3"});
+    d = doc();
+    d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 2;
+    expectError(d, {"baseColorTexture.texCoord", "an integer in [0, 1]"});
+    d = doc();
+    d["samplers"][0]["wrapS"] = 1234;
+    expectError(d, {"samplers[0].wrapS", "33071 (CLAMP_TO_EDGE)", "1234"});
+    d = doc();
+    d["meshes"][0]["primitives"][0]["attributes"].erase("TEXCOORD_0");
+    expectError(d, {"uv", "texture coordinates (set 0)", "got none"});
+    d = doc();
+    std::ofstream(dir_ / "junk.png") << "not a png";
+    d["images"][0]["uri"] = "junk.png";
+    expectError(d, {"images[0].uri", "a readable image", "junk.png"});
+}
