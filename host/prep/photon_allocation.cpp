@@ -52,7 +52,12 @@ std::vector<uint32_t> allocatePhotons(const std::vector<double>& weights, uint32
 
 uint64_t photonPassSeed(uint64_t seed, uint32_t pass) { return seed + uint64_t(pass) * 0x9E3779B97F4A7C15ull; }
 
-float emitFraction(const PclLight& light) { return float(light.projCount) / float(PCL_PROJ_GRID * PCL_PROJ_GRID); }
+float emitFraction(const PclLight& light) {
+    const float f = float(light.projCount) / float(PCL_PROJ_GRID * PCL_PROJ_GRID);
+    if (light.type != PCL_LIGHT_ENVIRONMENT || !(light.e1[3] > 0.0f)) return f;
+    const float share = light.e1[3] / light.radius;
+    return f * share * share;
+}
 
 std::vector<uint32_t> lightFirstPhoton(const SceneBuffers& buffers, uint32_t photons, uint32_t passKind) {
     std::vector<double> weights;

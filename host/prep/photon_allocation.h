@@ -22,7 +22,8 @@ std::vector<uint32_t> allocatePhotons(const std::vector<double>& weights, uint32
 // The seed of progressive pass `pass`: seed + pass * 0x9E3779B97F4A7C15 (64-bit wrap).
 uint64_t photonPassSeed(uint64_t seed, uint32_t pass);
 
-// f_i = projCount / G² in float, as emit_photons computes it (projection_map.h has it in double).
+// f_i in float (projection_map.h's projectionFraction): projCount / G² as emit_photons computes
+// it, times (r / R)² for the sky aimed at its target ball.
 float emitFraction(const PclLight& light);
 
 // lightFirstPhoton for `photons` photons of a pass: allocatePhotons over scalar powers s_i

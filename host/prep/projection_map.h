@@ -37,10 +37,14 @@ struct LightSampleRay {
 };
 LightSampleRay warpLightSample(const PclLight& light, double s1, double s2, double u1, double u2, double time);
 
-// Marked fraction of a light's sample square, fᵢ = projCount / G² (kernels/README.md,
-// "Photon allocation").
+// The share of a light's flux its caustic photons carry (kernels/README.md, "Photon
+// allocation"): the marked fraction of its sample square, fᵢ = projCount / G², times for the sky
+// aimed at its target ball (PclLight.e1) that disc's share of the scene's, (r / R)².
 inline double projectionFraction(const PclLight& light) {
-    return double(light.projCount) / double(PCL_PROJ_GRID * PCL_PROJ_GRID);
+    const double f = double(light.projCount) / double(PCL_PROJ_GRID * PCL_PROJ_GRID);
+    if (light.type != PCL_LIGHT_ENVIRONMENT || !(light.e1[3] > 0.0f)) return f;
+    const double share = double(light.e1[3]) / double(light.radius);
+    return f * share * share;
 }
 
 }  // namespace pcl

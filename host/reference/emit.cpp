@@ -1,5 +1,7 @@
 #include "reference/emit.h"
+
 #include "prep/photon_allocation.h"
+#include "prep/projection_map.h"
 
 #include <algorithm>
 #include <cmath>
@@ -36,7 +38,7 @@ std::vector<double> referenceAllocationWeights(const SceneBuffers& buffers, uint
     std::vector<double> w;
     for (const PclLight& l : buffers.lights) {
         double s = scalarPower(l);
-        if (pass == PCL_PASS_CAUSTIC) s *= double(l.projCount) / double(PCL_PROJ_GRID * PCL_PROJ_GRID);
+        if (pass == PCL_PASS_CAUSTIC) s *= projectionFraction(l);
         w.push_back(s);
     }
     return w;
@@ -137,6 +139,7 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
 
     // Every photon of light i carries Φ_i / n_i (caustic: Φ_i f_i / n_i), so the total is ΣΦ.
     const float n = float(first[li + 1] - first[li]);
+    // (The sky's aim is in skyScale already: r², not R².)
     const float f = caustic ? float(light.projCount) / float(PCL_PROJ_GRID * PCL_PROJ_GRID) : 1.0f;
     PclPhotonRay r{};
     r.ox = origin.x;
