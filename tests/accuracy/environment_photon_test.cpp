@@ -129,38 +129,9 @@ TEST(EnvironmentPhotons, DiffuseSphereUnderAConstantSkyIsRhoLInEveryMethod) {
 }
 
 TEST(EnvironmentPhotons, OneBrightTexelLightsAPlaneLikeADirectionalLight) {
-    const int W = 32, H = 16, tx = 5, ty = 3;
-    const float V = 500.0f, rho = 0.5f;
-    Scene scene;
-    addQuad(scene, Vec3(-50, 0, -50), Vec3(0, 0, 100), Vec3(100, 0, 0), addMaterial(scene, Vec3(rho)));
-    test_scenes::setCamera(scene, Vec3(0, 1, 0), Vec3(0.01f, 0, 0), Vec3(0, 0, -1), 30.0f, 8, 8);
-    scene.environment.scale = Vec3(1.0f);
-    scene.environment.image = Image(W, H);
-    scene.environment.image.set(tx, ty, Vec3(V));
-    scene.environment.imagePath = "one-texel";
-    scene.environment.rotationDegrees = 25.0f;
-    // E = V (2π/W) ∫ cos θ sin θ dθ over the texel's rows = V (π/W)(sin²θ1 − sin²θ0).
-    const double theta0 = kPiD * ty / H, theta1 = kPiD * (ty + 1) / H;
-    const double E = V * kPiD / W * (std::sin(theta1) * std::sin(theta1) - std::sin(theta0) * std::sin(theta0));
-    const float expected = float(rho / kPiD * E);
-
-    // The directional light of irradiance V Ω_texel from the texel's centre direction.
-    Scene sun = scene;
-    sun.environment = Environment{};
-    const double omega = 2.0 * kPiD / W * (std::cos(theta0) - std::cos(theta1));
-    const double thetaC = 0.5 * (theta0 + theta1), phiC = 2.0 * kPiD * (tx + 0.5) / W;
-    const Vec3 local(float(std::sin(thetaC) * std::sin(phiC)), float(std::cos(thetaC)),
-                     float(-std::sin(thetaC) * std::cos(phiC)));
-    const double a = 25.0 * kPiD / 180.0;
-    const Vec3 towardSky(float(std::cos(a) * local.x + std::sin(a) * local.z), local.y,
-                         float(-std::sin(a) * local.x + std::cos(a) * local.z));
-    Light light;
-    light.type = LightType::Directional;
-    light.direction = -towardSky;
-    light.irradiance = Vec3(float(V * omega));
-    sun.lights.push_back(light);
-
-    const auto pSky = test::prepare(scene), pSun = test::prepare(sun);
+    const test_scenes::OneTexelSkyPlane scenes = test_scenes::oneTexelSkyPlane(32, 16, 5, 3, 500.0f, 0.5f);
+    const float expected = scenes.expected;
+    const auto pSky = test::prepare(scenes.sky), pSun = test::prepare(scenes.sun);
     for (RenderMethod m : {RenderMethod::FinalGather, RenderMethod::Progressive}) {
         const Image sky = test::renderImage(*pSky, m, settingsFor(m), 0, 0, "one texel");
         const Image dir = test::renderImage(*pSun, m, settingsFor(m), 0, 0, "directional");

@@ -182,4 +182,46 @@ inline void addMediumSphere(Scene& scene, Vec3 c, float r, int material, int med
     scene.spheres.push_back(s);
 }
 
+// A plane of albedo rho (y = 0, 100 × 100) seen from 1 above by an 8 × 8 camera, under a sky of
+// one bright texel (tx, ty) of value V in a W × H image turned 25° about +y; and what that sky
+// equals: a directional light of irradiance V Ω_texel from the texel's centre direction (`sun`,
+// the same scene with that light instead of the sky), and the plane's radiance in closed form,
+// ρ/π · V (π/W)(sin²θ1 − sin²θ0).
+struct OneTexelSkyPlane {
+    Scene sky, sun;
+    float expected = 0.0f;
+};
+inline OneTexelSkyPlane oneTexelSkyPlane(int W, int H, int tx, int ty, float V, float rho) {
+    constexpr double pi = 3.14159265358979323846;
+    OneTexelSkyPlane r;
+    Scene& scene = r.sky;
+    addQuad(scene, Vec3(-50, 0, -50), Vec3(0, 0, 100), Vec3(100, 0, 0), addMaterial(scene, Vec3(rho)));
+    setCamera(scene, Vec3(0, 1, 0), Vec3(0.01f, 0, 0), Vec3(0, 0, -1), 30.0f, 8, 8);
+    scene.environment.scale = Vec3(1.0f);
+    scene.environment.image = Image(W, H);
+    scene.environment.image.set(tx, ty, Vec3(V));
+    scene.environment.imagePath = "one-texel";
+    scene.environment.rotationDegrees = 25.0f;
+    // E = V (2π/W) ∫ cos θ sin θ dθ over the texel's rows = V (π/W)(sin²θ1 − sin²θ0).
+    const double theta0 = pi * ty / H, theta1 = pi * (ty + 1) / H;
+    const double E = V * pi / W * (std::sin(theta1) * std::sin(theta1) - std::sin(theta0) * std::sin(theta0));
+    r.expected = float(rho / pi * E);
+
+    r.sun = scene;
+    r.sun.environment = Environment{};
+    const double omega = 2.0 * pi / W * (std::cos(theta0) - std::cos(theta1));
+    const double thetaC = 0.5 * (theta0 + theta1), phiC = 2.0 * pi * (tx + 0.5) / W;
+    const Vec3 local(float(std::sin(thetaC) * std::sin(phiC)), float(std::cos(thetaC)),
+                     float(-std::sin(thetaC) * std::cos(phiC)));
+    const double a = 25.0 * pi / 180.0;
+    const Vec3 towardSky(float(std::cos(a) * local.x + std::sin(a) * local.z), local.y,
+                         float(-std::sin(a) * local.x + std::cos(a) * local.z));
+    Light light;
+    light.type = LightType::Directional;
+    light.direction = -towardSky;
+    light.irradiance = Vec3(float(V * omega));
+    r.sun.lights.push_back(light);
+    return r;
+}
+
 }  // namespace pcl::test_scenes
