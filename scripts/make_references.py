@@ -44,6 +44,9 @@ SCENES = [
     # Participating media (scenes/media/): only the path tracer renders them for now.
     ("media/cornell-fog.json", 64, 8192),
     ("media/hazy-room.json", 64, 16384),
+    # Textured and lit by an image sky (scripts/make_courtyard_scene.py): the sun's caustic under
+    # the glass ball is found only by paths that leave the glass toward the sun's one texel.
+    ("courtyard/courtyard.json", 64, 65536),
 ]
 
 

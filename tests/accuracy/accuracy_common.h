@@ -22,15 +22,20 @@ inline std::vector<std::string> referencedScenes() {
 }
 
 // The shipped scenes with participating media (scenes/media/), each with a path-traced reference
-// in tests/data/ref-<stem>.exr. Only --method path renders media until the volume photon map
-// lands, so they are kept out of referencedScenes() (which photon-method tests iterate) and out
-// of scenes/ itself (which the tests over every shipped scene enumerate); the path-traced
-// reference tests take both lists (pathTracedScenes()).
+// in tests/data/ref-<stem>.exr. fg does not render media, so they are kept out of
+// referencedScenes() (which the fg tests iterate) and out of scenes/ itself (which the tests over
+// every shipped scene enumerate); their photon-method tests are media_render_test.cpp's; the
+// path-traced reference tests take every list (pathTracedScenes()).
 inline std::vector<std::string> mediaScenes() { return {"media/cornell-fog.json", "media/hazy-room.json"}; }
+
+// The textured, sky-lit asset (scenes/courtyard/: a JSON scene, its glTF, textures and sky), with
+// its reference like the others; its photon-method tests are courtyard_test.cpp's.
+inline std::vector<std::string> texturedScenes() { return {"courtyard/courtyard.json"}; }
 
 inline std::vector<std::string> pathTracedScenes() {
     std::vector<std::string> all = referencedScenes();
     for (const std::string& name : mediaScenes()) all.push_back(name);
+    for (const std::string& name : texturedScenes()) all.push_back(name);
     return all;
 }
 

@@ -125,7 +125,10 @@ TEST(References, FreshPathTracedRenderAgreesWithEachReference) {
         // estimation toward a point from scattering events near it has unbounded variance
         // (∫ r⁻⁴ r² dr diverges at the light; equiangular sampling would fix it): at 2×2 blocks
         // 94 % and 95 % pass with the means at 1.000 and 0.987.
-        const bool heavyTailed = name == "cornell-spheres.json" || name.rfind("media/", 0) == 0;
+        // The courtyard's sun is one texel of the sky: its caustic under the glass ball comes only
+        // from paths that leave the glass toward that texel, rare and bright.
+        const bool heavyTailed = name == "cornell-spheres.json" || name.rfind("media/", 0) == 0 ||
+                                 name.rfind("courtyard/", 0) == 0;
         const int block = heavyTailed ? 8 : 2;
         const double required = heavyTailed ? 0.92 : 0.985;
         std::vector<Image> blocks;
