@@ -214,6 +214,17 @@ TEST_F(CliTest, CheckAllPassesUnderASky) {
     }
 }
 
+// The textured asset under its image sky (scenes/courtyard/): every kernel stage against its twin
+// with textures and the sky's aimed caustic photons at once.
+TEST_F(CliTest, CheckAllPassesOnTheTexturedCourtyard) {
+    Result r =
+        run("check " + scene("courtyard/courtyard.json") + " --device cpu --stage all --photons 4000 --rays 5000");
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(r.output.find("FAILED"), std::string::npos) << r.output;
+    for (const char* stage : {"emit", "trace_photons", "pass", "eye_paths", "direct_light", "render"})
+        EXPECT_NE(r.output.find(std::string("stage ") + stage + ": PASSED"), std::string::npos) << stage << r.output;
+}
+
 TEST_F(CliTest, CheckPhotonStagesPassOnAShippedScene) {
     for (const char* stage :
          {"emit", "trace_photons", "deposit", "pass", "sort", "build", "knn", "estimate", "render"}) {
