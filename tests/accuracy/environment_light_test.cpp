@@ -47,26 +47,6 @@ ZSummary compare(const PixelStats& px, int width, int height, F expected) {
     return z;
 }
 
-// Whether the whole footprint of pixel (x, y) sees the sphere (all four corners and the centre
-// hit it) or misses it (none do): edge pixels mix the two and are skipped.
-int coverage(const Scene& scene, int x, int y) {
-    const RayCamera camera(scene.camera);
-    const Sphere& s = scene.spheres[0];
-    int hits = 0;
-    for (float fx : {0.0f, 0.5f, 1.0f})
-        for (float fy : {0.0f, 0.5f, 1.0f}) {
-            CameraSample cs;
-            cs.filmX = fx;
-            cs.filmY = fy;
-            const PclRay r = camera.generateRay(x, y, cs);
-            const Vec3 o(r.ox, r.oy, r.oz), d = normalize(Vec3(r.dx, r.dy, r.dz));
-            const Vec3 oc = o - s.centre;
-            const float b = dot(oc, d), c = dot(oc, oc) - s.radius * s.radius;
-            hits += b * b - c > 0.0f && -b > 0.0f;
-        }
-    return hits == 9 ? 1 : (hits == 0 ? 0 : -1);
-}
-
 }  // namespace
 
 TEST(EnvironmentLight, DiffuseSphereUnderAConstantSkyReflectsRhoL) {
@@ -81,10 +61,11 @@ TEST(EnvironmentLight, DiffuseSphereUnderAConstantSkyReflectsRhoL) {
         settings.seed = testSeed(21);
         settings.lightSampling = lightSampling;
         const PixelStats px = renderWithErrors(scene, settings);
-        const ZSummary sphere =
-            compare(px, 16, 16, [&](int x, int y) { return coverage(scene, x, y) == 1 ? rho * L : Vec3(-1.0f); });
+        const ZSummary sphere = compare(px, 16, 16, [&](int x, int y) {
+            return sphereCoverage(scene, x, y, 3) == 1 ? rho * L : Vec3(-1.0f);
+        });
         const ZSummary sky =
-            compare(px, 16, 16, [&](int x, int y) { return coverage(scene, x, y) == 0 ? L : Vec3(-1.0f); });
+            compare(px, 16, 16, [&](int x, int y) { return sphereCoverage(scene, x, y, 3) == 0 ? L : Vec3(-1.0f); });
         std::printf("constant sky, light sampling %d: sphere %d pixel-channels worst |z| %.2f mean ratio %.4f; sky %d "
                     "mean ratio %.6f\n",
                     int(lightSampling), sphere.count, sphere.worstZ, sphere.meanRatio, sky.count, sky.meanRatio);

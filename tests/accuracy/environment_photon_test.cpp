@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "accuracy/pixel_stats.h"
 #include "common/prepared_render.h"
 #include "common/test_scenes.h"
 #include "core/math.h"
@@ -26,26 +27,6 @@ using test_scenes::addSphere;
 namespace {
 
 constexpr int kSize = 32;
-
-// 1: the pixel's whole footprint sees the sphere (5 × 5 camera rays all hit it); 0: none does;
-// −1: the edge.
-int coverage(const Scene& scene, int x, int y) {
-    const RayCamera camera(scene.camera);
-    const Sphere& s = scene.spheres[0];
-    int hits = 0;
-    for (int i = 0; i < 5; ++i)
-        for (int j = 0; j < 5; ++j) {
-            CameraSample cs;
-            cs.filmX = 0.25f * i;
-            cs.filmY = 0.25f * j;
-            const PclRay r = camera.generateRay(x, y, cs);
-            const Vec3 o(r.ox, r.oy, r.oz), d = normalize(Vec3(r.dx, r.dy, r.dz));
-            const Vec3 oc = o - s.centre;
-            const float b = dot(oc, d), c = dot(oc, oc) - s.radius * s.radius;
-            hits += b * b - c > 0.0f && -b > 0.0f;
-        }
-    return hits == 25 ? 1 : (hits == 0 ? 0 : -1);
-}
 
 struct Errors {
     double meanRatio = 0.0, p99 = 0.0;
@@ -100,7 +81,7 @@ TEST(EnvironmentPhotons, DiffuseSphereUnderAConstantSkyIsRhoLInEveryMethod) {
     const auto p = test::prepare(scene);
     std::vector<int> cover(kSize * kSize);
     for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) cover[size_t(y * kSize + x)] = coverage(scene, x, y);
+        for (int x = 0; x < kSize; ++x) cover[size_t(y * kSize + x)] = sphereCoverage(scene, x, y, 5);
     const auto onSphere = [&](int x, int y) { return cover[size_t(y * kSize + x)] == 1 ? rho * L : Vec3(-1.0f); };
     const auto onSky = [&](int x, int y) { return cover[size_t(y * kSize + x)] == 0 ? L : Vec3(-1.0f); };
     const Image path = test::renderImage(*p, RenderMethod::PathTracing, PhotonRenderSettings{}, 256, 3, "sky sphere");
