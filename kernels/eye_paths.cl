@@ -138,7 +138,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                         __global const uint* lightOfPrim, __global const PclMedium* media,
                         __global const PclPrimMedium* primMedia, __global PclEyeHit* hits,
                         __global PclVolumeSegment* segments, __global uint* segmentCounts, const PclEnvironment env,
-                        __global const float* envData, __global const PclTexture* materialTextures,
+                        __global const float* envData, __global const PclMaterialTextures* materialTextures,
                         __global const float* texels, __global const PclTriangleUv* triangleUvs) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
@@ -225,9 +225,10 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
         const uint mat = primInfo[hit.prim].material;
         PclMaterial M = materials[mat];
-        /* ρd at the hit (its texture, if any): the lobe choice and the record's albedo use it. */
-        texture_rho_d(materialTextures, texels, triangleUvs, mat, hit.prim, params.triangleCount, hit.u, hit.v,
-                      M.rhoD);
+        /* The material at the hit (its textures, if any): the lobe choice, the glossy lobe and
+         * the record's albedo use it. */
+        texture_material_at(materialTextures, texels, triangleUvs, mat, hit.prim, params.triangleCount, hit.u, hit.v,
+                            &M);
         if (hasMedia) {
             if ((M.flags & PCL_MATERIAL_INTERFACE) != 0u) {
                 /* An invisible boundary: straight on in the medium beyond, not a hit of the chain. */

@@ -65,7 +65,7 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
                        __global PclPhoton* slots, __global uint* counts, __global uint* ends,
                        __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                        __global const int* lightMedia, __global PclPhoton* volumeSlots,
-                       __global uint* volumeCounts, __global const PclTexture* materialTextures,
+                       __global uint* volumeCounts, __global const PclMaterialTextures* materialTextures,
                        __global const float* texels, __global const PclTriangleUv* triangleUvs) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.batchSize) return;
@@ -155,9 +155,9 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
         const float dn = sampling_dot(d, n);
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
         PclMaterial M = materials[info.material];
-        /* ρd at the hit: the material's constant times its texture (shared/texture.h). */
-        texture_rho_d(materialTextures, texels, triangleUvs, info.material, hit.prim, params.triangleCount, hit.u,
-                      hit.v, M.rhoD);
+        /* The material at the hit: its constants times its textures (shared/texture.h). */
+        texture_material_at(materialTextures, texels, triangleUvs, info.material, hit.prim, params.triangleCount,
+                            hit.u, hit.v, &M);
         if (params.hasMedia) {
             if ((M.flags & PCL_MATERIAL_INTERFACE) != 0u) {
                 /* An invisible boundary: straight on in the medium beyond, same bounce. The
@@ -270,7 +270,7 @@ __kernel void trace_photons_global(const PclPhotonParams params, __global const 
                                    __global uint* counts, __global uint* ends,
                                    __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                                    __global const int* lightMedia, __global PclPhoton* volumeSlots,
-                                   __global uint* volumeCounts, __global const PclTexture* materialTextures,
+                                   __global uint* volumeCounts, __global const PclMaterialTextures* materialTextures,
                                    __global const float* texels, __global const PclTriangleUv* triangleUvs) {
     trace_path(params, false, rays, nodes, packets, spheres, primInfo, materials, slots, counts, ends, media,
                primMedia, lightMedia, volumeSlots, volumeCounts, materialTextures, texels, triangleUvs);
@@ -283,7 +283,7 @@ __kernel void trace_photons_caustic(const PclPhotonParams params, __global const
                                     __global uint* counts, __global uint* ends,
                                     __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                                     __global const int* lightMedia, __global PclPhoton* volumeSlots,
-                                    __global uint* volumeCounts, __global const PclTexture* materialTextures,
+                                    __global uint* volumeCounts, __global const PclMaterialTextures* materialTextures,
                                     __global const float* texels, __global const PclTriangleUv* triangleUvs) {
     trace_path(params, true, rays, nodes, packets, spheres, primInfo, materials, slots, counts, ends, media,
                primMedia, lightMedia, volumeSlots, volumeCounts, materialTextures, texels, triangleUvs);

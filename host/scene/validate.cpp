@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 #include "scene/mesh_topology.h"
 #include "scene/scene_error.h"
@@ -270,10 +271,13 @@ void checkMedia(const Scene& s) {
 // meshes only, and every such mesh has the coordinate set it names (2 finite numbers a vertex).
 void checkTextures(const Scene& s) {
     for (size_t i = 0; i < s.materials.size(); ++i) {
-        const int t = s.materials[i].rhoDTexture;
-        if (t >= int(s.textures.size()) || t < -1)
-            failInput(s.path, at("materials", i) + " (\"" + s.materials[i].name + "\").rho_d",
-                      "a texture index below " + std::to_string(s.textures.size()), std::to_string(t));
+        const Material& m = s.materials[i];
+        const std::pair<int, const char*> slots[] = {
+            {m.rhoDTexture, "rho_d"}, {m.rhoSTexture, "rho_s"}, {m.exponentTexture, "exponent"}};
+        for (const auto& [t, name] : slots)
+            if (t >= int(s.textures.size()) || t < -1)
+                failInput(s.path, at("materials", i) + " (\"" + m.name + "\")." + name,
+                          "a texture index below " + std::to_string(s.textures.size()), std::to_string(t));
     }
     for (size_t i = 0; i < s.meshes.size(); ++i) {
         const TriangleMesh& m = s.meshes[i];
@@ -287,19 +291,20 @@ void checkTextures(const Scene& s) {
                 if (!std::isfinite(x)) failInput(s.path, field, "finite texture coordinates", std::to_string(x));
         }
         if (m.material < 0 || size_t(m.material) >= s.materials.size()) continue;
-        const int t = s.materials[size_t(m.material)].rhoDTexture;
-        if (t < 0) continue;
-        const int set = s.textures[size_t(t)].texCoord;
-        if (m.uv[set].empty())
-            failInput(s.path, f + ".uv" + (set == 0 ? "" : "1"),
-                      "texture coordinates (set " + std::to_string(set) + ") for the texture of material \"" +
-                          s.materials[size_t(m.material)].name + "\"",
-                      "none");
+        const Material& mat = s.materials[size_t(m.material)];
+        for (int t : {mat.rhoDTexture, mat.rhoSTexture, mat.exponentTexture}) {
+            if (t < 0) continue;
+            const int set = s.textures[size_t(t)].texCoord;
+            if (m.uv[set].empty())
+                failInput(s.path, f + ".uv" + (set == 0 ? "" : "1"),
+                          "texture coordinates (set " + std::to_string(set) + ") for the texture of material \"" +
+                              mat.name + "\"",
+                          "none");
+        }
     }
     for (size_t i = 0; i < s.spheres.size(); ++i) {
         const Sphere& sp = s.spheres[i];
-        if (sp.material >= 0 && size_t(sp.material) < s.materials.size() &&
-            s.materials[size_t(sp.material)].rhoDTexture >= 0)
+        if (sp.material >= 0 && size_t(sp.material) < s.materials.size() && s.materials[size_t(sp.material)].textured())
             failInput(s.path, at("spheres", i) + " (\"" + sp.name + "\").material",
                       "an untextured material (spheres have no texture coordinates; use a mesh)",
                       "\"" + s.materials[size_t(sp.material)].name + "\" with a texture");

@@ -41,6 +41,7 @@
     X(PclVolumeEstimateParams) \
     X(PclEnvironment)          \
     X(PclTexture)              \
+    X(PclMaterialTextures)     \
     X(PclTriangleUv)
 
 #endif /* PCL_STRUCT_LIST_H */
