@@ -128,6 +128,20 @@ inline float knn_dist2(float px, float py, float pz, float qx, float qy, float q
     return dx * dx + dy * dy + dz * dz;
 }
 
+/* The lanes of an 8-wide test that passed, as bits (lane l: bit l); knn_next_lane takes the
+ * lowest one out. Only those lanes are visited, in lane order, as the loop over all eight
+ * with a test each did (about one lane in eight passes). */
+inline uint knn_lane_bits(int8 pass) {
+    const int8 bit = pass & (int8)(1, 2, 4, 8, 16, 32, 64, 128);
+    return (uint)(bit.s0 | bit.s1 | bit.s2 | bit.s3 | bit.s4 | bit.s5 | bit.s6 | bit.s7);
+}
+
+inline uint knn_next_lane(uint* bits) {
+    const uint lane = 31u - clz(*bits & (0u - *bits));
+    *bits &= *bits - 1u;
+    return lane;
+}
+
 /* kd-tree nodes packed for the search: (x, y, z, photon index | axis << 30 as bits of w), one
  * 16-byte load per visited upper node; the buckets' rows after them. One work-item per node. */
 __kernel void knn_pack_kdtree(__global const PclPhoton* nodes, __global const uint* nodeIndex, uint n,
@@ -160,11 +174,14 @@ inline void knn_offer_bucket(KnnHeap* h, __global const float4* nodes, uint n, u
     const int8 lanes = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
     const int8 near = (lanes < (int8)((int)count)) & (d <= (float8)(knn_bound(h)));
     if (!any(near)) return;
+    uint bits = knn_lane_bits(near);
     const uint8 w = as_uint8(vload8(0, row + 3u * count));
     const float dd[8] = {d.s0, d.s1, d.s2, d.s3, d.s4, d.s5, d.s6, d.s7};
     const uint ww[8] = {w.s0, w.s1, w.s2, w.s3, w.s4, w.s5, w.s6, w.s7};
-    for (uint s = 0u; s < count; ++s)
+    while (bits) {
+        const uint s = knn_next_lane(&bits);
         if (dd[s] <= knn_bound(h)) knn_offer(h, dd[s], ww[s] & 0x3FFFFFFFu);
+    }
 }
 
 /* The kd-tree descent: every photon within the heap's bound offered. */
@@ -244,12 +261,16 @@ inline void knn_offer_run(KnnHeap* h, __global const float4* points, uint s, uin
         const float8 dx = (float8)(a.s048c, b.s048c) - (float8)(qx), dy = (float8)(a.s159d, b.s159d) - (float8)(qy),
                      dz = (float8)(a.s26ae, b.s26ae) - (float8)(qz);
         const float8 d = (dx * dx + dy * dy) + dz * dz;
-        if (!any(d <= (float8)(knn_bound(h)))) continue;
+        const int8 near = d <= (float8)(knn_bound(h));
+        if (!any(near)) continue;
+        uint bits = knn_lane_bits(near);
         const uint8 w = as_uint8((float8)(a.s37bf, b.s37bf));
         const float dd[8] = {d.s0, d.s1, d.s2, d.s3, d.s4, d.s5, d.s6, d.s7};
         const uint ww[8] = {w.s0, w.s1, w.s2, w.s3, w.s4, w.s5, w.s6, w.s7};
-        for (uint l = 0u; l < 8u; ++l)
+        while (bits) {
+            const uint l = knn_next_lane(&bits);
             if (dd[l] <= knn_bound(h)) knn_offer(h, dd[l], ww[l]);
+        }
     }
     for (; s < end; ++s) {
         const float4 p = points[s];
