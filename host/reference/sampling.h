@@ -7,12 +7,12 @@
 
 #include "core/math.h"
 #include "core/vec3.h"
+#include "shared/sampling.h"
 
 namespace pcl {
 
 constexpr float kInvPi = 1.0f / kPi;
 
-// Shirley–Chiu concentric map of the square onto the unit disk (area-preserving, low distortion).
 // smoothstep(e0, e1, x): 0 below e0, 1 above e1, t²(3 − 2t) between (a step when e1 ≤ e0).
 inline float smoothstep(float e0, float e1, float x) {
     if (e1 <= e0) return x >= e1 ? 1.0f : 0.0f;
@@ -20,22 +20,10 @@ inline float smoothstep(float e0, float e1, float x) {
     return t * t * (3.0f - 2.0f * t);
 }
 
+// Shirley–Chiu concentric map of the square onto the unit disk (area-preserving, low distortion).
 inline void sampleConcentricDisk(float u1, float u2, float& x, float& y) {
-    float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
-    if (a == 0.0f && b == 0.0f) {
-        x = y = 0.0f;
-        return;
-    }
-    float r, phi;
-    if (std::abs(a) > std::abs(b)) {
-        r = a;
-        phi = (kPi / 4.0f) * (b / a);
-    } else {
-        r = b;
-        phi = kPi / 2.0f - (kPi / 4.0f) * (a / b);
-    }
-    x = r * std::cos(phi);
-    y = r * std::sin(phi);
+    // The kernels' map (shared/sampling.h), so the twins and the reference draw the same floats.
+    sampling_concentric_disk(u1, u2, &x, &y);
 }
 
 // Direction from (sinθ, cosθ, φ) in the frame (t, b, n).
