@@ -21,6 +21,8 @@ DeviceScene::DeviceScene(Device& device, const SceneGeometry& g, const SceneBuff
                            "scene: texels")),
       triangleUvs(device.upload(b.textures.textured() ? b.textures.triangleUvs : std::vector<PclTriangleUv>(1),
                                 CL_MEM_READ_ONLY, "scene: triangle texture coordinates")),
-      textured(b.textures.textured()) {}
+      triangleNormals(device.upload(b.triangleNormals.empty() ? std::vector<PclTriangleNormals>(1) : b.triangleNormals,
+                                    CL_MEM_READ_ONLY, "scene: triangle normals")),
+      textured(b.textures.textured()), smooth(!b.triangleNormals.empty()) {}
 
 }  // namespace pcl

@@ -41,6 +41,7 @@
     X(PclVolumeEstimateParams) \
     X(PclEnvironment)          \
     X(PclTexture)              \
-    X(PclTriangleUv)
+    X(PclTriangleUv)           \
+    X(PclTriangleNormals)
 
 #endif /* PCL_STRUCT_LIST_H */
