@@ -141,7 +141,8 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                         __global PclVolumeSegment* segments, __global uint* segmentCounts, const PclEnvironment env,
                         __global const float* envData, __global const PclTexture* materialTextures,
                         __global const float* texels, __global const PclTriangleUv* triangleUvs,
-                        __global const PclTriangleNormals* triangleNormals) {
+                        __global const PclTriangleNormals* triangleNormals, __global const PclNormalMap* normalMaps,
+                        __global const PclTriangleTangents* triangleTangents) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
     const uint s = params.firstSample + i;
@@ -228,9 +229,10 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
         const float dn = sampling_dot(d, n);
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
         /* The shading normal (on n's side) and its viewer-side twin sf: the BSDF's frame. */
-        const PclV3 ns = shading_normal(triangleNormals, hit.prim, params.triangleCount, hit.u, hit.v, n);
-        const PclV3 sf = dn < 0.0f ? ns : sampling_v3(-ns.x, -ns.y, -ns.z);
         const uint mat = primInfo[hit.prim].material;
+        const PclV3 ns = shading_normal(triangleNormals, triangleTangents, normalMaps, texels, triangleUvs, mat, hit.prim,
+                                        params.triangleCount, hit.u, hit.v, n);
+        const PclV3 sf = dn < 0.0f ? ns : sampling_v3(-ns.x, -ns.y, -ns.z);
         PclMaterial M = materials[mat];
         /* ρd at the hit (its texture, if any): the lobe choice and the record's albedo use it. */
         texture_rho_d(materialTextures, texels, triangleUvs, mat, hit.prim, params.triangleCount, hit.u, hit.v,

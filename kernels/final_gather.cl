@@ -43,7 +43,9 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
                                  const PclEnvironment env, __global const float* envData,
                                  __global const PclTexture* materialTextures, __global const float* texels,
                                  __global const PclTriangleUv* triangleUvs,
-                                 __global const PclTriangleNormals* triangleNormals) {
+                                 __global const PclTriangleNormals* triangleNormals,
+                                 __global const PclNormalMap* normalMaps,
+                                 __global const PclTriangleTangents* triangleTangents) {
     const uint j = (uint)get_global_id(0);
     const uint N = params.gatherRays;
     if (j >= params.sampleCount * N) return;
@@ -153,7 +155,8 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
         if (b == params.maxSpecular) break;
         PclV3 dNew;
         float ws[3];
-        const PclV3 ns = shading_normal(triangleNormals, hit.prim, params.triangleCount, hit.u, hit.v, n);
+        const PclV3 ns = shading_normal(triangleNormals, triangleTangents, normalMaps, texels, triangleUvs, mat,
+                                        hit.prim, params.triangleCount, hit.u, hit.v, n);
         if (!eye_specular_scatter(M, d, n, ns, rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3]), &dNew, ws)) break;
         const float ps = 1.0f - pd;
         for (int c = 0; c < 3; ++c) T[c] = T[c] * ws[c] / ps;

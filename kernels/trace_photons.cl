@@ -68,7 +68,8 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
                        __global const int* lightMedia, __global PclPhoton* volumeSlots,
                        __global uint* volumeCounts, __global const PclTexture* materialTextures,
                        __global const float* texels, __global const PclTriangleUv* triangleUvs,
-                       __global const PclTriangleNormals* triangleNormals) {
+                       __global const PclTriangleNormals* triangleNormals, __global const PclNormalMap* normalMaps,
+                       __global const PclTriangleTangents* triangleTangents) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.batchSize) return;
     const uint j = params.firstPhoton + i;
@@ -158,7 +159,8 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
         /* The shading normal (on n's side) and its twin sf on the photon's side: the scattering
          * frame; a smooth one adds the adjoint factor and the geometric side tests below. */
-        const PclV3 nsh = shading_normal(triangleNormals, hit.prim, params.triangleCount, hit.u, hit.v, n);
+        const PclV3 nsh = shading_normal(triangleNormals, triangleTangents, normalMaps, texels, triangleUvs,
+                                         info.material, hit.prim, params.triangleCount, hit.u, hit.v, n);
         const PclV3 sf = dn < 0.0f ? nsh : sampling_v3(-nsh.x, -nsh.y, -nsh.z);
         const bool smooth = shading_is_smooth(nsh, n);
         PclMaterial M = materials[info.material];
@@ -294,10 +296,12 @@ __kernel void trace_photons_global(const PclPhotonParams params, __global const 
                                    __global const int* lightMedia, __global PclPhoton* volumeSlots,
                                    __global uint* volumeCounts, __global const PclTexture* materialTextures,
                                    __global const float* texels, __global const PclTriangleUv* triangleUvs,
-                                   __global const PclTriangleNormals* triangleNormals) {
+                                   __global const PclTriangleNormals* triangleNormals,
+                                   __global const PclNormalMap* normalMaps,
+                                   __global const PclTriangleTangents* triangleTangents) {
     trace_path(params, false, rays, nodes, packets, spheres, primInfo, materials, slots, counts, ends, media,
                primMedia, lightMedia, volumeSlots, volumeCounts, materialTextures, texels, triangleUvs,
-               triangleNormals);
+               triangleNormals, normalMaps, triangleTangents);
 }
 
 __kernel void trace_photons_caustic(const PclPhotonParams params, __global const PclPhotonRay* rays,
@@ -309,8 +313,10 @@ __kernel void trace_photons_caustic(const PclPhotonParams params, __global const
                                     __global const int* lightMedia, __global PclPhoton* volumeSlots,
                                     __global uint* volumeCounts, __global const PclTexture* materialTextures,
                                     __global const float* texels, __global const PclTriangleUv* triangleUvs,
-                                    __global const PclTriangleNormals* triangleNormals) {
+                                    __global const PclTriangleNormals* triangleNormals,
+                                    __global const PclNormalMap* normalMaps,
+                                    __global const PclTriangleTangents* triangleTangents) {
     trace_path(params, true, rays, nodes, packets, spheres, primInfo, materials, slots, counts, ends, media,
                primMedia, lightMedia, volumeSlots, volumeCounts, materialTextures, texels, triangleUvs,
-               triangleNormals);
+               triangleNormals, normalMaps, triangleTangents);
 }

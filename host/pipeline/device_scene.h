@@ -31,14 +31,17 @@ struct DeviceScene {
     // Shading normals (SceneBuffers::triangleNormals): a one-element placeholder when no
     // triangle is smooth.
     cl::Buffer triangleNormals;
-    bool textured = false, smooth = false;
+    // Normal maps (NormalMapBuffers): one-element placeholders when no material has one.
+    cl::Buffer normalMaps, triangleTangents;
+    bool textured = false, smooth = false, normalMapped = false;
     // The options of the programs that read materials at hits (trace_photons, eye_paths,
-    // final_gather): the BVH's, PCL_TEXTURED when the scene has textures and PCL_SHADING_NORMALS
-    // when it has smooth triangles, so other scenes run the same code as before those existed
-    // (kernels/shared/texture.h, kernels/shared/shading_frame.h).
+    // final_gather): the BVH's, PCL_TEXTURED when the scene has textures, PCL_SHADING_NORMALS
+    // when it has smooth triangles and PCL_NORMAL_MAPPED when it has normal maps, so other
+    // scenes run the same code as before those existed (kernels/shared/texture.h,
+    // kernels/shared/shading_frame.h).
     std::string programOptions() const {
         return geometry.programOptions() + (textured ? " -DPCL_TEXTURED=1" : "") +
-               (smooth ? " -DPCL_SHADING_NORMALS=1" : "");
+               (smooth ? " -DPCL_SHADING_NORMALS=1" : "") + (normalMapped ? " -DPCL_NORMAL_MAPPED=1" : "");
     }
 };
 

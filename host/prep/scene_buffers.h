@@ -7,6 +7,7 @@
 
 #include "geometry/scene_geometry.h"
 #include "prep/environment_buffers.h"
+#include "prep/normal_map_buffers.h"
 #include "prep/shading_normals.h"
 #include "prep/texture_buffers.h"
 #include "scene/scene.h"
@@ -32,7 +33,8 @@ struct SceneBuffers {
     TextureBuffers textures;  // ρd textures (prep/texture_buffers.h); descriptors of width 0 without
     // Vertex normals of the smooth triangles (prep/shading_normals.h); empty when none is smooth.
     std::vector<PclTriangleNormals> triangleNormals;
-    float rayEpsilon = 1e-6f;  // spawn offset: 1e-4 of the bounds' diagonal, at least 1e-6
+    NormalMapBuffers normalMaps;  // prep/normal_map_buffers.h; empty when no material has a normal map
+    float rayEpsilon = 1e-6f;     // spawn offset: 1e-4 of the bounds' diagonal, at least 1e-6
     bool hasMotion = false;
     // The sky (prep/environment_buffers): its tables, and its photon light entry, the last of
     // lights, when the scene has one.

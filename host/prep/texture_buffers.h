@@ -20,6 +20,7 @@ struct TextureBuffers {
     std::vector<PclTexture> materialTextures;  // by material: its ρd texture (width 0: none)
     std::vector<float> texels;                 // linear RGB, three floats a texel
     std::vector<PclTriangleUv> triangleUvs;    // by global primitive id below triangleCount
+    std::vector<uint32_t> offsets;             // by Scene::textures index: its first float in texels
     bool textured() const { return !texels.empty(); }
 };
 

@@ -26,11 +26,16 @@ inline Vec3 eyeNormalAt(const SceneBuffers& b, uint32_t prim, uint32_t triangleC
 }
 
 // The shading normal of a hit (on n's side; n where there is none) by the kernels' own lookup
-// (kernels/shared/shading_frame.h), from the buffers' per-triangle normals (empty: none).
+// (kernels/shared/shading_frame.h), from the buffers' per-triangle normals and normal maps
+// (empty: none).
 inline Vec3 eyeShadingNormal(const SceneBuffers& b, uint32_t triangleCount, const PclHit& hit, Vec3 n) {
-    if (b.triangleNormals.empty()) return n;
-    const PclV3 s =
-        shading_normal(b.triangleNormals.data(), hit.prim, triangleCount, hit.u, hit.v, sampling_v3(n.x, n.y, n.z));
+    const bool mapped = b.normalMaps.mapped();
+    if (b.triangleNormals.empty() && !mapped) return n;
+    const PclV3 s = shading_normal(b.triangleNormals.empty() ? nullptr : b.triangleNormals.data(),
+                                   mapped ? b.normalMaps.triangleTangents.data() : nullptr,
+                                   mapped ? b.normalMaps.maps.data() : nullptr, b.textures.texels.data(),
+                                   b.textures.triangleUvs.data(), b.primInfo[hit.prim].material, hit.prim,
+                                   triangleCount, hit.u, hit.v, sampling_v3(n.x, n.y, n.z));
     return {s.x, s.y, s.z};
 }
 

@@ -320,7 +320,8 @@ private:
             fail(af + ".sparse", "a dense accessor (sparse accessors are not supported)", "a sparse one");
         if (a.type != type)
             fail(af + ".type",
-                 type == TINYGLTF_TYPE_VEC3   ? "VEC3"
+                 type == TINYGLTF_TYPE_VEC4   ? "VEC4"
+                 : type == TINYGLTF_TYPE_VEC3 ? "VEC3"
                  : type == TINYGLTF_TYPE_VEC2 ? "VEC2"
                                               : "SCALAR",
                  "type code " + std::to_string(a.type));
@@ -375,6 +376,21 @@ private:
         View v = view(index, field, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
         std::vector<Vec3> out(v.count);
         for (size_t i = 0; i < v.count; ++i) std::memcpy(&out[i], v.data + i * v.stride, sizeof(float) * 3);
+        return out;
+    }
+
+    // TANGENT: x, y, z, w per vertex, VEC4 of FLOAT (glTF 2.0 §3.7.2.1), finite, w = ±1.
+    std::vector<float> readTangents(int index, const std::string& field) {
+        View v = view(index, field, TINYGLTF_TYPE_VEC4, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        std::vector<float> out(4 * v.count);
+        for (size_t i = 0; i < v.count; ++i) std::memcpy(&out[4 * i], v.data + i * v.stride, sizeof(float) * 4);
+        for (size_t i = 0; i < v.count; ++i) {
+            for (int c = 0; c < 4; ++c)
+                if (!std::isfinite(out[4 * i + size_t(c)]))
+                    fail(field, "finite tangents", show(out[4 * i + size_t(c)]));
+            if (out[4 * i + 3] != 1.0f && out[4 * i + 3] != -1.0f)
+                fail(field, "w = 1 or -1 (the bitangent's sign)", show(out[4 * i + 3]));
+        }
         return out;
     }
 
@@ -455,6 +471,13 @@ private:
                          std::to_string(out.positions.size()) + " normals (one per position)",
                          std::to_string(out.normals.size()));
             }
+            if (auto tan = prim.attributes.find("TANGENT"); tan != prim.attributes.end()) {
+                out.tangents = readTangents(tan->second, field + ".attributes.TANGENT");
+                if (out.tangents.size() != 4 * out.positions.size())
+                    fail(field + ".attributes.TANGENT",
+                         std::to_string(out.positions.size()) + " tangents (one per position)",
+                         std::to_string(out.tangents.size() / 4));
+            }
             for (int set = 0; set < 2; ++set) {
                 const std::string name = "TEXCOORD_" + std::to_string(set);
                 auto tc = prim.attributes.find(name);
@@ -479,6 +502,18 @@ private:
             out.indices = triangles(vertices, mode);
             for (auto& x : out.positions) x = world.point(x);
             for (auto& n : out.normals) n = world.normal(n);
+            for (size_t v = 0; 4 * v < out.tangents.size(); ++v) {
+                // A tangent is a surface direction (the linear part moves it); a mirroring
+                // transform flips the handedness of (N, T, B), so w changes sign.
+                const Vec3 t =
+                    world.vector(Vec3(out.tangents[4 * v], out.tangents[4 * v + 1], out.tangents[4 * v + 2]));
+                const float l = length(t);
+                const Vec3 u = l > 0.0f ? t / l : Vec3(0.0f);
+                out.tangents[4 * v] = u.x;
+                out.tangents[4 * v + 1] = u.y;
+                out.tangents[4 * v + 2] = u.z;
+                if (world.flipsWinding()) out.tangents[4 * v + 3] = -out.tangents[4 * v + 3];
+            }
             if (world.flipsWinding())
                 for (size_t i = 0; i + 2 < out.indices.size(); i += 3)
                     std::swap(out.indices[i + 1], out.indices[i + 2]);
@@ -616,8 +651,19 @@ private:
         if (gltfIndex >= textures_.materials.size() || !textures_.materials[gltfIndex].is_object()) return;
         const json& g = textures_.materials[gltfIndex];
         const std::string field = at("materials", gltfIndex);
-        for (const char* other : {"normalTexture", "occlusionTexture", "emissiveTexture"})
+        for (const char* other : {"occlusionTexture", "emissiveTexture"})
             if (g.contains(other)) noteIgnored(other);
+        if (auto normal = g.find("normalTexture"); normal != g.end()) {
+            // Linear texels (glTF 2.0 §3.9.3); scale multiplies the decoded x and y.
+            const std::string nf = field + ".normalTexture";
+            m.normalTexture = textureFor(*normal, nf, TextureEncoding::Linear);
+            if (normal->is_object())
+                if (auto s = normal->find("scale"); s != normal->end()) {
+                    if (!s->is_number() || !std::isfinite(s->get<double>()))
+                        fail(nf + ".scale", "a number", showJson(*s));
+                    m.normalScale = float(s->get<double>());
+                }
+        }
         auto pbr = g.find("pbrMetallicRoughness");
         if (pbr == g.end() || !pbr->is_object()) return;
         if (pbr->contains("metallicRoughnessTexture")) noteIgnored("metallicRoughnessTexture");
@@ -633,7 +679,7 @@ private:
 
     // The Scene::textures index of a textureInfo {index, texCoord, extensions}, or -1 when its
     // image is embedded (a data URI or a bufferView: not decoded here, noted as ignored).
-    int textureFor(const json& info, const std::string& field) {
+    int textureFor(const json& info, const std::string& field, TextureEncoding encoding = TextureEncoding::Srgb) {
         if (!info.is_object()) fail(field, "a textureInfo object", showJson(info));
         const int index = intIn(info, "index", field, -1, int(textures_.textures.size()) - 1, -1);
         if (index < 0)
@@ -676,7 +722,7 @@ private:
         if (!image.is_object()) fail(ifield, "an object", showJson(image));
         auto uri = image.find("uri");
         if (uri == image.end() || !uri->is_string() || uri->get<std::string>().rfind("data:", 0) == 0) {
-            noteIgnored("baseColorTexture of an embedded image (" + ifield + ")");
+            noteIgnored(field.substr(field.rfind('.') + 1) + " of an embedded image (" + ifield + ")");
             return -1;
         }
         tex.path = resolveInsideFolder(file_, ifield + ".uri", percentDecode(uri->get<std::string>()));
@@ -684,9 +730,10 @@ private:
         const std::string key = std::to_string(source) + "/" + std::to_string(sampler) + "/" +
                                 std::to_string(texCoord) + "/" + show(transform.offset[0]) + "," +
                                 show(transform.offset[1]) + "," + show(transform.scale[0]) + "," +
-                                show(transform.scale[1]) + "," + show(transform.rotation);
+                                show(transform.scale[1]) + "," + show(transform.rotation) +
+                                (encoding == TextureEncoding::Linear ? "/linear" : "/srgb");
         if (auto it = textureIndex_.find(key); it != textureIndex_.end()) return it->second;
-        tex.image = loadTextureImage(file_, ifield + ".uri", tex.path, TextureEncoding::Srgb);  // base colour: sRGB
+        tex.image = loadTextureImage(file_, ifield + ".uri", tex.path, encoding);  // base colour sRGB, normals linear
         scene_.textures.push_back(std::move(tex));
         const int added = int(scene_.textures.size()) - 1;
         textureIndex_[key] = added;

@@ -210,7 +210,7 @@ private:
     // ---- Materials -------------------------------------------------------------------------
 
     void readMaterial(const json& value, const std::string& path) {
-        checkObject(value, path, {"name", "rho_d", "specular", "emission"});
+        checkObject(value, path, {"name", "rho_d", "specular", "emission", "normal_map"});
         Material m;
         m.name = text(required(value, path, "name", "a material name"), keyPath(path, "name"));
         if (m.name.empty()) fail(keyPath(path, "name"), "a non-empty name", value["name"]);
@@ -223,6 +223,7 @@ private:
                 m.rhoD = reflectance(*v, keyPath(path, "rho_d"));
             }
         }
+        if (auto* v = optional(value, "normal_map")) readNormalMap(*v, keyPath(path, "normal_map"), m);
         if (auto* v = optional(value, "emission")) m.emission = radiometric(*v, keyPath(path, "emission"));
         if (auto* s = optional(value, "specular")) readSpecular(*s, keyPath(path, "specular"), m);
         Vec3 sum = m.rhoD + m.rhoS;
@@ -240,11 +241,29 @@ private:
     // image beside the scene file; ρd = factor × the texture. Returns its Scene::textures index.
     int readTexture(const json& value, const std::string& path, Vec3& factor) {
         checkObject(value, path, {"texture", "factor", "wrap", "offset", "scale", "rotation", "encoding"});
+        factor = Vec3(1.0f);
+        if (auto* f = optional(value, "factor")) factor = reflectance(*f, keyPath(path, "factor"));
+        return readTextureImage(value, path, TextureEncoding::Auto);
+    }
+
+    // {"texture": "bumps.png", "normal_scale": s, "wrap", "offset", "scale", "rotation", "encoding"}:
+    // a tangent-space normal map (glTF's normalTexture; "scale" is the coordinates' scale as for
+    // every texture, so glTF's normalTexture.scale is "normal_scale" here, default 1). Linear
+    // unless "encoding" says otherwise: a normal map stores vectors, not colours.
+    void readNormalMap(const json& value, const std::string& path, Material& m) {
+        if (!value.is_object()) fail(path, "an object {\"texture\": FILE, ...}", value);
+        checkObject(value, path, {"texture", "normal_scale", "wrap", "offset", "scale", "rotation", "encoding"});
+        if (auto* s = optional(value, "normal_scale"))
+            m.normalScale = float(number(*s, keyPath(path, "normal_scale"), -1e6, 1e6, "a number"));
+        m.normalTexture = readTextureImage(value, path, TextureEncoding::Linear);
+    }
+
+    // The image, wrap modes and transform of a texture object; returns its Scene::textures index.
+    int readTextureImage(const json& value, const std::string& path, TextureEncoding encoding) {
         Texture t;
         const std::string field = keyPath(path, "texture");
         const std::string name = text(required(value, path, "texture", "an image file name"), field);
         t.path = resolveInsideFolder(file_, field, name);
-        TextureEncoding encoding = TextureEncoding::Auto;
         if (auto* e = optional(value, "encoding")) {
             const std::string kind = text(*e, keyPath(path, "encoding"));
             if (kind == "srgb") encoding = TextureEncoding::Srgb;
@@ -252,8 +271,6 @@ private:
             else fail(keyPath(path, "encoding"), "srgb or linear", *e);
         }
         t.image = loadTextureImage(file_, field, t.path, encoding);
-        factor = Vec3(1.0f);
-        if (auto* f = optional(value, "factor")) factor = reflectance(*f, keyPath(path, "factor"));
         if (auto* w = optional(value, "wrap")) {
             const std::string wp = keyPath(path, "wrap");
             if (w->is_array()) {

@@ -29,6 +29,11 @@ struct Material {
     // Index into Scene::textures, or -1: ρd at a point is rhoD × the texture there (rhoD is the
     // texture's factor, glTF's baseColorFactor). Meshes only (spheres have no coordinates).
     int rhoDTexture = -1;
+    // Index into Scene::textures, or -1: a tangent-space normal map (glTF normalTexture; linear
+    // texels, rgb = (n + 1)/2), its x and y scaled by normalScale. Meshes only; they get
+    // tangents (TriangleMesh::tangents) from the file or scene/mesh_tangents.h.
+    int normalTexture = -1;
+    float normalScale = 1.0f;
     bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };
 
@@ -48,7 +53,11 @@ struct Medium {
 struct TriangleMesh {
     std::string name;
     std::vector<Vec3> positions;
-    std::vector<Vec3> normals;      // optional per-vertex shading normals (empty: geometric)
+    std::vector<Vec3> normals;  // optional per-vertex shading normals (empty: geometric)
+    // Optional per-vertex tangents for normal maps: x, y, z, w (glTF TANGENT: unit xyz along
+    // ∂p/∂u, w = ±1 the bitangent's sign, B = (N × T) w); filled by addMissingTangents for the
+    // meshes of normal-mapped materials that have none.
+    std::vector<float> tangents;
     std::vector<uint32_t> indices;  // three per triangle
     // Texture coordinate sets 0 and 1: (u, v) per vertex, or empty. A mesh whose material has a
     // texture has the set it names.
@@ -139,7 +148,7 @@ struct Scene {
     }
     bool hasTextures() const {
         for (const auto& m : materials)
-            if (m.rhoDTexture >= 0) return true;
+            if (m.rhoDTexture >= 0 || m.normalTexture >= 0) return true;
         return false;
     }
     bool hasMotion() const {

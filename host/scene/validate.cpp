@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "scene/mesh_tangents.h"
 #include "scene/mesh_topology.h"
 #include "scene/scene_error.h"
 
@@ -274,6 +275,13 @@ void checkTextures(const Scene& s) {
         if (t >= int(s.textures.size()) || t < -1)
             failInput(s.path, at("materials", i) + " (\"" + s.materials[i].name + "\").rho_d",
                       "a texture index below " + std::to_string(s.textures.size()), std::to_string(t));
+        const int n = s.materials[i].normalTexture;
+        if (n >= int(s.textures.size()) || n < -1)
+            failInput(s.path, at("materials", i) + " (\"" + s.materials[i].name + "\").normal_map",
+                      "a texture index below " + std::to_string(s.textures.size()), std::to_string(n));
+        if (!std::isfinite(s.materials[i].normalScale))
+            failInput(s.path, at("materials", i) + " (\"" + s.materials[i].name + "\").normal_map.normal_scale",
+                      "a finite number", std::to_string(s.materials[i].normalScale));
     }
     for (size_t i = 0; i < s.meshes.size(); ++i) {
         const TriangleMesh& m = s.meshes[i];
@@ -286,20 +294,26 @@ void checkTextures(const Scene& s) {
             for (float x : m.uv[set])
                 if (!std::isfinite(x)) failInput(s.path, field, "finite texture coordinates", std::to_string(x));
         }
+        if (!m.tangents.empty() && m.tangents.size() != 4 * m.positions.size())
+            failInput(s.path, f + ".tangents",
+                      std::to_string(m.positions.size()) + " tangents (x, y, z, w per position)",
+                      std::to_string(m.tangents.size() / 4));
         if (m.material < 0 || size_t(m.material) >= s.materials.size()) continue;
-        const int t = s.materials[size_t(m.material)].rhoDTexture;
-        if (t < 0) continue;
-        const int set = s.textures[size_t(t)].texCoord;
-        if (m.uv[set].empty())
-            failInput(s.path, f + ".uv" + (set == 0 ? "" : "1"),
-                      "texture coordinates (set " + std::to_string(set) + ") for the texture of material \"" +
-                          s.materials[size_t(m.material)].name + "\"",
-                      "none");
+        for (const int t :
+             {s.materials[size_t(m.material)].rhoDTexture, s.materials[size_t(m.material)].normalTexture}) {
+            if (t < 0) continue;
+            const int set = s.textures[size_t(t)].texCoord;
+            if (m.uv[set].empty())
+                failInput(s.path, f + ".uv" + (set == 0 ? "" : "1"),
+                          "texture coordinates (set " + std::to_string(set) + ") for the texture of material \"" +
+                              s.materials[size_t(m.material)].name + "\"",
+                          "none");
+        }
     }
     for (size_t i = 0; i < s.spheres.size(); ++i) {
         const Sphere& sp = s.spheres[i];
         if (sp.material >= 0 && size_t(sp.material) < s.materials.size() &&
-            s.materials[size_t(sp.material)].rhoDTexture >= 0)
+            (s.materials[size_t(sp.material)].rhoDTexture >= 0 || s.materials[size_t(sp.material)].normalTexture >= 0))
             failInput(s.path, at("spheres", i) + " (\"" + sp.name + "\").material",
                       "an untextured material (spheres have no texture coordinates; use a mesh)",
                       "\"" + s.materials[size_t(sp.material)].name + "\" with a texture");
@@ -314,6 +328,7 @@ void validateScene(Scene& scene) {
     checkMeshes(scene);
     checkSpheres(scene);
     dropDegenerateTriangles(scene);
+    addMissingTangents(scene);
     if (scene.meshes.empty() && scene.spheres.empty())
         failInput(scene.path, "shapes", "at least one shape with non-zero area", "none");
     checkMedia(scene);

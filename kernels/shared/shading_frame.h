@@ -1,10 +1,13 @@
 /* shading_frame.h: the shading normal at a hit, in the common subset of C and OpenCL C, so the
- * kernels and the CPU twin shade with the same normal (kernels/README.md, "Shading normals"):
+ * kernels and the CPU twin shade with the same normal (kernels/README.md, "Shading normals" and
+ * "Normal maps"):
  *
- *   shading_normal        the interpolated vertex normal of a triangle hit, unit, on the side of
- *                         the geometric normal it is given; the geometric normal itself for
- *                         spheres, triangles without normals and programs built without
- *                         PCL_SHADING_NORMALS
+ *   shading_normal        the normal a triangle hit shades with, unit, on the side of the
+ *                         geometric normal it is given: the interpolated vertex normal, perturbed
+ *                         by the material's normal map (if any); the geometric normal itself for
+ *                         spheres, triangles without normals or map, and programs built without
+ *                         PCL_SHADING_NORMALS / PCL_NORMAL_MAPPED
+ *   shading_perturb       a tangent-space normal-map texel turned into a world normal (glTF)
  *   shading_is_smooth     whether a shading normal differs from the geometric one (the extra
  *                         side tests and the adjoint factor apply only then, so flat surfaces
  *                         take exactly the arithmetic they took before shading normals existed)
@@ -19,6 +22,7 @@
 
 #include "compat.h"
 #include "sampling.h"
+#include "texture.h"
 #include "types.h"
 
 /* No FP_CONTRACT pragma here (the including file's state holds): the kernels include this
@@ -32,29 +36,90 @@
   #define PCL_SHADE_FABSF(x) fabsf(x)
 #endif
 
-/* The shading normal of primitive `prim` at barycentrics (bu, bv) (p = p0 + bu (p1 − p0) +
- * bv (p2 − p0)): n = (1 − bu − bv) n0 + bu n1 + bv n2 normalised, flipped onto ng's side (ng is
- * the unit geometric normal of the hit, either orientation). ng itself where there is no shading
- * normal (a sphere, a triangle whose normals are zero, an interpolated normal of length 0). On the
- * device only with PCL_SHADING_NORMALS defined (DeviceScene::programOptions). */
-PCL_INLINE PclV3 shading_normal(PCL_GLOBAL const PclTriangleNormals* triangleNormals, pcl_u32 prim,
+PCL_INLINE PclV3 shading_cross(PclV3 a, PclV3 b) {
+    return sampling_v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+
+/* v / |v|, or v itself (0) when |v| is 0 or not finite. */
+PCL_INLINE PclV3 shading_normalize(PclV3 v, int* ok) {
+    const float len2 = sampling_dot(v, v);
+    *ok = len2 > 0.0f && len2 < INFINITY;
+    if (!*ok) return v;
+    const float inv = 1.0f / PCL_SHADE_SQRTF(len2);
+    return sampling_v3(v.x * inv, v.y * inv, v.z * inv);
+}
+
+/* glTF's tangent-space normal map (glTF 2.0 §3.9.3, material.normalTexture): the texel rgb (linear)
+ * decoded as m = 2 rgb − 1, m.x and m.y times `scale`, and n' = normalise(m.x T + m.y B + m.z N)
+ * with N the unit normal, T the tangent Gram–Schmidt orthonormalised against N and B = (N × T) w:
+ * +x along ∂p/∂u, +y up the image (toward decreasing v: glTF's v runs down), +z along N. N where
+ * the frame or the result degenerates. */
+PCL_INLINE PclV3 shading_perturb(PclV3 n, PclV3 t, float w, const float rgb[3], float scale) {
+    int ok;
+    const float nt = sampling_dot(n, t);
+    const PclV3 T = shading_normalize(sampling_v3(t.x - nt * n.x, t.y - nt * n.y, t.z - nt * n.z), &ok);
+    if (!ok) return n;
+    PclV3 B = shading_cross(n, T);
+    B = sampling_v3(B.x * w, B.y * w, B.z * w);
+    const float mx = (2.0f * rgb[0] - 1.0f) * scale, my = (2.0f * rgb[1] - 1.0f) * scale, mz = 2.0f * rgb[2] - 1.0f;
+    const PclV3 p = shading_normalize(sampling_v3(mx * T.x + my * B.x + mz * n.x, mx * T.y + my * B.y + mz * n.y,
+                                                  mx * T.z + my * B.z + mz * n.z),
+                                      &ok);
+    return ok ? p : n;
+}
+
+/* The shading normal of primitive `prim` (material `material`) at barycentrics (bu, bv)
+ * (p = p0 + bu (p1 − p0) + bv (p2 − p0)), unit, on ng's side (ng: the unit geometric normal of
+ * the hit, either orientation):
+ *   1. N = (1 − bu − bv) n0 + bu n1 + bv n2 normalised from triangleNormals (when given and not
+ *      all zero), else the geometric normal;
+ *   2. with a normal map (normalMaps[material], width > 0): the tangent t and sign w interpolated
+ *      likewise from triangleTangents (w's sign), the map sampled at the interpolated texture
+ *      coordinates of its set (bilinear, its wrap and transform: shared/texture.h), and
+ *      N ← shading_perturb(N, t, w, texel, scale), in the vertex normals' own orientation;
+ *   3. flipped onto ng's side.
+ * ng, bit for bit, where neither applies. Pointers may be null (the twin's empty buffers); on
+ * the device step 1 is compiled only with PCL_SHADING_NORMALS and step 2 only with
+ * PCL_NORMAL_MAPPED (DeviceScene::programOptions). */
+PCL_INLINE PclV3 shading_normal(PCL_GLOBAL const PclTriangleNormals* triangleNormals,
+                                PCL_GLOBAL const PclTriangleTangents* triangleTangents,
+                                PCL_GLOBAL const PclNormalMap* normalMaps, PCL_GLOBAL const float* texels,
+                                PCL_GLOBAL const PclTriangleUv* triangleUvs, pcl_u32 material, pcl_u32 prim,
                                 pcl_u32 triangleCount, float bu, float bv, PclV3 ng) {
-#if PCL_DEVICE && !defined(PCL_SHADING_NORMALS)
-    /* A program built for a scene without shading normals: compiled away, the kernels run as
-     * they did before shading normals existed. */
-    return ng;
-#endif
     if (prim >= triangleCount) return ng;
-    PCL_GLOBAL const float* v = triangleNormals[prim].n;
     const float bw = 1.0f - bu - bv;
-    const float x = bw * v[0] + bu * v[3] + bv * v[6];
-    const float y = bw * v[1] + bu * v[4] + bv * v[7];
-    const float z = bw * v[2] + bu * v[5] + bv * v[8];
-    const float len2 = x * x + y * y + z * z;
-    if (!(len2 > 0.0f) || !(len2 < INFINITY)) return ng;
-    const float s = (x * ng.x + y * ng.y + z * ng.z) < 0.0f ? -1.0f : 1.0f;
-    const float inv = s / PCL_SHADE_SQRTF(len2);
-    return sampling_v3(x * inv, y * inv, z * inv);
+    PclV3 n = ng;
+    int changed = 0;
+#if !PCL_DEVICE || defined(PCL_SHADING_NORMALS)
+    if (triangleNormals) {
+        PCL_GLOBAL const float* v = triangleNormals[prim].n;
+        int ok;
+        const PclV3 s = shading_normalize(sampling_v3(bw * v[0] + bu * v[3] + bv * v[6], bw * v[1] + bu * v[4] + bv * v[7],
+                                                      bw * v[2] + bu * v[5] + bv * v[8]),
+                                          &ok);
+        if (ok) {
+            n = s;
+            changed = 1;
+        }
+    }
+#endif
+#if !PCL_DEVICE || defined(PCL_NORMAL_MAPPED)
+    if (normalMaps && normalMaps[material].texture.width != 0u) {
+        const PclNormalMap map = normalMaps[material];
+        PCL_GLOBAL const float* tg = triangleTangents[prim].t;
+        const PclV3 t = sampling_v3(bw * tg[0] + bu * tg[4] + bv * tg[8], bw * tg[1] + bu * tg[5] + bv * tg[9],
+                                    bw * tg[2] + bu * tg[6] + bv * tg[10]);
+        const float w = (bw * tg[3] + bu * tg[7] + bv * tg[11]) < 0.0f ? -1.0f : 1.0f;
+        PCL_GLOBAL const float* s = triangleUvs[prim].uv[map.texture.texCoord & 1u];
+        float rgb[3];
+        texture_bilinear(map.texture, texels, bw * s[0] + bu * s[2] + bv * s[4], bw * s[1] + bu * s[3] + bv * s[5],
+                         rgb);
+        n = shading_perturb(n, t, w, rgb, map.scale);
+        changed = 1;
+    }
+#endif
+    if (!changed) return ng;
+    return sampling_dot(n, ng) < 0.0f ? sampling_v3(-n.x, -n.y, -n.z) : n;
 }
 
 PCL_INLINE int shading_is_smooth(PclV3 ns, PclV3 ng) { return ns.x != ng.x || ns.y != ng.y || ns.z != ng.z; }

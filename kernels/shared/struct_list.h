@@ -42,6 +42,8 @@
     X(PclEnvironment)          \
     X(PclTexture)              \
     X(PclTriangleUv)           \
-    X(PclTriangleNormals)
+    X(PclTriangleNormals)      \
+    X(PclNormalMap)            \
+    X(PclTriangleTangents)
 
 #endif /* PCL_STRUCT_LIST_H */

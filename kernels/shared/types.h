@@ -512,4 +512,21 @@ typedef struct PclTriangleNormals {
 } PclTriangleNormals;
 PCL_STATIC_ASSERT(sizeof(PclTriangleNormals) == 48, PclTriangleNormals_size);
 
+/* ---- Normal maps (shared/shading_frame.h; kernels/README.md, "Normal maps") ----------------
+ * A material's tangent-space normal map (indexed by material; texture width 0: none), its
+ * texels in the texel buffer with the other textures; the vertex tangents of every triangle
+ * (indexed by global primitive id; triangles only). Uploaded only when some material has a
+ * normal map (PCL_NORMAL_MAPPED). */
+typedef struct PclNormalMap {
+    PclTexture texture;     /* linear rgb = (n + 1)/2 in tangent space */
+    pcl_f32 scale;          /* glTF normalTexture.scale: multiplies the decoded x and y */
+    pcl_u32 pad0, pad1, pad2;
+} PclNormalMap;
+PCL_STATIC_ASSERT(sizeof(PclNormalMap) == 64, PclNormalMap_size);
+
+typedef struct PclTriangleTangents {
+    pcl_f32 t[12];          /* x, y, z, w of vertices 0, 1, 2 (w = ±1: B = (N × T) w) */
+} PclTriangleTangents;
+PCL_STATIC_ASSERT(sizeof(PclTriangleTangents) == 48, PclTriangleTangents_size);
+
 #endif /* PCL_TYPES_H */

@@ -4,11 +4,13 @@
 #include <cmath>
 
 #include "common/test_scenes.h"
+#include "scene/mesh_tangents.h"
 
 namespace pcl::test_scenes {
 
 // A UV sphere of `stacks` × `slices` quads (two triangles each, poles as fans) around c, its
-// vertex normals the exact sphere's (outward) when `normals`; returns the mesh index.
+// vertex normals the exact sphere's (outward) when `normals`, texture coordinates (u around
+// from +x toward +z, v from the top pole down); returns the mesh index.
 inline int addUvSphereMesh(Scene& s, Vec3 c, float r, int stacks, int slices, int material, bool normals = true) {
     TriangleMesh m;
     m.name = "uv-sphere";
@@ -19,6 +21,8 @@ inline int addUvSphereMesh(Scene& s, Vec3 c, float r, int stacks, int slices, in
             const Vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
             m.positions.push_back(c + n * r);
             if (normals) m.normals.push_back(n);
+            m.uv[0].push_back(float(j) / float(slices));
+            m.uv[0].push_back(float(i) / float(stacks));
         }
     }
     const uint32_t row = uint32_t(slices + 1);
@@ -58,6 +62,62 @@ inline Scene smoothRoom(int width = 48, int height = 36) {
     l.intensity = Vec3(3.0f);
     s.lights.push_back(l);
     setCamera(s, Vec3(0.0f, 1.0f, 0.95f), Vec3(0.0f, 0.5f, -1.0f), Vec3(0, 1, 0), 70.0f, width, height);
+    return s;
+}
+
+// An 8 × 8 tangent-space normal map of 2 × 2-texel cells tilted ±0.4 along x and ±0.3 along y
+// (linear rgb = (n + 1)/2).
+inline Image slopeCellsNormalMap() {
+    Image map(8, 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            const Vec3 m = normalize(Vec3((x / 2) % 2 ? -0.4f : 0.4f, (y / 2) % 2 ? -0.3f : 0.3f, 1.0f));
+            map.set(x, y, (m + Vec3(1.0f)) * 0.5f);
+        }
+    return map;
+}
+
+// A 16 × 16 tangent-space normal map of gentle waves: n ∝ (0.3 sin 2πx/16, 0.3 cos 2πy/16, 1),
+// x, y the texel centres (tileable; linear rgb = (n + 1)/2).
+inline Image wavesNormalMap() {
+    Image map(16, 16);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+            const float a = 6.2831853f * (float(x) + 0.5f) / 16.0f, b = 6.2831853f * (float(y) + 0.5f) / 16.0f;
+            const Vec3 m = normalize(Vec3(0.3f * std::sin(a), 0.3f * std::cos(b), 1.0f));
+            map.set(x, y, (m + Vec3(1.0f)) * 0.5f);
+        }
+    return map;
+}
+
+// The smooth room with normal maps: the floor and the diffuse sphere carry wavesNormalMap (the
+// floor's repeated 2 × by its transform), the glass sphere too (scale 0.5 on both): every stage meets
+// perturbed normals on diffuse and specular surfaces. Gentle waves, not slopeCellsNormalMap's
+// cells: a normal that turns steeply across a texel turns the twin's last-bit differences in
+// the hit's coordinates (its own traversal arithmetic) into differences the checks count. Tangents are
+// generated (addMissingTangents, as validateScene does).
+inline Scene normalMappedRoom(int width = 48, int height = 36) {
+    Scene s = smoothRoom(width, height);
+    s.path = "(normal-mapped room)";
+    Texture floorMap;
+    floorMap.path = "(in memory: waves, repeated)";
+    floorMap.image = wavesNormalMap();
+    floorMap.transform.scale[0] = floorMap.transform.scale[1] = 2.0f;
+    s.textures.push_back(floorMap);
+    Texture sphereMap = floorMap;
+    sphereMap.path = "(in memory: waves)";
+    sphereMap.transform = TextureTransform{};
+    s.textures.push_back(sphereMap);
+    const int floorMat = addMaterial(s, Vec3(0.6f));
+    s.materials[size_t(floorMat)].normalTexture = 0;
+    s.meshes[0].material = floorMat;
+    s.meshes[0].uv[0] = {0, 0, 1, 0, 1, 1, 0, 1};
+    for (size_t k = 6; k < 8; ++k) {  // the diffuse and the glass sphere
+        Material& m = s.materials[size_t(s.meshes[k].material)];
+        m.normalTexture = 1;
+        m.normalScale = 0.5f;
+    }
+    addMissingTangents(s);
     return s;
 }
 

@@ -70,7 +70,7 @@ TEST(ShadingNormals, LookupInterpolatesNormalisesAndOrients) {
     const Vec3 want = normalize(n0 * 0.25f + n1 * bu + n2 * bv);
     for (float side : {1.0f, -1.0f}) {
         const PclV3 ng = sampling_v3(0.0f, side, 0.0f);
-        const PclV3 ns = shading_normal(&t, 0, 1, bu, bv, ng);
+        const PclV3 ns = shading_normal(&t, nullptr, nullptr, nullptr, nullptr, 0, 0, 1, bu, bv, ng);
         EXPECT_NEAR(ns.x, side * want.x, 1e-6f);
         EXPECT_NEAR(ns.y, side * want.y, 1e-6f);
         EXPECT_NEAR(ns.z, side * want.z, 1e-6f);
@@ -78,10 +78,28 @@ TEST(ShadingNormals, LookupInterpolatesNormalisesAndOrients) {
     }
     // Spheres (prim ≥ triangleCount) and zero normals: the geometric normal, exactly.
     const PclV3 ng = sampling_v3(0.0f, 0.0f, 1.0f);
-    const PclV3 a = shading_normal(&t, 1, 1, bu, bv, ng);
+    const PclV3 a = shading_normal(&t, nullptr, nullptr, nullptr, nullptr, 0, 1, 1, bu, bv, ng);
     EXPECT_FALSE(shading_is_smooth(a, ng));
     const PclTriangleNormals zero{};
-    EXPECT_FALSE(shading_is_smooth(shading_normal(&zero, 0, 1, bu, bv, ng), ng));
+    EXPECT_FALSE(shading_is_smooth(shading_normal(&zero, nullptr, nullptr, nullptr, nullptr, 0, 0, 1, bu, bv, ng), ng));
+}
+
+TEST(ShadingNormals, NormalMapTexelTurnsIntoTheGltfTangentFrame) {
+    // N = +y, t = +x (not unit, not ⟂: Gram–Schmidt), w = −1: B = (N × T)·w = +z.
+    const PclV3 n = sampling_v3(0, 1, 0), t = sampling_v3(2.0f, 0.5f, 0.0f);
+    const float flat[3] = {0.5f, 0.5f, 1.0f};
+    const PclV3 a = shading_perturb(n, t, -1.0f, flat, 1.0f);
+    EXPECT_NEAR(a.y, 1.0f, 1e-6f);
+    // m = (0.4, −0.2, 0.8) scaled by 1.5 in x, y: n' ∝ 0.6 T − 0.3 B + 0.8 N = (0.6, 0.8, −0.3).
+    const float rgb[3] = {0.7f, 0.4f, 0.9f};
+    const PclV3 b = shading_perturb(n, t, -1.0f, rgb, 1.5f);
+    const Vec3 want = normalize(Vec3(0.6f, 0.8f, -0.3f));
+    EXPECT_NEAR(b.x, want.x, 1e-6f);
+    EXPECT_NEAR(b.y, want.y, 1e-6f);
+    EXPECT_NEAR(b.z, want.z, 1e-6f);
+    // A tangent along the normal leaves no frame: N.
+    const PclV3 c = shading_perturb(n, n, 1.0f, rgb, 1.0f);
+    EXPECT_EQ(c.y, 1.0f);
 }
 
 TEST(ShadingNormals, AdjointFactorIsOneOnFlatSurfacesAndPbrtsRatioElsewhere) {
