@@ -211,7 +211,8 @@ public:
         walkNodes();
         if (!ignoredTextures_.empty())
             warnInput(file_, "textures ignored: " + ignoredTextures_ +
-                                 " (only baseColorTexture from an image file is read; materials use their factors)");
+                                 " (only baseColorTexture and normalTexture from image files are read; materials use "
+                                 "their factors)");
         return result_;
     }
 
