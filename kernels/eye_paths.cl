@@ -139,7 +139,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                         __global const uint* lightOfPrim, __global const PclMedium* media,
                         __global const PclPrimMedium* primMedia, __global PclEyeHit* hits,
                         __global PclVolumeSegment* segments, __global uint* segmentCounts, const PclEnvironment env,
-                        __global const float* envData, __global const PclTexture* materialTextures,
+                        __global const float* envData, __global const PclMaterialTextures* materialTextures,
                         __global const float* texels, __global const PclTriangleUv* triangleUvs,
                         __global const PclTriangleNormals* triangleNormals, __global const PclNormalMap* normalMaps,
                         __global const PclTriangleTangents* triangleTangents) {
@@ -234,9 +234,10 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                                         params.triangleCount, hit.u, hit.v, n);
         const PclV3 sf = dn < 0.0f ? ns : sampling_v3(-ns.x, -ns.y, -ns.z);
         PclMaterial M = materials[mat];
-        /* ρd at the hit (its texture, if any): the lobe choice and the record's albedo use it. */
-        texture_rho_d(materialTextures, texels, triangleUvs, mat, hit.prim, params.triangleCount, hit.u, hit.v,
-                      M.rhoD);
+        /* The material at the hit (its textures, if any): the lobe choice, the glossy lobe and
+         * the record's albedo use it. */
+        texture_material_at(materialTextures, texels, triangleUvs, mat, hit.prim, params.triangleCount, hit.u, hit.v,
+                            &M);
         if (hasMedia) {
             if ((M.flags & PCL_MATERIAL_INTERFACE) != 0u) {
                 /* An invisible boundary: straight on in the medium beyond, not a hit of the chain. */

@@ -41,7 +41,7 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
                                  __global const uint* lightOfPrim, __global const float* histograms,
                                  __global PclEstimateQuery* queries, __global PclGatherHit* gathered,
                                  const PclEnvironment env, __global const float* envData,
-                                 __global const PclTexture* materialTextures, __global const float* texels,
+                                 __global const PclMaterialTextures* materialTextures, __global const float* texels,
                                  __global const PclTriangleUv* triangleUvs,
                                  __global const PclTriangleNormals* triangleNormals,
                                  __global const PclNormalMap* normalMaps,
@@ -117,8 +117,8 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
         const uint mat = primInfo[hit.prim].material;
         PclMaterial M = materials[mat];
-        texture_rho_d(materialTextures, texels, triangleUvs, mat, hit.prim, params.triangleCount, hit.u, hit.v,
-                      M.rhoD);
+        texture_material_at(materialTextures, texels, triangleUvs, mat, hit.prim, params.triangleCount, hit.u, hit.v,
+                            &M);
 
         if (dn < 0.0f && sampling_max3(M.emission[0], M.emission[1], M.emission[2]) > 0.0f &&
             !(afterSpecular && params.causticMapRead != 0u)) {

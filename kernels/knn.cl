@@ -77,18 +77,20 @@ inline void knn_sift_down(KnnHeap* h, uint i, uint n) {
     h->key[i] = key;
 }
 
+/* Bottom-up heap construction of the first n keys (O(n)). */
+inline void knn_heapify(KnnHeap* h) {
+    for (uint i = h->n / 2u; i > 0u; --i) knn_sift_down(h, i - 1u, h->n);
+}
+
+/* Until k candidates are in, they are only appended (the bound is maxRadius2 then, whatever
+ * their order); the k-th makes the array a max-heap. The searches offer candidates roughly
+ * nearest first, each the largest so far, which a heap insertion would sift up to the root. */
 inline void knn_offer(KnnHeap* h, float d, uint idx) {
     if (!(d <= h->maxRadius2)) return;
     const ulong key = knn_key(d, idx);
     if (h->n < h->k) {
-        uint i = h->n++;
-        while (i > 0u) {
-            const uint parent = (i - 1u) >> 1;
-            if (!(key > h->key[parent])) break;
-            h->key[i] = h->key[parent];
-            i = parent;
-        }
-        h->key[i] = key;
+        h->key[h->n++] = key;
+        if (h->n == h->k) knn_heapify(h);
     } else if (h->key[0] > key) {
         h->key[0] = key;
         knn_sift_down(h, 0u, h->n);
@@ -101,9 +103,11 @@ inline void knn_init(KnnHeap* h, const PclKnnQuery q) {
     h->maxRadius2 = q.maxRadius2;
 }
 
-/* Heap sort in place (ascending), then the query's outputs. */
+/* Heap sort in place (ascending), then the query's outputs. The sorted keys depend only on the
+ * set found (every key is distinct), not on the heap's arrangement. */
 inline void knn_write(KnnHeap* h, uint q, uint stride, __global uint* counts, __global uint* indices,
                       __global float* dist2, __global float* radius2) {
+    if (h->n < h->k) knn_heapify(h); /* fewer than k found: still in arrival order */
     for (uint end = h->n; end > 1u; --end) {
         const ulong top = h->key[0];
         h->key[0] = h->key[end - 1u];
@@ -122,6 +126,20 @@ inline void knn_write(KnnHeap* h, uint q, uint stride, __global uint* counts, __
 inline float knn_dist2(float px, float py, float pz, float qx, float qy, float qz) {
     const float dx = px - qx, dy = py - qy, dz = pz - qz;
     return dx * dx + dy * dy + dz * dz;
+}
+
+/* The lanes of an 8-wide test that passed, as bits (lane l: bit l); knn_next_lane takes the
+ * lowest one out. Only those lanes are visited, in lane order, as the loop over all eight
+ * with a test each did (about one lane in eight passes). */
+inline uint knn_lane_bits(int8 pass) {
+    const int8 bit = pass & (int8)(1, 2, 4, 8, 16, 32, 64, 128);
+    return (uint)(bit.s0 | bit.s1 | bit.s2 | bit.s3 | bit.s4 | bit.s5 | bit.s6 | bit.s7);
+}
+
+inline uint knn_next_lane(uint* bits) {
+    const uint lane = 31u - clz(*bits & (0u - *bits));
+    *bits &= *bits - 1u;
+    return lane;
 }
 
 /* kd-tree nodes packed for the search: (x, y, z, photon index | axis << 30 as bits of w), one
@@ -156,11 +174,14 @@ inline void knn_offer_bucket(KnnHeap* h, __global const float4* nodes, uint n, u
     const int8 lanes = (int8)(0, 1, 2, 3, 4, 5, 6, 7);
     const int8 near = (lanes < (int8)((int)count)) & (d <= (float8)(knn_bound(h)));
     if (!any(near)) return;
+    uint bits = knn_lane_bits(near);
     const uint8 w = as_uint8(vload8(0, row + 3u * count));
     const float dd[8] = {d.s0, d.s1, d.s2, d.s3, d.s4, d.s5, d.s6, d.s7};
     const uint ww[8] = {w.s0, w.s1, w.s2, w.s3, w.s4, w.s5, w.s6, w.s7};
-    for (uint s = 0u; s < count; ++s)
+    while (bits) {
+        const uint s = knn_next_lane(&bits);
         if (dd[s] <= knn_bound(h)) knn_offer(h, dd[s], ww[s] & 0x3FFFFFFFu);
+    }
 }
 
 /* The kd-tree descent: every photon within the heap's bound offered. */
@@ -230,6 +251,34 @@ __kernel void knn_kdtree(__global const float4* nodes, uint n, uint bucketFirst,
     knn_write(&h, qi, stride, counts, indices, dist2, radius2);
 }
 
+/* A cell's run of points [s, end), eight at a time: their d² with float8 arithmetic (the same
+ * bits per lane as knn_dist2), then the lanes within the bound offered in order; the last < 8
+ * one by one (no read past the run's end). */
+inline void knn_offer_run(KnnHeap* h, __global const float4* points, uint s, uint end, float qx, float qy, float qz) {
+    for (; s + 8u <= end; s += 8u) {
+        const float16 a = vload16(0, (__global const float*)(points + s));
+        const float16 b = vload16(0, (__global const float*)(points + s + 4u));
+        const float8 dx = (float8)(a.s048c, b.s048c) - (float8)(qx), dy = (float8)(a.s159d, b.s159d) - (float8)(qy),
+                     dz = (float8)(a.s26ae, b.s26ae) - (float8)(qz);
+        const float8 d = (dx * dx + dy * dy) + dz * dz;
+        const int8 near = d <= (float8)(knn_bound(h));
+        if (!any(near)) continue;
+        uint bits = knn_lane_bits(near);
+        const uint8 w = as_uint8((float8)(a.s37bf, b.s37bf));
+        const float dd[8] = {d.s0, d.s1, d.s2, d.s3, d.s4, d.s5, d.s6, d.s7};
+        const uint ww[8] = {w.s0, w.s1, w.s2, w.s3, w.s4, w.s5, w.s6, w.s7};
+        while (bits) {
+            const uint l = knn_next_lane(&bits);
+            if (dd[l] <= knn_bound(h)) knn_offer(h, dd[l], ww[l]);
+        }
+    }
+    for (; s < end; ++s) {
+        const float4 p = points[s];
+        const float d = knn_dist2(p.x, p.y, p.z, qx, qy, qz);
+        if (d <= knn_bound(h)) knn_offer(h, d, as_uint(p.w));
+    }
+}
+
 __kernel void knn_hashgrid(const PclGridParams g, __global const float4* points, __global const uint* cellStart,
                            __global const uint* cellEnd, __global const PclKnnQuery* queries, uint queryCount,
                            uint stride, __global uint* counts, __global uint* indices, __global float* dist2,
@@ -290,12 +339,7 @@ __kernel void knn_hashgrid(const PclGridParams g, __global const float4* points,
             for (uint c = 0u; c < visited; ++c) dup = dup || cellHash[c] == cell;
             cellHash[visited] = cell;  /* visited cells keep their hash for the duplicate test */
             if (dup) continue;
-            const uint end = cellEnd[cell];
-            for (uint s = cellStart[cell]; s < end; ++s) {
-                const float4 p = points[s];
-                const float d = knn_dist2(p.x, p.y, p.z, q.x, q.y, q.z);
-                if (d <= knn_bound(&h)) knn_offer(&h, d, as_uint(p.w));
-            }
+            knn_offer_run(&h, points, cellStart[cell], cellEnd[cell], q.x, q.y, q.z);
         }
     }
     knn_write(&h, qi, stride, counts, indices, dist2, radius2);

@@ -66,7 +66,7 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
                        __global PclPhoton* slots, __global uint* counts, __global uint* ends,
                        __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                        __global const int* lightMedia, __global PclPhoton* volumeSlots,
-                       __global uint* volumeCounts, __global const PclTexture* materialTextures,
+                       __global uint* volumeCounts, __global const PclMaterialTextures* materialTextures,
                        __global const float* texels, __global const PclTriangleUv* triangleUvs,
                        __global const PclTriangleNormals* triangleNormals, __global const PclNormalMap* normalMaps,
                        __global const PclTriangleTangents* triangleTangents) {
@@ -164,9 +164,9 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
         const PclV3 sf = dn < 0.0f ? nsh : sampling_v3(-nsh.x, -nsh.y, -nsh.z);
         const bool smooth = shading_is_smooth(nsh, n);
         PclMaterial M = materials[info.material];
-        /* ρd at the hit: the material's constant times its texture (shared/texture.h). */
-        texture_rho_d(materialTextures, texels, triangleUvs, info.material, hit.prim, params.triangleCount, hit.u,
-                      hit.v, M.rhoD);
+        /* The material at the hit: its constants times its textures (shared/texture.h). */
+        texture_material_at(materialTextures, texels, triangleUvs, info.material, hit.prim, params.triangleCount,
+                            hit.u, hit.v, &M);
         if (params.hasMedia) {
             if ((M.flags & PCL_MATERIAL_INTERFACE) != 0u) {
                 /* An invisible boundary: straight on in the medium beyond, same bounce. The
@@ -294,7 +294,7 @@ __kernel void trace_photons_global(const PclPhotonParams params, __global const 
                                    __global uint* counts, __global uint* ends,
                                    __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                                    __global const int* lightMedia, __global PclPhoton* volumeSlots,
-                                   __global uint* volumeCounts, __global const PclTexture* materialTextures,
+                                   __global uint* volumeCounts, __global const PclMaterialTextures* materialTextures,
                                    __global const float* texels, __global const PclTriangleUv* triangleUvs,
                                    __global const PclTriangleNormals* triangleNormals,
                                    __global const PclNormalMap* normalMaps,
@@ -311,7 +311,7 @@ __kernel void trace_photons_caustic(const PclPhotonParams params, __global const
                                     __global uint* counts, __global uint* ends,
                                     __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                                     __global const int* lightMedia, __global PclPhoton* volumeSlots,
-                                    __global uint* volumeCounts, __global const PclTexture* materialTextures,
+                                    __global uint* volumeCounts, __global const PclMaterialTextures* materialTextures,
                                     __global const float* texels, __global const PclTriangleUv* triangleUvs,
                                     __global const PclTriangleNormals* triangleNormals,
                                     __global const PclNormalMap* normalMaps,

@@ -14,7 +14,7 @@ out=build/bench
 mkdir -p "$out"
 filter=()
 # --quick: the small scenes and sizes only (a minute or two).
-[ $quick -eq 1 ] && filter=(--benchmark_filter='cornell|/1048576|/box/k50|cone/k50|walls1M/k50')
+[ $quick -eq 1 ] && filter=(--benchmark_filter='cornell|/1048576|/box/k50|cone/k50|walls1M/k50|Build/(grid|kdtree)/box')
 programs=(bvh_bench photon_pass_bench sort_bench knn_bench estimate_bench irradiance_bench)
 jsons=()
 for prog in "${programs[@]}"; do

@@ -77,6 +77,16 @@ def main():
         bound = kernel["rays_per_s"] / mine["rays_per_path"]
         print(f"| photon pass vs the traversal bound (kernel rays/CPU-s ÷ {mine['rays_per_path']:.2f} rays per path), "
               f"paths/CPU-s | {scene} | {mine['paths_per_s']:.3g} | {bound:.3g} | {mine['paths_per_s'] / bound:.2f}x |")
+    # The hash grid's build against the kd-tree's of the same 1M photons (knn_bench Build/*: wall
+    # milliseconds per build): how much cheaper the grid is to make.
+    for name in sorted(rows):
+        if not name.startswith("Build/grid/"):
+            continue
+        case = name[len("Build/grid/"):]
+        grid, tree = rows[name], rows.get("Build/kdtree/" + case)
+        if tree and grid.get("real_time") and tree.get("real_time"):
+            print(f"| hash-grid build vs kd-tree build of the same 1M photons, ms (lower is faster) | {case} | "
+                  f"{grid['real_time']:.3g} | {tree['real_time']:.3g} | {tree['real_time'] / grid['real_time']:.2f}x |")
     build = rows.get("Build/mesh1M")
     if build:
         print(f"\nBVH of the 1M-triangle mesh: build {build['build_s']:.2f} s, SAH cost {build['sah']:.1f}, "

@@ -41,7 +41,8 @@ struct RenderOptions {
     int threads = 0;
     bool quiet = false, noPng = false;
     bool noLightTracing = false;  // --no-light-tracing: the path tracer alone
-    bool methodGiven = false;     // --method was on the command line (else a scene with media renders progressive)
+    bool methodGiven = false;     // --method was on the command line (else auto, or as defaultMethod says)
+    std::string photonOption;     // the first option given that only the photon methods read ("--aov"), if any
     uint64_t maxBufferMib = 0;    // --max-buffer-mib: applyBufferCap on the OpenCL device
     std::string aov;
     bool profile = false;
@@ -64,6 +65,7 @@ int runPathTracer(const RenderOptions& o, const Scene& scene, const SceneGeometr
     settings.seconds = q.seconds;
     settings.samples = q.passes ? q.passes : (q.seconds > 0 ? 0 : 64);
     settings.lightTracing = !o.noLightTracing;
+    settings.stop = gStop;  // set only under auto (graceful interrupts): --method path exits at the first Ctrl-C
     Progress progress("render", !o.quiet);
     settings.progress = [&](uint32_t, double f) { progress.update(f); };
     PathRenderResult r = renderPathTraced(scene, geometry, settings);
@@ -85,8 +87,9 @@ int runPathTracer(const RenderOptions& o, const Scene& scene, const SceneGeometr
         if (!writeSrgbPng(png, image)) png.clear();
     }
     double sps = r.seconds > 0 ? r.paths / r.seconds : 0.0;
-    std::fprintf(stderr, "wrote %s%s%s: %dx%d, %u samples/pixel, %.2fs, %.3g samples/s\n", written.c_str(),
-                 png.empty() ? "" : " and ", png.c_str(), image.width, image.height, r.samples, seconds, sps);
+    std::fprintf(stderr, "%swrote %s%s%s: %dx%d, %u samples/pixel, %.2fs, %.3g samples/s\n",
+                 r.stopped ? "interrupted: " : "", written.c_str(), png.empty() ? "" : " and ", png.c_str(),
+                 image.width, image.height, r.samples, seconds, sps);
     if (!r.lightTracing.empty() && !o.quiet)
         std::fprintf(stderr,
                      "light tracer: %s, so every sample per pixel also traced %.3g light paths aimed from the delta "
@@ -248,12 +251,40 @@ int runAutoMethod(const RenderOptions& o, const Scene& scene, const PreparedScen
     std::fprintf(stderr, "%s", choice.log().c_str());
     RenderOptions chosen = o;
     chosen.request = choice.best().request;
-    if (o.request.seconds > 0) chosen.request.seconds = std::max(0.1, o.request.seconds - choice.pilotSeconds);
+    if (o.request.seconds > 0) {
+        chosen.request.seconds = std::max(0.1, o.request.seconds - choice.pilotSeconds);
+    } else if (!o.request.passes) {
+        chosen.request.passes = choice.unitsWithoutBudget(scene.camera.width, scene.camera.height);
+        if (!o.quiet)
+            std::fprintf(stderr,
+                         "method auto: no --time: %u %s, about %.0f s (fg's default passes, as the pilot "
+                         "predicts them)\n",
+                         chosen.request.passes, chosen.request.method == "path" ? "samples per pixel" : "passes",
+                         choice.fgBudgetSeconds(scene.camera.width, scene.camera.height));
+    }
     if (chosen.request.method == "path") {
         if (!o.quiet) std::fprintf(stderr, "%s", formatPlan(scene, prepared.paths, prepared.plan).c_str());
         return runPathTracer(chosen, scene, prepared.geometry, output, start);
     }
     return runPhotonRender(chosen, scene, prepared, output, start, std::move(device));
+}
+
+// The method of a render that names none: auto, unless the command line or the scene says
+// what auto's pilot cannot weigh. Empty reason: auto, which logs its own choice.
+struct DefaultMethod {
+    std::string method, reason;
+};
+DefaultMethod defaultMethod(const RenderOptions& o, const Scene& scene) {
+    if (scene.hasMedia())
+        return {"progressive",
+                "the scene has participating media, which fg's gather rays do not carry yet (--method to choose)"};
+    if (o.device == "ref")
+        return {"fg", "--device ref runs the photon methods' CPU twins (auto's pilot needs an OpenCL device)"};
+    if (o.request.passes)
+        return {"fg", "--passes counts passes of a photon method (--method auto with --time lets a pilot choose)"};
+    if (!o.photonOption.empty())
+        return {"fg", o.photonOption + " is an option of the photon methods (--method to choose another)"};
+    return {"auto", ""};
 }
 
 int runRender(const RenderOptions& given) {
@@ -271,17 +302,16 @@ int runRender(const RenderOptions& given) {
         throw InputError(output + ": output folder does not exist");
 
     Scene scene = loadScene(o.scene);
-    // fg's gather rays do not carry media yet: a scene with media renders progressive unless told.
-    // auto's pilot weighs fg against the path tracer, so it has nothing to weigh there either.
-    if ((!o.methodGiven && q.method == "fg") || (q.method == "auto" && scene.hasMedia())) {
-        if (scene.hasMedia()) {
-            if (!o.quiet)
-                std::fprintf(stderr,
-                             "method %sprogressive: the scene has participating media, which fg's gather rays "
-                             "do not carry yet (--method to choose)\n",
-                             q.method == "auto" ? "auto: " : "");
-            o.request.method = "progressive";
-        }
+    if (!o.methodGiven) {
+        const DefaultMethod d = defaultMethod(o, scene);
+        if (!o.quiet && !d.reason.empty()) std::fprintf(stderr, "method %s: %s\n", d.method.c_str(), d.reason.c_str());
+        o.request.method = d.method;
+    } else if (q.method == "auto" && scene.hasMedia()) {
+        // auto's pilot weighs fg against the path tracer, and fg refuses media.
+        if (!o.quiet)
+            std::fprintf(stderr, "method auto: progressive: the scene has participating media, which fg's gather rays "
+                                 "do not carry yet (--method to choose)\n");
+        o.request.method = "progressive";
     }
     // One of --width/--height alone keeps the camera's aspect ratio.
     const Camera& cam = scene.camera;
@@ -313,6 +343,7 @@ int runRender(const RenderOptions& given) {
 
 Run addRenderCommand(CLI::App& app) {
     auto o = std::make_shared<RenderOptions>();
+    o->request.method = "auto";
     CLI::App* sub = app.add_subcommand(
         "render",
         "Render a scene to a linear EXR (with metadata) and an sRGB PNG.\n"
@@ -323,14 +354,16 @@ Run addRenderCommand(CLI::App& app) {
     CLI::Option* methodOption =
         sub->add_option(
                "--method", o->request.method,
-               "fg: photon mapping with final gathering (direct light by shadow rays, caustics from the caustic "
-               "map, indirect light by gather rays into the global map); direct: the global map read at the "
-               "first diffuse hit (fast preview); progressive: fresh photons every pass, fixed-radius estimates "
-               "whose radius shrinks as r²_{i+1} = r²_i (i+α)/(i+1), converging to the reference; path: the CPU "
-               "reference path tracer; auto: fg or path, whichever a pilot of each at a quarter of the size "
-               "(about 2-5 s, paid from --time) says reaches a lower error in the same time. A scene with "
-               "participating media renders progressive unless --method is given, and with --method auto (fg "
-               "refuses media: its gather rays do not carry them yet)")
+               "auto (the default): fg or path, whichever a pilot of each at a quarter of the size (about 2-5 s, "
+               "paid from --time) says reaches a lower error in the same time; without --time the winner gets the "
+               "time fg's default passes would take. Left out, the method is fg instead when --passes, --device ref "
+               "or an option only the photon methods read (--aov, --strata, --k, ...) is given, and progressive "
+               "in participating media. fg: photon mapping with final gathering (direct light by shadow rays, "
+               "caustics from the caustic map, indirect light by gather rays into the global map); direct: the "
+               "global map read at the first diffuse hit (fast preview); progressive: fresh photons every pass, "
+               "fixed-radius estimates whose radius shrinks as r²_{i+1} = r²_i (i+α)/(i+1), converging to the "
+               "reference; path: the CPU reference path tracer. fg refuses media (its gather rays do not carry "
+               "them yet); auto renders them progressive")
             ->check(CLI::IsMember({"fg", "direct", "progressive", "path", "auto"}))
             ->capture_default_str();
     sub->add_option("--device", o->device,
@@ -417,8 +450,29 @@ Run addRenderCommand(CLI::App& app) {
     sub->add_flag("--profile", o->profile,
                   "Photon methods: after the render, device seconds and launches per kernel (per pass and in all)");
     sub->add_flag("-q,--quiet", o->quiet, "No progress output");
-    return [o, methodOption] {
+    return [o, methodOption, sub] {
         o->methodGiven = methodOption->count() > 0;
+        for (const char* name : {"--strata",
+                                 "--global-photons",
+                                 "--caustic-photons",
+                                 "--k",
+                                 "--caustic-k",
+                                 "--volume-k",
+                                 "--volume-radii",
+                                 "--gather-rays",
+                                 "--light-samples",
+                                 "--gather-source",
+                                 "--gather-importance",
+                                 "--visibility",
+                                 "--filter",
+                                 "--structure",
+                                 "--max-radius",
+                                 "--radius",
+                                 "--alpha",
+                                 "--aov",
+                                 "--profile",
+                                 "--max-buffer-mib"})
+            if (o->photonOption.empty() && sub->get_option(name)->count() > 0) o->photonOption = name;
         return runRender(*o);
     };
 }

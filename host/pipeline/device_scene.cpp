@@ -14,9 +14,9 @@ DeviceScene::DeviceScene(Device& device, const SceneGeometry& g, const SceneBuff
           device.upload(b.hasMedia ? b.lightMedia : std::vector<int32_t>(1), CL_MEM_READ_ONLY, "scene: light media")),
       sky(b.sky.environment), skyData(device.upload(b.sky.data, CL_MEM_READ_ONLY, "scene: environment")),
 
-      materialTextures(
-          device.upload(b.textures.materialTextures.empty() ? std::vector<PclTexture>(1) : b.textures.materialTextures,
-                        CL_MEM_READ_ONLY, "scene: material textures")),
+      materialTextures(device.upload(b.textures.materialTextures.empty() ? std::vector<PclMaterialTextures>(1)
+                                                                         : b.textures.materialTextures,
+                                     CL_MEM_READ_ONLY, "scene: material textures")),
       texels(device.upload(b.textures.textured() ? b.textures.texels : std::vector<float>(1), CL_MEM_READ_ONLY,
                            "scene: texels")),
       triangleUvs(device.upload(b.textures.textured() ? b.textures.triangleUvs : std::vector<PclTriangleUv>(1),

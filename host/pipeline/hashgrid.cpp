@@ -69,15 +69,12 @@ DeviceHashGrid buildHashGrid(Device& device, const cl::Buffer& photons, size_t c
     while ((uint64_t(1) << bits) < params.tableSize) ++bits;
     sortPairsOnDevice(device, g.keys, g.order, count, 32, bits, &g.sortSeconds);
 
-    auto ranges = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>("hashgrid", "hashgrid_ranges");
-    auto gather = device.kernel<cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>("hashgrid", "hashgrid_gather");
-    cl::Event r = device.launchLocal("hashgrid", ranges, photonGlobalRange(count), local, g.keys, cl_uint(count),
-                                     g.cellStart, g.cellEnd);
-    cl::Event p = device.launchLocal("hashgrid", gather, photonGlobalRange(count), local, g.order, cl_uint(count),
-                                     photons, g.points);
-    p.wait();
-    r.wait();
-    g.rangeSeconds = Device::elapsedSeconds(r) + Device::elapsedSeconds(p);
+    auto cells = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+        "hashgrid", "hashgrid_cells");
+    cl::Event c = device.launchLocal("hashgrid", cells, photonGlobalRange(count), local, g.keys, g.order,
+                                     cl_uint(count), photons, g.cellStart, g.cellEnd, g.points);
+    c.wait();
+    g.rangeSeconds = Device::elapsedSeconds(c);
     return g;
 }
 

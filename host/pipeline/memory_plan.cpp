@@ -132,7 +132,7 @@ private:
         add("scene", "scene: primitive media", s.media ? s.primInfo : 0, sizeof(PclPrimMedium));
         add("scene", "scene: light media", s.media ? s.lights : 0, sizeof(int32_t));
         add("scene", "scene: environment", s.skyFloats, sizeof(float));
-        add("scene", "scene: material textures", s.materials, sizeof(PclTexture));
+        add("scene", "scene: material textures", s.materials, sizeof(PclMaterialTextures));
         add("scene", "scene: texels", s.texelFloats, sizeof(float));
         add("scene", "scene: triangle texture coordinates", s.triangleUvs, sizeof(PclTriangleUv));
         add("scene", "scene: triangle normals", s.triangleNormals, sizeof(PclTriangleNormals));

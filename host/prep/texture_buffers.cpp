@@ -44,9 +44,28 @@ PclTexture textureDescriptor(const Texture& texture, uint32_t offset) {
     return d;
 }
 
+PclMaterialTextures materialTextureDescriptor(const Scene& scene, const Material& material,
+                                              const std::vector<uint32_t>& offsets) {
+    PclMaterialTextures d{};
+    const int slots[PCL_TEXTURE_SLOTS] = {material.rhoDTexture, material.rhoSTexture, material.exponentTexture};
+    for (int k = 0; k < PCL_TEXTURE_SLOTS; ++k)
+        if (slots[k] >= 0)
+            d.slot[k] =
+                textureDescriptor(scene.textures[size_t(slots[k])], offsets.empty() ? 0u : offsets[size_t(slots[k])]);
+    d.exponentLo = material.exponentRange[0];
+    d.exponentHi = material.exponentRange[1];
+    const Material::MetallicRoughness& mr = material.metallicRoughness;
+    d.mapping = mr.active ? PCL_TEXTURE_MAP_METALLIC_ROUGHNESS : PCL_TEXTURE_MAP_PHONG;
+    for (int c = 0; c < 3; ++c) d.baseColor[c] = mr.baseColor[c];
+    d.metallic = mr.metallic;
+    d.roughness = mr.roughness;
+    d.f0 = mr.f0;
+    return d;
+}
+
 TextureBuffers buildTextureBuffers(const Scene& scene, const SceneGeometry& geometry) {
     TextureBuffers b;
-    b.materialTextures.resize(scene.materials.size(), PclTexture{});
+    b.materialTextures.resize(scene.materials.size(), PclMaterialTextures{});
     if (!scene.hasTextures()) return b;
 
     // Each texture's texels once, in Scene::textures order.
@@ -60,10 +79,8 @@ TextureBuffers buildTextureBuffers(const Scene& scene, const SceneGeometry& geom
         offsets[t] = uint32_t(b.texels.size());
         b.texels.insert(b.texels.end(), image.rgb.begin(), image.rgb.end());
     }
-    for (size_t m = 0; m < scene.materials.size(); ++m) {
-        const int t = scene.materials[m].rhoDTexture;
-        if (t >= 0) b.materialTextures[m] = textureDescriptor(scene.textures[size_t(t)], offsets[size_t(t)]);
-    }
+    for (size_t m = 0; m < scene.materials.size(); ++m)
+        b.materialTextures[m] = materialTextureDescriptor(scene, scene.materials[m], offsets);
 
     b.triangleUvs.resize(geometry.triangleCount(), PclTriangleUv{});
     for (uint32_t prim = 0; prim < geometry.triangleCount(); ++prim) {

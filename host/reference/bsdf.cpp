@@ -25,10 +25,14 @@ bool refract(Vec3 wo, Vec3 n, float eta, Vec3& wt) {
     return true;
 }
 
-MixedBsdf::MixedBsdf(const Material& material, Vec3 ns, Vec3 ng) : MixedBsdf(material, material.rhoD, ns, ng) {}
+MixedBsdf::MixedBsdf(const Material& material, Vec3 ns, Vec3 ng)
+    : MixedBsdf(material, material.rhoD, material.rhoS, material.phongExponent, ns, ng) {}
 
-MixedBsdf::MixedBsdf(const Material& material, Vec3 rhoD, Vec3 ns, Vec3 ng) : m_(material), ns_(ns), ng_(ng) {
+MixedBsdf::MixedBsdf(const Material& material, Vec3 rhoD, Vec3 rhoS, float exponent, Vec3 ns, Vec3 ng)
+    : m_(material), ns_(ns), ng_(ng) {
     m_.rhoD = rhoD;
+    m_.rhoS = rhoS;
+    m_.phongExponent = exponent;
     float d = luminance(m_.rhoD);
     float s = m_.specular == SpecularKind::None ? 0.0f : luminance(m_.rhoS);
     if (d + s > 0.0f) {

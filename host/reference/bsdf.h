@@ -28,8 +28,9 @@ class MixedBsdf {
 public:
     // ns: shading normal, ng: geometric normal (outside of a dielectric), both unit, same side.
     MixedBsdf(const Material& material, Vec3 ns, Vec3 ng);
-    // The same with ρd at the shading point in place of the material's constant (its texture).
-    MixedBsdf(const Material& material, Vec3 rhoD, Vec3 ns, Vec3 ng);
+    // The same with ρd, ρs and the glossy exponent at the shading point in place of the
+    // material's constants (its textures; SurfacePoint has them).
+    MixedBsdf(const Material& material, Vec3 rhoD, Vec3 rhoS, float exponent, Vec3 ns, Vec3 ng);
 
     bool isBlack() const { return pDiffuse_ == 0.0f && pSpecular_ == 0.0f; }
     // True if some lobe is not a delta, so light sampling can reach it.

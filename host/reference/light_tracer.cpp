@@ -250,7 +250,7 @@ void LightTracer::tracePath(uint32_t pass, uint32_t path, std::vector<Splat>& sp
         if (!geometry_.intersect(ray, hit)) break;
         SurfacePoint s = surfaceAt(scene_, geometry_, ray, hit);
         Vec3 wIn = -normalize(rayDirection(ray));
-        MixedBsdf bsdf(*s.material, s.rhoD, s.ns, s.ng);
+        MixedBsdf bsdf(*s.material, s.rhoD, s.rhoS, s.exponent, s.ns, s.ng);
         if (bsdf.isBlack()) break;
         uint32_t vertex = static_cast<uint32_t>(depth);
 

@@ -238,7 +238,7 @@ Vec3 PathTracer::Li(PclRay ray, Sampler& sampler) const {
         }
         if (depth >= settings_.maxDepth) break;
 
-        MixedBsdf bsdf(*s.material, s.rhoD, s.ns, s.ng);
+        MixedBsdf bsdf(*s.material, s.rhoD, s.rhoS, s.exponent, s.ns, s.ng);
         if (bsdf.isBlack()) break;
         if (bsdf.hasNonDelta() && settings_.lightSampling)
             L += beta * sampleDirect(s, bsdf, wo, medium, sampler, vertex);

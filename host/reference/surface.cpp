@@ -66,14 +66,33 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
         s.ns = !shaded ? s.ng : (dot(n, s.ng) < 0.0f ? -n : n);  // both on the geometric side
         s.material = &scene.materials[mesh.material];
         s.rhoD = s.material->rhoD;
-        if (s.material->rhoDTexture >= 0) {  // the kernels' lookup (kernels/shared/texture.h)
-            const Texture& texture = scene.textures[size_t(s.material->rhoDTexture)];
-            const float* uv = mesh.uv[texture.texCoord].data();
-            const float u = w * uv[2 * idx[0]] + hit.u * uv[2 * idx[1]] + hit.v * uv[2 * idx[2]];
-            const float v = w * uv[2 * idx[0] + 1] + hit.u * uv[2 * idx[1] + 1] + hit.v * uv[2 * idx[2] + 1];
-            float texel[3];
-            texture_bilinear(textureDescriptor(texture, 0), texture.image.rgb.data(), u, v, texel);
-            s.rhoD = s.rhoD * Vec3(texel[0], texel[1], texel[2]);
+        s.rhoS = s.material->rhoS;
+        s.exponent = s.material->phongExponent;
+        if (s.material->textured()) {  // the kernels' lookup and mapping (kernels/shared/texture.h)
+            const Material& m = *s.material;
+            const PclMaterialTextures t = materialTextureDescriptor(scene, m, {});
+            const int slots[PCL_TEXTURE_SLOTS] = {m.rhoDTexture, m.rhoSTexture, m.exponentTexture};
+            PclTexels x{};
+            for (int k = 0; k < PCL_TEXTURE_SLOTS; ++k) {
+                if (slots[k] < 0) continue;
+                const Texture& texture = scene.textures[size_t(slots[k])];
+                const float* uv = mesh.uv[texture.texCoord].data();
+                const float u = w * uv[2 * idx[0]] + hit.u * uv[2 * idx[1]] + hit.v * uv[2 * idx[2]];
+                const float v = w * uv[2 * idx[0] + 1] + hit.u * uv[2 * idx[1] + 1] + hit.v * uv[2 * idx[2] + 1];
+                texture_bilinear(t.slot[k], texture.image.rgb.data(), u, v, x.value[k]);
+                x.has |= 1u << k;
+            }
+            PclMaterial local{};
+            for (int c = 0; c < 3; ++c) {
+                local.rhoD[c] = s.rhoD[c];
+                local.rhoS[c] = s.rhoS[c];
+            }
+            local.exponent = s.exponent;
+            local.specular = m.specular == SpecularKind::Glossy ? PCL_SPECULAR_GLOSSY : PCL_SPECULAR_NONE;
+            texture_material(&t, &x, &local);
+            s.rhoD = Vec3(local.rhoD[0], local.rhoD[1], local.rhoD[2]);
+            s.rhoS = Vec3(local.rhoS[0], local.rhoS[1], local.rhoS[2]);
+            s.exponent = local.exponent;
         }
     } else {
         const Sphere& sphere = scene.spheres[ref.object];
@@ -84,6 +103,8 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
         s.ns = s.ng;
         s.material = &scene.materials[sphere.material];
         s.rhoD = s.material->rhoD;
+        s.rhoS = s.material->rhoS;
+        s.exponent = s.material->phongExponent;
     }
     return s;
 }

@@ -14,7 +14,9 @@ struct SurfacePoint {
     Vec3 ng;  // geometric normal, unit: the emitting / outside side (not flipped toward the ray)
     Vec3 ns;  // shading normal, unit, on the same side as ng
     const Material* material = nullptr;
-    Vec3 rhoD;  // ρd here: the material's constant times its texture at the hit (if any)
+    // The material's quantities here: its constants with its textures at the hit (if any).
+    Vec3 rhoD, rhoS;
+    float exponent = 0.0f;  // glossy: the Phong exponent
     uint32_t prim = PCL_NO_HIT;
     float time = 0.0f;
 };

@@ -51,6 +51,15 @@ std::string AutoMethodChoice::log() const {
     return out + "; fg's bias is not counted)\n";
 }
 
+double AutoMethodChoice::fgBudgetSeconds(int width, int height) const {
+    return candidates.front().unitSeconds * defaultPasses(RenderMethod::FinalGather, width, height);
+}
+
+uint32_t AutoMethodChoice::unitsWithoutBudget(int width, int height) const {
+    const double units = fgBudgetSeconds(width, height) / std::max(best().unitSeconds, 1e-9);
+    return uint32_t(std::clamp(std::llround(units), 1LL, 1LL << 20));
+}
+
 AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const PreparedScene& prepared,
                                     const RenderRequest& request) {
     const Clock::time_point start = Clock::now();

@@ -34,6 +34,12 @@ struct AutoMethodChoice {
     double pilotSeconds = 0;                // wall time of the whole pilot
     const AutoCandidate& best() const { return candidates[chosen]; }
     std::string log() const;  // one line: the choice and every candidate's figures
+    // Without a time budget: the time fg's default passes at width × height would take, as the
+    // pilot predicts it (fgBudgetSeconds), spent by the winner: its passes, or its samples per
+    // pixel if it is the path tracer (1 .. 2^20). An unconfigured render so costs what it did
+    // before auto was the default.
+    double fgBudgetSeconds(int width, int height) const;
+    uint32_t unitsWithoutBudget(int width, int height) const;
 };
 
 // The pilot on `device` (fg) and the CPU (path tracer) for `request` at the scene camera's size.

@@ -211,8 +211,8 @@ public:
         walkNodes();
         if (!ignoredTextures_.empty())
             warnInput(file_, "textures ignored: " + ignoredTextures_ +
-                                 " (only baseColorTexture and normalTexture from image files are read; materials use "
-                                 "their factors)");
+                                 " (only baseColorTexture, metallicRoughnessTexture and normalTexture from image files "
+                                 "are read; materials use their factors)");
         return result_;
     }
 
@@ -561,7 +561,7 @@ private:
         if (mapped < 0) {
             mapped = int(scene_.materials.size());
             Material m = mapMaterial(model_.materials[size_t(gltfIndex)], at("materials", size_t(gltfIndex)));
-            mapTextures(size_t(gltfIndex), m);
+            mapTextures(size_t(gltfIndex), model_.materials[size_t(gltfIndex)], m);
             scene_.materials.push_back(m);
         }
         return mapped;
@@ -646,9 +646,13 @@ private:
 
     // ---- Textures (scenes/README.md, "glTF: textures")
 
-    // A material's baseColorTexture multiplies its ρd (the factor-derived constant); the other
-    // texture kinds are noted as ignored.
-    void mapTextures(size_t gltfIndex, Material& m) {
+    // Without a metallicRoughnessTexture, a material's baseColorTexture multiplies its ρd (the
+    // factor-derived constant). With one (an opaque material), the metallic-roughness mapping
+    // runs per texel (kernels/shared/texture.h, texture_metallic_roughness): base colour =
+    // factor × baseColorTexture, metallic = factor × B, roughness = factor × G, and the material
+    // is glossy unless its factors make it a mirror (a texel is never rougher than the factor, so
+    // a mirror stays one everywhere). The other texture kinds are noted as ignored.
+    void mapTextures(size_t gltfIndex, const tinygltf::Material& gm, Material& m) {
         if (gltfIndex >= textures_.materials.size() || !textures_.materials[gltfIndex].is_object()) return;
         const json& g = textures_.materials[gltfIndex];
         const std::string field = at("materials", gltfIndex);
@@ -657,7 +661,7 @@ private:
         if (auto normal = g.find("normalTexture"); normal != g.end()) {
             // Linear texels (glTF 2.0 §3.9.3); scale multiplies the decoded x and y.
             const std::string nf = field + ".normalTexture";
-            m.normalTexture = textureFor(*normal, nf, TextureEncoding::Linear);
+            m.normalTexture = textureFor(*normal, nf, "normalTexture", TextureEncoding::Linear);
             if (normal->is_object())
                 if (auto s = normal->find("scale"); s != normal->end()) {
                     if (!s->is_number() || !std::isfinite(s->get<double>()))
@@ -667,10 +671,46 @@ private:
         }
         auto pbr = g.find("pbrMetallicRoughness");
         if (pbr == g.end() || !pbr->is_object()) return;
-        if (pbr->contains("metallicRoughnessTexture")) noteIgnored("metallicRoughnessTexture");
-        auto base = pbr->find("baseColorTexture");
-        if (base == pbr->end()) return;
-        m.rhoDTexture = textureFor(*base, field + ".pbrMetallicRoughness.baseColorTexture");
+        const std::string pf = field + ".pbrMetallicRoughness";
+        if (auto base = pbr->find("baseColorTexture"); base != pbr->end())
+            m.rhoDTexture = textureFor(*base, pf + ".baseColorTexture", "baseColorTexture", TextureEncoding::Srgb);
+        auto mr = pbr->find("metallicRoughnessTexture");
+        if (mr == pbr->end()) return;
+        if (m.specular == SpecularKind::Dielectric) {
+            noteIgnored("metallicRoughnessTexture of a transmissive material");
+            return;
+        }
+        m.exponentTexture =
+            textureFor(*mr, pf + ".metallicRoughnessTexture", "metallicRoughnessTexture", TextureEncoding::Linear);
+        if (m.exponentTexture < 0) return;
+        Material::MetallicRoughness& f = m.metallicRoughness;
+        f.active = true;
+        f.baseColor = Vec3(float(gm.pbrMetallicRoughness.baseColorFactor[0]),
+                           float(gm.pbrMetallicRoughness.baseColorFactor[1]),
+                           float(gm.pbrMetallicRoughness.baseColorFactor[2]));
+        f.metallic = float(gm.pbrMetallicRoughness.metallicFactor);
+        f.roughness = float(gm.pbrMetallicRoughness.roughnessFactor);
+        f.f0 = f0Of(gm, field);
+        if (m.specular == SpecularKind::Mirror) return;
+        // Glossy as a whole; the constants are the unfolded mapping of the factors (each hit
+        // replaces them by its texels' values).
+        const float k = f.metallic;
+        m.specular = SpecularKind::Glossy;
+        m.rhoS = f.baseColor * k + Vec3((1 - k) * f.f0);
+        m.rhoD = f.baseColor * ((1 - k) * (1 - f.f0));
+        const double alpha = double(f.roughness) * f.roughness;
+        const double n = alpha > 0 ? 0.5 / (alpha * alpha) - 0.5 : 1e4;
+        m.phongExponent = float(std::min(1e4, std::max(1.0, n)));
+        const float sum = maxComponent(m.rhoD + m.rhoS);
+        if (sum > 1) {
+            m.rhoD = m.rhoD / sum;
+            m.rhoS = m.rhoS / sum;
+        }
+    }
+    // The dielectric coat's F0 = ((n − 1)/(n + 1))² of KHR_materials_ior (1.5: 0.04).
+    float f0Of(const tinygltf::Material& g, const std::string& field) {
+        const double ior = extensionNumber(g, "KHR_materials_ior", "ior", 1.5, field, 1.0, 10.0);
+        return float(((ior - 1) / (ior + 1)) * ((ior - 1) / (ior + 1)));
     }
 
     void noteIgnored(const std::string& what) {
@@ -680,7 +720,7 @@ private:
 
     // The Scene::textures index of a textureInfo {index, texCoord, extensions}, or -1 when its
     // image is embedded (a data URI or a bufferView: not decoded here, noted as ignored).
-    int textureFor(const json& info, const std::string& field, TextureEncoding encoding = TextureEncoding::Srgb) {
+    int textureFor(const json& info, const std::string& field, const std::string& kind, TextureEncoding encoding) {
         if (!info.is_object()) fail(field, "a textureInfo object", showJson(info));
         const int index = intIn(info, "index", field, -1, int(textures_.textures.size()) - 1, -1);
         if (index < 0)
@@ -723,18 +763,17 @@ private:
         if (!image.is_object()) fail(ifield, "an object", showJson(image));
         auto uri = image.find("uri");
         if (uri == image.end() || !uri->is_string() || uri->get<std::string>().rfind("data:", 0) == 0) {
-            noteIgnored(field.substr(field.rfind('.') + 1) + " of an embedded image (" + ifield + ")");
+            noteIgnored(kind + " of an embedded image (" + ifield + ")");
             return -1;
         }
         tex.path = resolveInsideFolder(file_, ifield + ".uri", percentDecode(uri->get<std::string>()));
         // Shared by every use with the same image, sampler, coordinates and transform.
-        const std::string key = std::to_string(source) + "/" + std::to_string(sampler) + "/" +
-                                std::to_string(texCoord) + "/" + show(transform.offset[0]) + "," +
-                                show(transform.offset[1]) + "," + show(transform.scale[0]) + "," +
-                                show(transform.scale[1]) + "," + show(transform.rotation) +
-                                (encoding == TextureEncoding::Linear ? "/linear" : "/srgb");
+        const std::string key =
+            std::to_string(source) + "/" + std::to_string(sampler) + "/" + std::to_string(texCoord) + "/" +
+            show(transform.offset[0]) + "," + show(transform.offset[1]) + "," + show(transform.scale[0]) + "," +
+            show(transform.scale[1]) + "," + show(transform.rotation) + "/" + std::to_string(int(encoding));
         if (auto it = textureIndex_.find(key); it != textureIndex_.end()) return it->second;
-        tex.image = loadTextureImage(file_, ifield + ".uri", tex.path, encoding);  // base colour sRGB, normals linear
+        tex.image = loadTextureImage(file_, ifield + ".uri", tex.path, encoding);  // colour: sRGB, data: linear
         scene_.textures.push_back(std::move(tex));
         const int added = int(scene_.textures.size()) - 1;
         textureIndex_[key] = added;

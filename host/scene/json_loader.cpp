@@ -218,7 +218,7 @@ private:
             failInput(file_, keyPath(path, "name"), "a name not used by another material", "\"" + m.name + "\" again");
         if (auto* v = optional(value, "rho_d")) {
             if (v->is_object()) {
-                m.rhoDTexture = readTexture(*v, keyPath(path, "rho_d"), m.rhoD);
+                m.rhoDTexture = readReflectanceTexture(*v, keyPath(path, "rho_d"), m.rhoD);
             } else {
                 m.rhoD = reflectance(*v, keyPath(path, "rho_d"));
             }
@@ -236,34 +236,49 @@ private:
         scene_.materials.push_back(m);
     }
 
-    // {"texture": "wood.png", "factor": [r,g,b], "wrap": "repeat" | "clamp" | "mirror" | [u, v],
-    // "offset": [u, v], "scale": [u, v], "rotation": degrees, "encoding": "srgb" | "linear"}: an
-    // image beside the scene file; ρd = factor × the texture. Returns its Scene::textures index.
-    int readTexture(const json& value, const std::string& path, Vec3& factor) {
-        checkObject(value, path, {"texture", "factor", "wrap", "offset", "scale", "rotation", "encoding"});
+    // {"texture": "wood.png", "factor": [r,g,b], ...the texture's keys (readTexture)}: a
+    // reflectance (ρd or ρs) = factor × the texture. Returns its Scene::textures index.
+    int readReflectanceTexture(const json& value, const std::string& path, Vec3& factor) {
+        const int t = readTexture(value, path, "factor", TextureEncoding::Auto);
         factor = Vec3(1.0f);
         if (auto* f = optional(value, "factor")) factor = reflectance(*f, keyPath(path, "factor"));
-        return readTextureImage(value, path, TextureEncoding::Auto);
+        return t;
     }
 
-    // {"texture": "bumps.png", "normal_scale": s, "wrap", "offset", "scale", "rotation", "encoding"}:
-    // a tangent-space normal map (glTF's normalTexture; "scale" is the coordinates' scale as for
-    // every texture, so glTF's normalTexture.scale is "normal_scale" here, default 1). Linear
-    // unless "encoding" says otherwise: a normal map stores vectors, not colours.
+    // {"texture": "shine.png", "range": [lo, hi], ...the texture's keys}: the glossy exponent =
+    // lo + (hi − lo) × the texture's R (linear unless "encoding" says srgb), 0 < lo ≤ hi ≤ 1e6.
+    int readExponentTexture(const json& value, const std::string& path, float range[2]) {
+        const int t = readTexture(value, path, "range", TextureEncoding::Linear);
+        const std::string rp = keyPath(path, "range");
+        const std::string expected = "2 numbers lo, hi with 0 < lo <= hi <= 1e6";
+        const json& r = required(value, path, "range", expected);
+        if (!r.is_array() || r.size() != 2) fail(rp, expected, r);
+        for (int i = 0; i < 2; ++i) range[i] = float(number(r[size_t(i)], rp, 0.0, 1e6, expected));
+        if (!(range[0] > 0.0f) || range[1] < range[0]) fail(rp, expected, r);
+        return t;
+    }
+
+    // {"texture": "bumps.png", "normal_scale": s, ...the texture's keys}: a tangent-space normal
+    // map (glTF's normalTexture; "scale" is the coordinates' scale as for every texture, so glTF's
+    // normalTexture.scale is "normal_scale" here, default 1). Linear unless "encoding" says
+    // otherwise: a normal map stores vectors, not colours.
     void readNormalMap(const json& value, const std::string& path, Material& m) {
         if (!value.is_object()) fail(path, "an object {\"texture\": FILE, ...}", value);
-        checkObject(value, path, {"texture", "normal_scale", "wrap", "offset", "scale", "rotation", "encoding"});
+        m.normalTexture = readTexture(value, path, "normal_scale", TextureEncoding::Linear);
         if (auto* s = optional(value, "normal_scale"))
             m.normalScale = float(number(*s, keyPath(path, "normal_scale"), -1e6, 1e6, "a number"));
-        m.normalTexture = readTextureImage(value, path, TextureEncoding::Linear);
     }
 
-    // The image, wrap modes and transform of a texture object; returns its Scene::textures index.
-    int readTextureImage(const json& value, const std::string& path, TextureEncoding encoding) {
+    // {"texture": "wood.png", "wrap": "repeat" | "clamp" | "mirror" | [u, v], "offset": [u, v],
+    // "scale": [u, v], "rotation": degrees, "encoding": "srgb" | "linear"} and the caller's own
+    // key `own`: an image beside the scene file. Returns its Scene::textures index.
+    int readTexture(const json& value, const std::string& path, const char* own, TextureEncoding defaultEncoding) {
+        checkObject(value, path, {"texture", own, "wrap", "offset", "scale", "rotation", "encoding"});
         Texture t;
         const std::string field = keyPath(path, "texture");
         const std::string name = text(required(value, path, "texture", "an image file name"), field);
         t.path = resolveInsideFolder(file_, field, name);
+        TextureEncoding encoding = defaultEncoding;
         if (auto* e = optional(value, "encoding")) {
             const std::string kind = text(*e, keyPath(path, "encoding"));
             if (kind == "srgb") encoding = TextureEncoding::Srgb;
@@ -302,20 +317,34 @@ private:
         for (int i = 0; i < 2; ++i) out[i] = float(number(value[size_t(i)], path, -1e30, 1e30, expected));
     }
 
+    // A mirror's or glossy lobe's "rho_s": 3 numbers in [0, 1], or a texture object (ρs = factor × it).
+    void readRhoS(const json& value, const std::string& path, Material& m) {
+        const json& v = required(value, path, "rho_s", "3 numbers in [0,1] or a texture object");
+        if (v.is_object()) m.rhoSTexture = readReflectanceTexture(v, keyPath(path, "rho_s"), m.rhoS);
+        else m.rhoS = reflectance(v, keyPath(path, "rho_s"));
+    }
+
     void readSpecular(const json& value, const std::string& path, Material& m) {
         if (!value.is_object()) fail(path, "an object", value);
         std::string kind = text(required(value, path, "kind", "mirror, glossy or dielectric"), keyPath(path, "kind"));
         if (kind == "mirror") {
             checkObject(value, path, {"kind", "rho_s"});
             m.specular = SpecularKind::Mirror;
-            m.rhoS = reflectance(required(value, path, "rho_s", "3 numbers in [0,1]"), keyPath(path, "rho_s"));
+            readRhoS(value, path, m);
         } else if (kind == "glossy") {
             checkObject(value, path, {"kind", "rho_s", "exponent"});
             m.specular = SpecularKind::Glossy;
-            m.rhoS = reflectance(required(value, path, "rho_s", "3 numbers in [0,1]"), keyPath(path, "rho_s"));
-            m.phongExponent = float(number(required(value, path, "exponent", "a number in (0, 1e6]"),
-                                           keyPath(path, "exponent"), 0.0, 1e6, "a number in (0, 1e6]"));
-            if (m.phongExponent <= 0) fail(keyPath(path, "exponent"), "a number in (0, 1e6]", value["exponent"]);
+            readRhoS(value, path, m);
+            const json& e = required(value, path, "exponent", "a number in (0, 1e6] or a texture object");
+            if (e.is_object()) {
+                m.exponentTexture = readExponentTexture(e, keyPath(path, "exponent"), m.exponentRange);
+                m.phongExponent = m.exponentRange[1];  // the sharpest lobe it reaches (for whatever needs one number)
+            } else {
+                m.phongExponent =
+                    float(number(e, keyPath(path, "exponent"), 0.0, 1e6, "a number in (0, 1e6] or a texture object"));
+                if (m.phongExponent <= 0)
+                    fail(keyPath(path, "exponent"), "a number in (0, 1e6] or a texture object", value["exponent"]);
+            }
         } else if (kind == "dielectric") {
             checkObject(value, path, {"kind", "rho_s", "ior"});
             m.specular = SpecularKind::Dielectric;

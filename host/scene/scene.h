@@ -26,15 +26,31 @@ struct Material {
     // No surface at all: rays pass straight through. Only the boundary of a medium (a shape with
     // a medium and no material in the scene file) has it; it reflects nothing and emits nothing.
     bool interface = false;
-    // Index into Scene::textures, or -1: ρd at a point is rhoD × the texture there (rhoD is the
-    // texture's factor, glTF's baseColorFactor). Meshes only (spheres have no coordinates).
+    // Texture slots (kernels/shared/texture.h), each an index into Scene::textures or -1; meshes
+    // only (spheres have no coordinates). Without metallicRoughness (the Phong mapping):
+    //   rhoDTexture      ρd at a point is rhoD × the texture there (rhoD: the texture's factor)
+    //   rhoSTexture      ρs = rhoS × the texture (mirror, glossy)
+    //   exponentTexture  glossy: exponent = lo + (hi − lo) × the texture's R, [lo, hi] = exponentRange
+    // With metallicRoughness (glTF with a metallicRoughnessTexture), rhoDTexture is the base
+    // colour and exponentTexture the metallic (B) and roughness (G) texture; ρd, ρs and the
+    // exponent come per texel from them and the factors below (scenes/README.md, "Materials").
     int rhoDTexture = -1;
     // Index into Scene::textures, or -1: a tangent-space normal map (glTF normalTexture; linear
     // texels, rgb = (n + 1)/2), its x and y scaled by normalScale. Meshes only; they get
     // tangents (TriangleMesh::tangents) from the file or scene/mesh_tangents.h.
     int normalTexture = -1;
     float normalScale = 1.0f;
+    int rhoSTexture = -1;
+    int exponentTexture = -1;
+    float exponentRange[2] = {0.0f, 0.0f};
+    struct MetallicRoughness {
+        bool active = false;
+        Vec3 baseColor{1.0f};                     // baseColorFactor
+        float metallic = 1.0f, roughness = 1.0f;  // metallicFactor, roughnessFactor
+        float f0 = 0.04f;                         // the dielectric coat's F0 = ((n − 1)/(n + 1))²
+    } metallicRoughness;
     bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+    bool textured() const { return rhoDTexture >= 0 || rhoSTexture >= 0 || exponentTexture >= 0; }
 };
 
 // A homogeneous participating medium (pbrt-v4 §11.1): absorption σa and scattering σs per
@@ -126,7 +142,7 @@ struct Scene {
     std::vector<Sphere> spheres;
     std::vector<Light> lights;
     std::vector<Medium> media;
-    std::vector<Texture> textures;  // what Material::rhoDTexture indexes
+    std::vector<Texture> textures;  // what Material's texture slots index
     int globalMedium = -1;          // index into media filling all space outside the shapes with their own (fog), or -1
     Environment environment;        // inactive (scale 0) unless the file names one
     Camera camera;
@@ -148,7 +164,7 @@ struct Scene {
     }
     bool hasTextures() const {
         for (const auto& m : materials)
-            if (m.rhoDTexture >= 0 || m.normalTexture >= 0) return true;
+            if (m.textured() || m.normalTexture >= 0) return true;
         return false;
     }
     bool hasMotion() const {

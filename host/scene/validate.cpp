@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 #include "scene/mesh_tangents.h"
 #include "scene/mesh_topology.h"
@@ -271,17 +272,19 @@ void checkMedia(const Scene& s) {
 // meshes only, and every such mesh has the coordinate set it names (2 finite numbers a vertex).
 void checkTextures(const Scene& s) {
     for (size_t i = 0; i < s.materials.size(); ++i) {
-        const int t = s.materials[i].rhoDTexture;
-        if (t >= int(s.textures.size()) || t < -1)
-            failInput(s.path, at("materials", i) + " (\"" + s.materials[i].name + "\").rho_d",
-                      "a texture index below " + std::to_string(s.textures.size()), std::to_string(t));
-        const int n = s.materials[i].normalTexture;
-        if (n >= int(s.textures.size()) || n < -1)
-            failInput(s.path, at("materials", i) + " (\"" + s.materials[i].name + "\").normal_map",
-                      "a texture index below " + std::to_string(s.textures.size()), std::to_string(n));
-        if (!std::isfinite(s.materials[i].normalScale))
-            failInput(s.path, at("materials", i) + " (\"" + s.materials[i].name + "\").normal_map.normal_scale",
-                      "a finite number", std::to_string(s.materials[i].normalScale));
+        const Material& m = s.materials[i];
+        const std::pair<int, const char*> slots[] = {
+            {m.rhoDTexture, "rho_d"}, {m.rhoSTexture, "rho_s"}, {m.exponentTexture, "exponent"}};
+        for (const auto& [t, name] : slots)
+            if (t >= int(s.textures.size()) || t < -1)
+                failInput(s.path, at("materials", i) + " (\"" + m.name + "\")." + name,
+                          "a texture index below " + std::to_string(s.textures.size()), std::to_string(t));
+        if (m.normalTexture >= int(s.textures.size()) || m.normalTexture < -1)
+            failInput(s.path, at("materials", i) + " (\"" + m.name + "\").normal_map",
+                      "a texture index below " + std::to_string(s.textures.size()), std::to_string(m.normalTexture));
+        if (!std::isfinite(m.normalScale))
+            failInput(s.path, at("materials", i) + " (\"" + m.name + "\").normal_map.normal_scale", "a finite number",
+                      std::to_string(m.normalScale));
     }
     for (size_t i = 0; i < s.meshes.size(); ++i) {
         const TriangleMesh& m = s.meshes[i];
@@ -299,21 +302,21 @@ void checkTextures(const Scene& s) {
                       std::to_string(m.positions.size()) + " tangents (x, y, z, w per position)",
                       std::to_string(m.tangents.size() / 4));
         if (m.material < 0 || size_t(m.material) >= s.materials.size()) continue;
-        for (const int t :
-             {s.materials[size_t(m.material)].rhoDTexture, s.materials[size_t(m.material)].normalTexture}) {
+        const Material& mat = s.materials[size_t(m.material)];
+        for (int t : {mat.rhoDTexture, mat.rhoSTexture, mat.exponentTexture, mat.normalTexture}) {
             if (t < 0) continue;
             const int set = s.textures[size_t(t)].texCoord;
             if (m.uv[set].empty())
                 failInput(s.path, f + ".uv" + (set == 0 ? "" : "1"),
                           "texture coordinates (set " + std::to_string(set) + ") for the texture of material \"" +
-                              s.materials[size_t(m.material)].name + "\"",
+                              mat.name + "\"",
                           "none");
         }
     }
     for (size_t i = 0; i < s.spheres.size(); ++i) {
         const Sphere& sp = s.spheres[i];
         if (sp.material >= 0 && size_t(sp.material) < s.materials.size() &&
-            (s.materials[size_t(sp.material)].rhoDTexture >= 0 || s.materials[size_t(sp.material)].normalTexture >= 0))
+            (s.materials[size_t(sp.material)].textured() || s.materials[size_t(sp.material)].normalTexture >= 0))
             failInput(s.path, at("spheres", i) + " (\"" + sp.name + "\").material",
                       "an untextured material (spheres have no texture coordinates; use a mesh)",
                       "\"" + s.materials[size_t(sp.material)].name + "\" with a texture");

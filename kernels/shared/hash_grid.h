@@ -13,9 +13,15 @@
 
 #define PCL_GRID_COORD_LIMIT 1.0e9f
 
+/* Clamped first, then floored by a conversion instead of floor (PoCL's floor is a branchy
+ * software routine): the truncation, less one where it rounded a
+ * negative fraction up. The same integer: ±1e9 are integers, so clamping before or after the
+ * floor agrees, and the comparison is exact (below 2^23 the truncation is a float, above it
+ * every float is an integer). */
 inline int hash_grid_coord(float p, float origin, float invCellSize) {
-    const float c = floor((p - origin) * invCellSize);
-    return (int)clamp(c, -PCL_GRID_COORD_LIMIT, PCL_GRID_COORD_LIMIT);
+    const float c = clamp((p - origin) * invCellSize, -PCL_GRID_COORD_LIMIT, PCL_GRID_COORD_LIMIT);
+    const int t = (int)c;
+    return (float)t > c ? t - 1 : t;
 }
 
 inline uint hash_grid_hash(int ix, int iy, int iz, uint tableSize) {

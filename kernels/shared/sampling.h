@@ -103,8 +103,19 @@ PCL_INLINE PclV3 sampling_from_frame(PclV3 t, PclV3 b, PclV3 n, pcl_f32 x, pcl_f
                        x * t.z + y * b.z + z * n.z);
 }
 
+/* sin and cos of |t| ≤ π/4 by their Taylor polynomials to t⁹ and t¹⁰ (truncation below 2e-9,
+ * under half an ulp), in Horner form: no argument reduction and no library call, which PoCL
+ * runs as a long scalar chain per work-item (a sizeable share of the photon pass), and the same
+ * floats on both sides (FP_CONTRACT is off on the device). */
+PCL_INLINE void sampling_sincos_quarter(pcl_f32 t, pcl_f32* s, pcl_f32* c) {
+    const pcl_f32 t2 = t * t;
+    *s = t * (1.0f + t2 * (-1.0f / 6.0f + t2 * (1.0f / 120.0f + t2 * (-1.0f / 5040.0f + t2 * (1.0f / 362880.0f)))));
+    *c = 1.0f + t2 * (-0.5f + t2 * (1.0f / 24.0f + t2 * (-1.0f / 720.0f + t2 * (1.0f / 40320.0f + t2 * (-1.0f / 3628800.0f)))));
+}
+
 /* Shirley & Chiu, "A Low Distortion Map Between Disk and Square", JGT 2(3), 1997, in the
- * polar form of pbrt-v3 ConcentricSampleDisk. */
+ * polar form of pbrt-v3 ConcentricSampleDisk. Its angle is t or π/2 − t with |t| ≤ π/4, so the
+ * quarter-range sin and cos serve (cos(π/2 − t) = sin t). */
 PCL_INLINE void sampling_concentric_disk(pcl_f32 s1, pcl_f32 s2, pcl_f32* x, pcl_f32* y) {
     pcl_f32 a = 2.0f * s1 - 1.0f;
     pcl_f32 b = 2.0f * s2 - 1.0f;
@@ -113,18 +124,16 @@ PCL_INLINE void sampling_concentric_disk(pcl_f32 s1, pcl_f32 s2, pcl_f32* x, pcl
         *y = 0.0f;
         return;
     }
-    pcl_f32 r, phi;
+    pcl_f32 st, ct;
     if (PCL_FABSF(a) > PCL_FABSF(b)) {
-        r = a;
-        phi = (PCL_PI_F / 4.0f) * (b / a);
+        sampling_sincos_quarter((PCL_PI_F / 4.0f) * (b / a), &st, &ct);
+        *x = a * ct;
+        *y = a * st;
     } else {
-        r = b;
-        phi = PCL_PI_F / 2.0f - (PCL_PI_F / 4.0f) * (a / b);
+        sampling_sincos_quarter((PCL_PI_F / 4.0f) * (a / b), &st, &ct);
+        *x = b * st;
+        *y = b * ct;
     }
-    pcl_f32 sp, cp;
-    PCL_SINCOSF(phi, &sp, &cp);
-    *x = r * cp;
-    *y = r * sp;
 }
 
 /* Malley's method: a uniform point on the disk lifted to the hemisphere has density cosθ/π. */

@@ -41,6 +41,7 @@
     X(PclVolumeEstimateParams) \
     X(PclEnvironment)          \
     X(PclTexture)              \
+    X(PclMaterialTextures)     \
     X(PclTriangleUv)           \
     X(PclTriangleNormals)      \
     X(PclNormalMap)            \

@@ -480,9 +480,10 @@ PCL_STATIC_ASSERT(sizeof(PclVolumeEstimateParams) == 64, PclVolumeEstimateParams
 
 /* ---- Image textures (shared/texture.h samples them; kernels/README.md, "Textures") ----------
  * Texels of every texture, linear RGB floats (three per texel, rows top to bottom), packed one
- * after another in one buffer; a material's ρd texture is described by its PclTexture (indexed
- * by material; width 0: untextured, ρd is the constant). Texture coordinates per triangle vertex
- * in PclTriangleUv (indexed by global primitive id; triangles only). */
+ * after another in one buffer. Each material has PCL_TEXTURE_SLOTS texture slots, described by
+ * its PclMaterialTextures (indexed by material; a slot of width 0: untextured, the quantity is
+ * the material's constant). Texture coordinates per triangle vertex in PclTriangleUv (indexed
+ * by global primitive id; triangles only). */
 #define PCL_WRAP_REPEAT 0u
 #define PCL_WRAP_CLAMP 1u
 #define PCL_WRAP_MIRROR 2u
@@ -495,6 +496,24 @@ typedef struct PclTexture {
     pcl_u32 pad0;
 } PclTexture;
 PCL_STATIC_ASSERT(sizeof(PclTexture) == 48, PclTexture_size);
+
+#define PCL_TEXTURE_RHO_D 0    /* ρd = rhoD × texel (glTF: the base colour) */
+#define PCL_TEXTURE_RHO_S 1    /* ρs = rhoS × texel */
+#define PCL_TEXTURE_EXPONENT 2 /* Phong: exponent = lo + (hi − lo) R; metallic-roughness: B metallic, G roughness */
+#define PCL_TEXTURE_SLOTS 3
+
+#define PCL_TEXTURE_MAP_PHONG 0u              /* each slot scales its own quantity */
+#define PCL_TEXTURE_MAP_METALLIC_ROUGHNESS 1u /* glTF: ρd, ρs and the exponent from base colour, metallic, roughness */
+typedef struct PclMaterialTextures {
+    PclTexture slot[PCL_TEXTURE_SLOTS]; /* by PCL_TEXTURE_* */
+    pcl_u32 mapping;                    /* PCL_TEXTURE_MAP_* */
+    pcl_f32 exponentLo, exponentHi;     /* Phong: the exponent's range over the texel's R in [0, 1] */
+    pcl_f32 f0;                         /* metallic-roughness: the dielectric coat's F0 */
+    pcl_f32 baseColor[4];               /* metallic-roughness: baseColorFactor rgb, [3] = 0 */
+    pcl_f32 metallic, roughness;        /* metallic-roughness: metallicFactor, roughnessFactor */
+    pcl_u32 pad0, pad1;
+} PclMaterialTextures;
+PCL_STATIC_ASSERT(sizeof(PclMaterialTextures) == 48 * PCL_TEXTURE_SLOTS + 48, PclMaterialTextures_size);
 
 typedef struct PclTriangleUv {
     pcl_f32 uv[2][6];       /* set s: u0, v0, u1, v1, u2, v2 of the triangle's vertices 0, 1, 2 */

@@ -43,3 +43,19 @@ TEST(AutoMethod, PicksFinalGatheringForACausticScene) {
 }
 
 TEST(AutoMethod, PicksThePathTracerForMotionDof) { EXPECT_EQ(pilot("motion-dof.json").best().request.method, "path"); }
+
+// Without --time the winner spends what fg's default passes would take, as the pilot predicts:
+// fg's pass of 0.5 s × 10 default passes at 256² = 5 s, so the path tracer at 2 ms a sample per
+// pixel gets 2500 samples, an fg split at 1.25 s a pass 4 passes, fg itself its 10.
+TEST(AutoMethod, WithoutATimeBudgetTheWinnerGetsFgsDefaultTime) {
+    AutoMethodChoice c;
+    c.candidates = {{"fg", {}, 1.0, 0.5}, {"fg 6x6x2", {}, 1.0, 1.25}, {"path", {}, 1.0, 0.002}};
+    EXPECT_DOUBLE_EQ(c.fgBudgetSeconds(256, 256), 5.0);
+    const uint32_t expected[] = {10, 4, 2500};
+    for (size_t i = 0; i < 3; ++i) {
+        c.chosen = i;
+        EXPECT_EQ(c.unitsWithoutBudget(256, 256), expected[i]) << c.best().name;
+    }
+    c.candidates.back().unitSeconds = 1e-12;  // never more than 2^20 samples per pixel
+    EXPECT_EQ(c.unitsWithoutBudget(256, 256), 1u << 20);
+}

@@ -10,6 +10,10 @@
 // (no radius limit: the same neighbours whenever k fit inside r_max) and, as NanoflannRmax, a
 // search bounded by r_max from the start like the device's; ratios use the faster of the two.
 //
+// Ordered variants (".../ordered"): the same queries in render's order (pipeline/query_order,
+// Morton code of cells of r_max / 4), the device's time including that sort on the device each
+// run, nanoflann's on the same order.
+//
 // Counters: queries_per_s (device: kernel event time; nanoflann: wall time over all threads),
 // queries_per_cpu_s (process CPU time: PoCL's workers and nanoflann's threads alike — the fair
 // figure on a shared CPU; meaningless for a GPU, read queries_per_s there). The ratios
@@ -35,6 +39,7 @@
 #include "pipeline/hashgrid.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
+#include "pipeline/query_order.h"
 
 namespace pcl {
 namespace {
@@ -106,6 +111,31 @@ std::vector<PclKnnQuery> queries(const std::string& name, uint32_t k) {
     return qs;
 }
 
+// The queries as render orders its searches (pipeline/query_order: the Morton code of their
+// cell of side r_max / 4, ties in drawing order): neighbouring work-items then read the same
+// nodes and photons. The bench's queries are drawn at random, the worst order for a search.
+float orderCell(const std::string& name, uint32_t k) { return radiusFor(name, k) / 4.0f; }
+
+std::vector<PclEstimateQuery> asEstimateQueries(const std::vector<PclKnnQuery>& qs) {
+    std::vector<PclEstimateQuery> es(qs.size());
+    for (size_t i = 0; i < qs.size(); ++i) {
+        es[i] = PclEstimateQuery{};
+        es[i].x = qs[i].x, es[i].y = qs[i].y, es[i].z = qs[i].z;
+        es[i].maxRadius2 = qs[i].maxRadius2;
+        es[i].k = qs[i].k;
+    }
+    return es;
+}
+
+// order[s]: the query at position s of that order (the device's own sort).
+std::vector<uint32_t> queryOrder(const std::string& name, uint32_t k) {
+    Device& dev = device();
+    const std::vector<PclKnnQuery> qs = queries(name, k);
+    cl::Buffer es = dev.upload(asEstimateQueries(qs));
+    const QueryOrder o = orderQueries(dev, es, qs.size(), orderCell(name, k));
+    return dev.download<uint32_t>(o.order, qs.size());
+}
+
 struct Cloud {
     const std::vector<float>* xyz;
     size_t kdtree_get_point_count() const { return xyz->size() / 3; }
@@ -117,10 +147,19 @@ struct Cloud {
 };
 using NanoTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Cloud>, Cloud, 3, uint32_t>;
 
-void BM_DeviceKnn(benchmark::State& state, std::string name, KnnStructure s, uint32_t k) {
+// ordered: the queries in render's order, and each run also orders them on the device (the
+// sort's time counts as the search's: queries_per_s and queries_per_cpu_s include it; order_ms
+// is its share).
+void BM_DeviceKnn(benchmark::State& state, std::string name, KnnStructure s, uint32_t k, bool ordered) {
     Device& dev = device();
     const Data& d = mapData(name);
-    const std::vector<PclKnnQuery> qs = queries(name, k);
+    std::vector<PclKnnQuery> qs = queries(name, k);
+    cl::Buffer estimateQueries = dev.upload(asEstimateQueries(qs));
+    if (ordered) {
+        const std::vector<PclKnnQuery> drawn = qs;
+        const std::vector<uint32_t> order = queryOrder(name, k);
+        for (size_t i = 0; i < qs.size(); ++i) qs[i] = drawn[order[i]];
+    }
     cl::Buffer photons = dev.upload(d.photons);
     cl::Buffer qbuf = dev.upload(qs);
     KnnKdTree tree;
@@ -131,17 +170,26 @@ void BM_DeviceKnn(benchmark::State& state, std::string name, KnnStructure s, uin
     // Warm-up: the program build for this heap capacity.
     if (s == KnnStructure::KdTree) knnSearchKdTree(dev, tree, qbuf, 64, k, out);
     else knnSearchHashGrid(dev, grid, qbuf, 64, k, out);
-    double kernel = 0, cpu = 0;
+    double kernel = 0, cpu = 0, sorting = 0;
     size_t done = 0;
     for (auto _ : state) {
         const double c0 = cpuSeconds();
-        const double t = s == KnnStructure::KdTree ? knnSearchKdTree(dev, tree, qbuf, qs.size(), k, out)
-                                                   : knnSearchHashGrid(dev, grid, qbuf, qs.size(), k, out);
+        double t = 0;
+        if (ordered) {
+            const auto w0 = std::chrono::steady_clock::now();
+            const QueryOrder o = orderQueries(dev, estimateQueries, qs.size(), orderCell(name, k));
+            dev.finish();
+            t = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+            sorting += t;
+        }
+        t += s == KnnStructure::KdTree ? knnSearchKdTree(dev, tree, qbuf, qs.size(), k, out)
+                                       : knnSearchHashGrid(dev, grid, qbuf, qs.size(), k, out);
         cpu += cpuSeconds() - c0;
         kernel += t;
         done += qs.size();
         state.SetIterationTime(t);
     }
+    if (ordered) state.counters["order_ms"] = 1e3 * sorting / double(state.iterations());
     const std::vector<uint32_t> counts = dev.download<uint32_t>(out.counts, qs.size());
     double found = 0;
     for (uint32_t c : counts) found += c;
@@ -149,9 +197,9 @@ void BM_DeviceKnn(benchmark::State& state, std::string name, KnnStructure s, uin
     state.counters["queries_per_cpu_s"] = done / cpu;
     state.counters["mean_found"] = found / qs.size();
     state.counters["r_max"] = radiusFor(name, k);
-    rates()[std::string(s == KnnStructure::KdTree ? "kdtree/" : "grid/") + name + "/" + std::to_string(k)] = done / cpu;
-    rates()[std::string(s == KnnStructure::KdTree ? "kdtree-wall/" : "grid-wall/") + name + "/" + std::to_string(k)] =
-        done / kernel;
+    const std::string tag = std::string(s == KnnStructure::KdTree ? "kdtree" : "grid") + (ordered ? "-ordered" : "");
+    rates()[tag + "/" + name + "/" + std::to_string(k)] = done / cpu;
+    rates()[tag + "-wall/" + name + "/" + std::to_string(k)] = done / kernel;
 }
 
 // bounded: the search starts with r_max² as its worst distance (KNNResultSet's last slot), so
@@ -166,8 +214,14 @@ size_t nanoKnn(const NanoTree& tree, const float* q, uint32_t k, float maxRadius
     return set.size();
 }
 
-void BM_Nanoflann(benchmark::State& state, std::string name, uint32_t k, bool bounded) {
+// ordered: the same queries in render's order (the order computed once, not timed).
+void BM_Nanoflann(benchmark::State& state, std::string name, uint32_t k, bool bounded, bool ordered) {
     const Data& d = mapData(name);
+    std::vector<std::array<float, 3>> points = d.queryPoints;
+    if (ordered) {
+        const std::vector<uint32_t> order = queryOrder(name, k);
+        for (size_t i = 0; i < points.size(); ++i) points[i] = d.queryPoints[order[i]];
+    }
     Cloud cloud{&d.xyz};
     NanoTree tree(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10));
     const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
@@ -185,7 +239,7 @@ void BM_Nanoflann(benchmark::State& state, std::string name, uint32_t k, bool bo
             pool.emplace_back([&, t] {
                 size_t f = 0;
                 for (size_t q = t * kQueries / threads; q < (t + 1) * kQueries / threads; ++q)
-                    f += nanoKnn(tree, d.queryPoints[q].data(), k, r2, bounded, &idx[q * k], &dist[q * k]);
+                    f += nanoKnn(tree, points[q].data(), k, r2, bounded, &idx[q * k], &dist[q * k]);
                 found[t] = f;
             });
         for (auto& th : pool) th.join();
@@ -198,7 +252,7 @@ void BM_Nanoflann(benchmark::State& state, std::string name, uint32_t k, bool bo
     state.counters["queries_per_s"] = done / wall;
     state.counters["queries_per_cpu_s"] = done / cpu;
     state.counters["threads"] = threads;
-    const std::string tag = bounded ? "nanoflann-r" : "nanoflann";
+    const std::string tag = std::string(bounded ? "nanoflann-r" : "nanoflann") + (ordered ? "-ordered" : "");
     rates()[tag + "/" + name + "/" + std::to_string(k)] = done / cpu;
     rates()[tag + "-wall/" + name + "/" + std::to_string(k)] = done / wall;
 }
@@ -210,11 +264,13 @@ void BM_Build(benchmark::State& state, std::string name, std::string what) {
     const PclGridParams params = hashGridParams(d.photons, radiusFor(name, 100));
     if (what == "grid") buildHashGrid(dev, photons, d.photons.size(), params);  // warm-up: program builds
     if (what == "kdtree") buildKdTree(dev, photons, d.photons.size());
+    double keys = 0, sort = 0, ranges = 0;
     for (auto _ : state) {
         const auto w0 = std::chrono::steady_clock::now();
         if (what == "grid") {
             DeviceHashGrid g = buildHashGrid(dev, photons, d.photons.size(), params);
             dev.finish();
+            keys += g.keySeconds, sort += g.sortSeconds, ranges += g.rangeSeconds;
         } else if (what == "kdtree") {
             DeviceKdTree t = buildKdTree(dev, photons, d.photons.size());
             dev.finish();
@@ -224,6 +280,12 @@ void BM_Build(benchmark::State& state, std::string name, std::string what) {
             benchmark::DoNotOptimize(tree.root_node);
         }
         state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
+    }
+    if (what == "grid") {  // device milliseconds per build by step (the rest of the wall time: host and launches)
+        const double runs = double(state.iterations());
+        state.counters["keys_ms"] = 1e3 * keys / runs;
+        state.counters["sort_ms"] = 1e3 * sort / runs;
+        state.counters["ranges_ms"] = 1e3 * ranges / runs;
     }
 }
 
@@ -239,25 +301,29 @@ void registerAll() {
                 ->UseManualTime()
                 ->Iterations(3);
         for (uint32_t k : kKs) {
-            const std::string suffix = std::string(m) + "/k" + std::to_string(k);
-            benchmark::RegisterBenchmark(("KdTree/" + suffix).c_str(), BM_DeviceKnn, std::string(m),
-                                         KnnStructure::KdTree, k)
-                ->Unit(benchmark::kMillisecond)
-                ->UseManualTime()
-                ->Iterations(2);
-            benchmark::RegisterBenchmark(("HashGrid/" + suffix).c_str(), BM_DeviceKnn, std::string(m),
-                                         KnnStructure::HashGrid, k)
-                ->Unit(benchmark::kMillisecond)
-                ->UseManualTime()
-                ->Iterations(2);
-            benchmark::RegisterBenchmark(("Nanoflann/" + suffix).c_str(), BM_Nanoflann, std::string(m), k, false)
-                ->Unit(benchmark::kMillisecond)
-                ->UseManualTime()
-                ->Iterations(2);
-            benchmark::RegisterBenchmark(("NanoflannRmax/" + suffix).c_str(), BM_Nanoflann, std::string(m), k, true)
-                ->Unit(benchmark::kMillisecond)
-                ->UseManualTime()
-                ->Iterations(2);
+            for (bool ordered : {false, true}) {
+                const std::string suffix = std::string(m) + "/k" + std::to_string(k) + (ordered ? "/ordered" : "");
+                benchmark::RegisterBenchmark(("KdTree/" + suffix).c_str(), BM_DeviceKnn, std::string(m),
+                                             KnnStructure::KdTree, k, ordered)
+                    ->Unit(benchmark::kMillisecond)
+                    ->UseManualTime()
+                    ->Iterations(2);
+                benchmark::RegisterBenchmark(("HashGrid/" + suffix).c_str(), BM_DeviceKnn, std::string(m),
+                                             KnnStructure::HashGrid, k, ordered)
+                    ->Unit(benchmark::kMillisecond)
+                    ->UseManualTime()
+                    ->Iterations(2);
+                benchmark::RegisterBenchmark(("Nanoflann/" + suffix).c_str(), BM_Nanoflann, std::string(m), k, false,
+                                             ordered)
+                    ->Unit(benchmark::kMillisecond)
+                    ->UseManualTime()
+                    ->Iterations(2);
+                benchmark::RegisterBenchmark(("NanoflannRmax/" + suffix).c_str(), BM_Nanoflann, std::string(m), k, true,
+                                             ordered)
+                    ->Unit(benchmark::kMillisecond)
+                    ->UseManualTime()
+                    ->Iterations(2);
+            }
         }
     }
 }
@@ -269,20 +335,23 @@ int main(int argc, char** argv) {
     pcl::bench::runBenchmarks(argc, argv, pcl::registerAll);
     auto& r = pcl::rates();
     for (const char* m : pcl::kMaps)
-        for (uint32_t k : pcl::kKs) {
-            const std::string key = std::string(m) + "/" + std::to_string(k);
-            auto n = r.find("nanoflann/" + key), t = r.find("kdtree/" + key), g = r.find("grid/" + key);
-            auto nr = r.find("nanoflann-r/" + key);
-            auto nw = r.find("nanoflann-wall/" + key), tw = r.find("kdtree-wall/" + key),
-                 gw = r.find("grid-wall/" + key);
-            auto nrw = r.find("nanoflann-r-wall/" + key);
-            if (n == r.end() || t == r.end() || g == r.end() || nr == r.end()) continue;
-            const double best = std::max(n->second, nr->second);
-            std::printf("knn %s k=%u queries per CPU-second: kd-tree %.0f, grid %.0f, nanoflann %.0f (r_max-bounded "
-                        "%.0f); device / faster nanoflann: kd-tree %.2f, grid %.2f | wall: kd-tree %.0f, grid %.0f, "
-                        "nanoflann %.0f (bounded %.0f)/s\n",
-                        m, k, t->second, g->second, n->second, nr->second, t->second / best, g->second / best,
-                        tw->second, gw->second, nw->second, nrw->second);
-        }
+        for (uint32_t k : pcl::kKs)
+            for (const std::string order : {"", "-ordered"}) {
+                const std::string key = std::string(m) + "/" + std::to_string(k);
+                auto n = r.find("nanoflann" + order + "/" + key), t = r.find("kdtree" + order + "/" + key),
+                     g = r.find("grid" + order + "/" + key);
+                auto nr = r.find("nanoflann-r" + order + "/" + key);
+                auto nw = r.find("nanoflann" + order + "-wall/" + key), tw = r.find("kdtree" + order + "-wall/" + key),
+                     gw = r.find("grid" + order + "-wall/" + key);
+                auto nrw = r.find("nanoflann-r" + order + "-wall/" + key);
+                if (n == r.end() || t == r.end() || g == r.end() || nr == r.end()) continue;
+                const double best = std::max(n->second, nr->second);
+                std::printf("knn %s k=%u%s queries per CPU-second: kd-tree %.0f, grid %.0f, nanoflann %.0f "
+                            "(r_max-bounded %.0f); device / faster nanoflann: kd-tree %.2f, grid %.2f | wall: kd-tree "
+                            "%.0f, grid %.0f, nanoflann %.0f (bounded %.0f)/s\n",
+                            m, k, order.empty() ? "" : " (queries in render's order; the device's includes its sort)",
+                            t->second, g->second, n->second, nr->second, t->second / best, g->second / best, tw->second,
+                            gw->second, nw->second, nrw->second);
+            }
     return 0;
 }

@@ -91,7 +91,7 @@ inline Image wavesNormalMap() {
 }
 
 // The smooth room with normal maps: the floor and the diffuse sphere carry wavesNormalMap (the
-// floor's repeated 2 × by its transform), the glass sphere too (scale 0.5 on both): every stage meets
+// floor's repeated 1.5 × by its transform), the glass sphere too (scale 0.5 on all three): every stage meets
 // perturbed normals on diffuse and specular surfaces. Gentle waves, not slopeCellsNormalMap's
 // cells: a normal that turns steeply across a texel turns the twin's last-bit differences in
 // the hit's coordinates (its own traversal arithmetic) into differences the checks count. Tangents are
@@ -102,7 +102,7 @@ inline Scene normalMappedRoom(int width = 48, int height = 36) {
     Texture floorMap;
     floorMap.path = "(in memory: waves, repeated)";
     floorMap.image = wavesNormalMap();
-    floorMap.transform.scale[0] = floorMap.transform.scale[1] = 2.0f;
+    floorMap.transform.scale[0] = floorMap.transform.scale[1] = 1.5f;
     s.textures.push_back(floorMap);
     Texture sphereMap = floorMap;
     sphereMap.path = "(in memory: waves)";
@@ -110,6 +110,7 @@ inline Scene normalMappedRoom(int width = 48, int height = 36) {
     s.textures.push_back(sphereMap);
     const int floorMat = addMaterial(s, Vec3(0.6f));
     s.materials[size_t(floorMat)].normalTexture = 0;
+    s.materials[size_t(floorMat)].normalScale = 0.5f;
     s.meshes[0].material = floorMat;
     s.meshes[0].uv[0] = {0, 0, 1, 0, 1, 1, 0, 1};
     for (size_t k = 6; k < 8; ++k) {  // the diffuse and the glass sphere

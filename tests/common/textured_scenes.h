@@ -90,4 +90,38 @@ inline Scene texturedRoom(int width = 48, int height = 36) {
     return s;
 }
 
+// texturedRoom with textured specular lobes (kernels/shared/texture.h): the mirror panel's ρs
+// by the checker; on the left wall a glossy panel whose ρs is the gradient and whose exponent
+// runs over [4, 200] with the checker's R; on the right wall a glTF-style metallic-roughness
+// panel (base colour the gradient, metallic B and roughness G of a third texture). Photons and
+// eye paths meet each of them directly and after other bounces.
+inline Scene specularTexturedRoom(int width = 48, int height = 36) {
+    Scene s = texturedRoom(width, height);
+    s.path = "(specular textured room)";
+    const int checker = 0, gradient = 1;                                  // texturedRoom's textures
+    s.materials[size_t(s.meshes.back().material)].rhoSTexture = checker;  // the mirror panel
+    const int glossy = addMaterial(s, Vec3(0.2f), Vec3(0.7f), SpecularKind::Glossy, Vec3(0.0f), 200.0f);
+    s.materials[size_t(glossy)].rhoSTexture = gradient;
+    s.materials[size_t(glossy)].exponentTexture = checker;
+    s.materials[size_t(glossy)].exponentRange[0] = 4.0f;
+    s.materials[size_t(glossy)].exponentRange[1] = 200.0f;
+    addTexturedQuad(s, Vec3(-0.99f, 0.3f, 0.5f), Vec3(0, 0, -1.2f), Vec3(0, 1.2f, 0), glossy);
+    // Metallic (B) from 0.1 to 0.9 across u, roughness (G) from 0.1 to 0.9 down v.
+    Image mr(6, 6);
+    for (int y = 0; y < 6; ++y)
+        for (int x = 0; x < 6; ++x) mr.set(x, y, Vec3(0.0f, 0.1f + 0.16f * float(y), 0.1f + 0.16f * float(x)));
+    const int mrTexture = addTexture(s, std::move(mr));
+    const int metal = addMaterial(s, Vec3(0.5f), Vec3(0.5f), SpecularKind::Glossy, Vec3(0.0f), 1.0f);
+    Material& m = s.materials[size_t(metal)];
+    m.rhoDTexture = gradient;
+    m.exponentTexture = mrTexture;
+    m.metallicRoughness.active = true;
+    m.metallicRoughness.baseColor = Vec3(0.9f, 0.8f, 0.7f);
+    m.metallicRoughness.metallic = 1.0f;
+    m.metallicRoughness.roughness = 0.8f;
+    m.metallicRoughness.f0 = 0.04f;
+    addTexturedQuad(s, Vec3(0.99f, 0.3f, -0.7f), Vec3(0, 0, 1.2f), Vec3(0, 1.2f, 0), metal);
+    return s;
+}
+
 }  // namespace pcl::test_scenes

@@ -32,7 +32,7 @@ TEST(TextureMemoryPlan, TextureBuffersArePlannedToTheByte) {
     size_t texels = 0;
     for (const Texture& t : scene.textures) texels += t.image.pixelCount();
     const std::map<std::string, size_t> expected = {
-        {"scene: material textures", scene.materials.size() * sizeof(PclTexture)},
+        {"scene: material textures", scene.materials.size() * sizeof(PclMaterialTextures)},
         {"scene: texels", texels * 3 * sizeof(float)},
         {"scene: triangle texture coordinates", geometry.triangleCount() * sizeof(PclTriangleUv)}};
     for (const auto& [what, bytes] : expected) {

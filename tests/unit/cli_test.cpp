@@ -127,16 +127,31 @@ TEST_F(CliTest, SameSeedGivesTheSameBitsAndCompareSaysSo) {
     EXPECT_EQ(differ.status, 1) << differ.output;
 }
 
-TEST_F(CliTest, CompareRefusesMismatchedSizesAndMissingFiles) {
+// Sizes: A at n times B's size is box-averaged to B's pixels (a 256² render against a 64-px
+// reference); any other mismatch, B larger than A included, is refused.
+TEST_F(CliTest, CompareAveragesMultiplesAndRefusesOtherSizesAndMissingFiles) {
     ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "a.exr").string() +
                   " --method path --width 16 --height 16 --passes 1 -q --no-png")
                   .status,
               0);
     ASSERT_EQ(run("render " + scene("cornell-box.json") + " -o " + (dir / "b.exr").string() +
-                  " --method path --width 8 --height 8 --passes 1 -q --no-png")
+                  " --method path --width 12 --height 12 --passes 1 -q --no-png")
                   .status,
               0);
     EXPECT_EQ(run("compare " + (dir / "a.exr").string() + " " + (dir / "b.exr").string()).status, 2);
+    EXPECT_EQ(run("compare " + (dir / "b.exr").string() + " " + (dir / "a.exr").string()).status, 2);
+
+    const pcl::Image a = pcl::readImage((dir / "a.exr").string());
+    pcl::writeLinearImage((dir / "half.exr").string(), pcl::boxDownsample(a, 2), pcl::ImageMetadata{});
+    Result averaged =
+        run("compare " + (dir / "a.exr").string() + " " + (dir / "half.exr").string() + " --max-rmse 1e-6");
+    EXPECT_EQ(averaged.status, 0) << averaged.output;
+    EXPECT_NE(averaged.output.find("box-averaged 2x2"), std::string::npos) << averaged.output;
+    pcl::Image shifted = pcl::boxDownsample(a, 2);
+    for (float& v : shifted.rgb) v *= 1.01f;
+    pcl::writeLinearImage((dir / "shifted.exr").string(), shifted, pcl::ImageMetadata{});
+    Result differ = run("compare " + (dir / "a.exr").string() + " " + (dir / "shifted.exr").string());
+    EXPECT_NE(differ.output.find("mean ratio 0.99"), std::string::npos) << differ.output;
     Result missing = run("compare " + (dir / "a.exr").string() + " " + (dir / "zzz.exr").string());
     EXPECT_EQ(missing.status, 2);
     EXPECT_NE(missing.output.find("zzz.exr"), std::string::npos) << missing.output;

@@ -17,6 +17,7 @@
 #include "common/optional_feature.h"
 #include "core/error.h"
 #include "image/image_io.h"
+#include "prep/scene_buffers.h"
 #include "prep/texture_buffers.h"
 #include "scene/load_scene.h"
 #include "scene/texture_image.h"
@@ -101,10 +102,11 @@ protected:
         const SceneGeometry g = SceneGeometry::build(s);
         const TextureBuffers b = buildTextureBuffers(s, g);
         const Material& m = s.materials[size_t(s.meshes[0].material)];
-        float rho[4] = {m.rhoD.x, m.rhoD.y, m.rhoD.z, 0.0f};
-        texture_rho_d(b.materialTextures.data(), b.texels.data(), b.triangleUvs.data(), uint32_t(s.meshes[0].material),
-                      prim, g.triangleCount(), b1, b2, rho);
-        return Vec3(rho[0], rho[1], rho[2]);
+        PclMaterial M = buildSceneBuffers(s, g).materials[size_t(s.meshes[0].material)];
+        EXPECT_EQ(M.rhoD[0], m.rhoD.x);
+        texture_material_at(b.materialTextures.data(), b.texels.data(), b.triangleUvs.data(),
+                            uint32_t(s.meshes[0].material), prim, g.triangleCount(), b1, b2, &M);
+        return Vec3(M.rhoD[0], M.rhoD[1], M.rhoD[2]);
     }
 
     fs::path dir_;

@@ -172,6 +172,7 @@ TEST_F(RenderCliTest, HelpExplainsEveryOption) {
                             "--aov",
                             "--max-buffer-mib",
                             "progressive",
+                            "auto (the default)",
                             "Ctrl-C"})
         EXPECT_NE(r.output.find(opt), std::string::npos) << opt;
 }
@@ -271,4 +272,33 @@ TEST_F(RenderCliTest, AutoMethodRendersWithThePilotsChoice) {
                      (dir / "ref.exr").string());
     EXPECT_EQ(ref.status, pcl::kExitBadInput) << ref.output;
     EXPECT_NE(ref.output.find("--method auto pilots fg on an OpenCL device"), std::string::npos) << ref.output;
+}
+
+// No --method: auto, unless the command line names what only a photon method reads (--passes,
+// --device ref, a photon option such as --aov), which gives fg, each with its reason logged.
+TEST_F(RenderCliTest, DefaultMethodIsAutoUnlessTheCommandLineSaysOtherwise) {
+    Result a =
+        run("render " + scene("cornell-box.json") + " --width 32 --time 3 --no-png -o " + (dir / "a.exr").string());
+    ASSERT_EQ(a.status, 0) << a.output;
+    EXPECT_NE(a.output.find("method auto: "), std::string::npos) << a.output;
+    pcl::ImageMetadata meta;
+    pcl::readImage((dir / "a.exr").string(), &meta);
+    EXPECT_TRUE(meta.method == "fg" || meta.method == "path") << meta.method;
+
+    const struct {
+        std::string args, reason;
+    } fg[] = {{" --passes 1" + small, "method fg: --passes counts passes of a photon method"},
+              {" --time 1 --width 16 --aov albedo", "method fg: --aov is an option of the photon methods"},
+              {" --passes 1 --device ref --width 8 --global-photons 2000 --gather-rays 2",
+               "method fg: --device ref runs the photon methods' CPU twins"}};
+    for (const auto& c : fg) {
+        Result r = run("render " + scene("cornell-box.json") + " --no-png -o " + (dir / "fg.exr").string() + c.args);
+        ASSERT_EQ(r.status, 0) << c.args << "\n" << r.output;
+        if (c.args.find(" -q") == std::string::npos) {
+            EXPECT_NE(r.output.find(c.reason), std::string::npos) << c.args << "\n" << r.output;
+        }
+        EXPECT_EQ(r.output.find("method auto"), std::string::npos) << c.args << "\n" << r.output;
+        pcl::readImage((dir / "fg.exr").string(), &meta);
+        EXPECT_EQ(meta.method, "fg") << c.args;
+    }
 }

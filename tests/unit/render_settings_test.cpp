@@ -83,8 +83,11 @@ TEST(RenderSettings, DefaultsPerMethodFollowThePlan) {
     EXPECT_EQ(direct.strata, 2u);
     EXPECT_EQ(direct.passes, 4u);
     const PhotonRenderSettings progressive = resolve("progressive", box).settings;
-    EXPECT_EQ(progressive.strata, 1u);
+    EXPECT_EQ(progressive.strata, 2u);  // on surfaces; in media one (each eye sample pays a beam estimate)
     EXPECT_EQ(progressive.passes, 32u);
+    RenderPlan fog = box;
+    fog.volumeMap = true;
+    EXPECT_EQ(resolve("progressive", fog).settings.strata, 1u);
     // The struct's own defaults are the render's where the render does not choose per scene (k),
     // and the few-eye-samples choice otherwise (what the engine's callers and tests build on).
     const PhotonRenderSettings plain;
@@ -221,7 +224,7 @@ TEST(RenderSettings, EverySettingThatChangesAPixelChangesTheTextAndNoRunControlD
     const std::string text = settingsText(base, spheres, 64, 48, 7);
     const std::vector<std::pair<const char*, std::function<void(PhotonRenderSettings&)>>> pixel = {
         {"method", [](PhotonRenderSettings& s) { s.method = RenderMethod::FinalGather; }},
-        {"strata", [](PhotonRenderSettings& s) { s.strata = 2; }},
+        {"strata", [](PhotonRenderSettings& s) { s.strata += 1; }},
         {"globalPhotons", [](PhotonRenderSettings& s) { s.globalPhotons += 1; }},
         {"causticPhotons", [](PhotonRenderSettings& s) { s.causticPhotons += 1; }},
         {"globalK", [](PhotonRenderSettings& s) { s.globalK += 1; }},

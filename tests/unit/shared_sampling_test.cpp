@@ -2,6 +2,7 @@
 // use, checked against their definitions (kernels/README.md) without a device.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -62,6 +63,34 @@ TEST(SharedSampling, ConcentricDiskIsAreaPreservingAndCosineLobeIsAHemisphere) {
             c += sampling_dot(d, axis);
         }
     EXPECT_NEAR(c / (n * n), 2.0 / 3.0, 1e-3);  // E[cosθ] under cosθ/π
+}
+
+// The concentric map's sin and cos (Taylor polynomials on [-π/4, π/4], no argument reduction)
+// within 2 ulps of 1 of the double-precision functions at 2^20 + 1 angles, the ends included;
+// and the map itself, at 512² square points, within 3e-7 of the polar formula in doubles.
+TEST(SharedSampling, QuarterRangeSinCosAndTheConcentricMapMatchTheLibrary) {
+    const int n = 1 << 20;
+    double worst = 0;
+    for (int i = 0; i <= n; ++i) {
+        const float t = float(-kPi / 4 + (kPi / 2) * i / n);
+        float s, c;
+        sampling_sincos_quarter(t, &s, &c);
+        worst = std::max({worst, std::fabs(s - std::sin(double(t))), std::fabs(c - std::cos(double(t)))});
+    }
+    EXPECT_LE(worst, 2.0 * 0x1p-24) << worst;
+    const int m = 512;
+    double mapWorst = 0;
+    for (int i = 0; i < m; ++i)
+        for (int j = 0; j < m; ++j) {
+            const float s1 = (i + 0.5f) / m, s2 = (j + 0.5f) / m;
+            float x, y;
+            sampling_concentric_disk(s1, s2, &x, &y);
+            const double a = 2.0 * s1 - 1.0, b = 2.0 * s2 - 1.0;
+            const bool wide = std::fabs(a) > std::fabs(b);
+            const double r = wide ? a : b, phi = wide ? kPi / 4 * (b / a) : kPi / 2 - kPi / 4 * (a / b);
+            mapWorst = std::max({mapWorst, std::fabs(x - r * std::cos(phi)), std::fabs(y - r * std::sin(phi))});
+        }
+    EXPECT_LE(mapWorst, 3e-7) << mapWorst;
 }
 
 TEST(SharedSampling, SpotCosThetaInvertsTheFalloffCdf) {

@@ -149,11 +149,15 @@ TEST(TextureBuffers, PackingAndTriangleCoordinates) {
     const SceneGeometry g = SceneGeometry::build(s);
     const TextureBuffers b = buildTextureBuffers(s, g);
     ASSERT_EQ(b.materialTextures.size(), 3u);
-    EXPECT_EQ(b.materialTextures[size_t(plain)].width, 0u);
-    EXPECT_EQ(b.materialTextures[size_t(m0)].offset, 0u);
-    EXPECT_EQ(b.materialTextures[size_t(m0)].width, 3u);
-    EXPECT_EQ(b.materialTextures[size_t(m1)].offset, 3u * 2u * 3u);  // after t0's 6 texels
-    EXPECT_EQ(b.materialTextures[size_t(m1)].wrap, PCL_WRAP_CLAMP | PCL_WRAP_MIRROR << 8);
+    for (int k = 0; k < PCL_TEXTURE_SLOTS; ++k) EXPECT_EQ(b.materialTextures[size_t(plain)].slot[k].width, 0u) << k;
+    const PclTexture& d0 = b.materialTextures[size_t(m0)].slot[PCL_TEXTURE_RHO_D];
+    const PclTexture& d1 = b.materialTextures[size_t(m1)].slot[PCL_TEXTURE_RHO_D];
+    EXPECT_EQ(d0.offset, 0u);
+    EXPECT_EQ(d0.width, 3u);
+    EXPECT_EQ(d1.offset, 3u * 2u * 3u);  // after t0's 6 texels
+    EXPECT_EQ(d1.wrap, PCL_WRAP_CLAMP | PCL_WRAP_MIRROR << 8);
+    EXPECT_EQ(b.materialTextures[size_t(m1)].slot[PCL_TEXTURE_RHO_S].width, 0u);
+    EXPECT_EQ(b.materialTextures[size_t(m1)].mapping, PCL_TEXTURE_MAP_PHONG);
     EXPECT_EQ(b.texels.size(), size_t(3 * 2 * 3 + 4 * 4 * 3));
     ASSERT_EQ(b.triangleUvs.size(), 4u);
     // Triangle 3 is (0, 2, 3): set 0 (0,0), (1,1), (0,1); set 1 (9,8), (5,4), (3,2).
@@ -172,7 +176,8 @@ TEST(TextureBuffers, PackingAndTriangleCoordinates) {
 }
 
 TEST(TextureBuffers, TexturedRhoDAtATriangleHit) {
-    // texture_rho_d: the material's constant times the texture at the interpolated coordinates.
+    // texture_material_at (texture_rho_d): the material's constant times the texture at the
+    // interpolated coordinates; ρs and the exponent untouched.
     Scene s;
     const int t = addTexture(s, gradientImage(5, 4), TextureWrap::Clamp, TextureWrap::Clamp);
     const int m = addMaterial(s, Vec3(0.5f, 1.0f, 0.8f));
@@ -181,9 +186,15 @@ TEST(TextureBuffers, TexturedRhoDAtATriangleHit) {
     const SceneGeometry g = SceneGeometry::build(s);
     const TextureBuffers b = buildTextureBuffers(s, g);
     // Triangle 0 is (0, 1, 2) with uv (0,0), (1,0), (1,1): barycentrics (0.3, 0.2) → uv (0.5, 0.2).
-    float rho[4] = {0.5f, 1.0f, 0.8f, 0.0f};
-    texture_rho_d(b.materialTextures.data(), b.texels.data(), b.triangleUvs.data(), uint32_t(m), 0u, g.triangleCount(),
-                  0.3f, 0.2f, rho);
+    PclMaterial M{};
+    M.rhoD[0] = 0.5f, M.rhoD[1] = 1.0f, M.rhoD[2] = 0.8f;
+    M.rhoS[0] = M.rhoS[1] = M.rhoS[2] = 0.1f;
+    M.exponent = 7.0f;
+    texture_material_at(b.materialTextures.data(), b.texels.data(), b.triangleUvs.data(), uint32_t(m), 0u,
+                        g.triangleCount(), 0.3f, 0.2f, &M);
+    const float* rho = M.rhoD;
+    EXPECT_EQ(M.rhoS[0], 0.1f);
+    EXPECT_EQ(M.exponent, 7.0f);
     const Vec3 e = gradientAt(5, 4, 0.5f, 0.2f) * Vec3(0.5f, 1.0f, 0.8f);
     EXPECT_NEAR(rho[0], e.x, 1e-6f);
     EXPECT_NEAR(rho[1], e.y, 1e-6f);
