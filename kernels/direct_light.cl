@@ -53,6 +53,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
     const ulong seed = (ulong)params.seedLo | ((ulong)params.seedHi << 32);
     const PclV3 p = sampling_v3(h.x, h.y, h.z);
     const PclV3 nf = sampling_v3(h.nx, h.ny, h.nz);
+    const PclV3 sf = sampling_v3(h.snx, h.sny, h.snz); /* the shading normal: cosines and the gather frame */
     const float tau = h.time;
     const float eps = params.rayEpsilon;
     const PclV3 o = eye_add_scaled(p, nf, eps);
@@ -71,7 +72,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
         if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
         PclV3 wi;
         float tr[3];
-        const float g = light_delta(nodes, packets, spheres, em, medium, L, p, nf, o, tau, &wi, tr);
+        const float g = light_delta(nodes, packets, spheres, em, medium, L, p, nf, sf, o, tau, &wi, tr);
         if (!(g > 0.0f)) continue;
         for (int c = 0; c < 3; ++c) sum[c] = sum[c] + L.power[c] * g * tr[c];
     }
@@ -86,14 +87,14 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
             PclV3 wi;
             float pdfL, cosS, le[3];
             if (!light_area_sample(nodes, packets, spheres, em, medium, primInfo, materials, lights, areaCdf, params.lightCount,
-                                   params.areaPowerTotal, p, nf, o, eps, tau, rng_u01(w[0]), rng_u01(w[1]),
+                                   params.areaPowerTotal, p, nf, sf, o, eps, tau, rng_u01(w[0]), rng_u01(w[1]),
                                    rng_u01(w[2]), &wi, &pdfL, &cosS, le))
                 continue;
             float pdfB = cosS / PCL_PI_F;
             if (params.histogramCells > 0u) {  /* the gather rays' importance density */
                 const uint G = params.histogramCells;
                 __global const float* cdf = histograms + (size_t)i * G * G;
-                pdfB = pdfB * ((float)(G * G) * eye_cell_probability(cdf, eye_cell_of_direction(nf, wi, G)));
+                pdfB = pdfB * ((float)(G * G) * eye_cell_probability(cdf, eye_cell_of_direction(sf, wi, G)));
             }
             const float wMis = params.gatherRays == 0u ? 1.0f : eye_mis_weight(M, pdfL, params.gatherRays, pdfB);
             const float f = cosS * wMis / pdfL;
@@ -112,14 +113,14 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
             float Lsky[3], tr[3];
             const float pdfL = env_sample(env, envData, rng_u01(w[0]), rng_u01(w[1]), &wi, Lsky);
             if (!(pdfL > 0.0f)) continue;
-            const float cosS = sampling_dot(nf, wi);
-            if (!(cosS > 0.0f)) continue;
+            const float cosS = sampling_dot(sf, wi);
+            if (!(cosS > 0.0f) || !(sampling_dot(nf, wi) > 0.0f)) continue;
             if (!light_shadow(nodes, packets, spheres, em, medium, o, wi, INFINITY, tau, tr)) continue;
             float pdfB = cosS / PCL_PI_F;
             if (params.histogramCells > 0u) {
                 const uint G = params.histogramCells;
                 __global const float* cdf = histograms + (size_t)i * G * G;
-                pdfB = pdfB * ((float)(G * G) * eye_cell_probability(cdf, eye_cell_of_direction(nf, wi, G)));
+                pdfB = pdfB * ((float)(G * G) * eye_cell_probability(cdf, eye_cell_of_direction(sf, wi, G)));
             }
             const float wMis = params.gatherRays == 0u ? 1.0f : eye_mis_weight(M, pdfL, params.gatherRays, pdfB);
             const float f = cosS * wMis / pdfL;

@@ -48,6 +48,7 @@
 #include "shared/light_sample.h"
 #include "shared/environment.h"
 #include "shared/texture.h"
+#include "shared/shading_frame.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -139,7 +140,9 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                         __global const PclPrimMedium* primMedia, __global PclEyeHit* hits,
                         __global PclVolumeSegment* segments, __global uint* segmentCounts, const PclEnvironment env,
                         __global const float* envData, __global const PclMaterialTextures* materialTextures,
-                        __global const float* texels, __global const PclTriangleUv* triangleUvs) {
+                        __global const float* texels, __global const PclTriangleUv* triangleUvs,
+                        __global const PclTriangleNormals* triangleNormals, __global const PclNormalMap* normalMaps,
+                        __global const PclTriangleTangents* triangleTangents) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
     const uint s = params.firstSample + i;
@@ -155,6 +158,8 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
     h.x = h.y = h.z = 0.0f;
     h.time = tau;
     h.nx = h.ny = h.nz = 0.0f;
+    h.snx = h.sny = h.snz = 0.0f;
+    h.pad0 = 0u;
     h.prim = PCL_NO_HIT;
     h.wox = h.woy = h.woz = 0.0f;
     h.pixel = pixel;
@@ -223,7 +228,11 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
         const PclV3 n = eye_normal(primInfo, hit.prim, params.triangleCount, p, tau);
         const float dn = sampling_dot(d, n);
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
+        /* The shading normal (on n's side) and its viewer-side twin sf: the BSDF's frame. */
         const uint mat = primInfo[hit.prim].material;
+        const PclV3 ns = shading_normal(triangleNormals, triangleTangents, normalMaps, texels, triangleUvs, mat, hit.prim,
+                                        params.triangleCount, hit.u, hit.v, n);
+        const PclV3 sf = dn < 0.0f ? ns : sampling_v3(-ns.x, -ns.y, -ns.z);
         PclMaterial M = materials[mat];
         /* The material at the hit (its textures, if any): the lobe choice, the glossy lobe and
          * the record's albedo use it. */
@@ -274,18 +283,18 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                 if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
                 PclV3 wi;
                 float tr[3];
-                const float g = light_delta(nodes, packets, spheres, em, medium, L, p, nf, lifted, tau, &wi, tr);
+                const float g = light_delta(nodes, packets, spheres, em, medium, L, p, nf, sf, lifted, tau, &wi, tr);
                 if (!(g > 0.0f)) continue;
-                const float f = g * eye_phong_cos_power(d, nf, wi, e);
+                const float f = g * eye_phong_cos_power(d, sf, wi, e);
                 for (int c = 0; c < 3; ++c) sum[c] = sum[c] + L.power[c] * f * tr[c];
             }
             PclV3 wi;
             float pdfL, cosS, le[3];
             if (params.areaPowerTotal > 0.0f &&
                 light_area_sample(nodes, packets, spheres, em, medium, primInfo, materials, lights, areaCdf, params.lightCount,
-                                  params.areaPowerTotal, p, nf, lifted, params.rayEpsilon, tau, rng_u01(wa[0]),
+                                  params.areaPowerTotal, p, nf, sf, lifted, params.rayEpsilon, tau, rng_u01(wa[0]),
                                   rng_u01(wa[1]), rng_u01(wa[2]), &wi, &pdfL, &cosS, le)) {
-                const float cp = eye_phong_cos_power(d, nf, wi, e);
+                const float cp = eye_phong_cos_power(d, sf, wi, e);
                 const float pdfB = (1.0f - pd) * ((e + 1.0f) / (2.0f * PCL_PI_F)) * cp;
                 const float f = cp * cosS * eye_mis_weight(1u, pdfL, 1u, pdfB) / pdfL;
                 for (int c = 0; c < 3; ++c) sum[c] = sum[c] + le[c] * f;
@@ -296,6 +305,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
         if (rng_u01(wa[3]) < pd) {  /* the diffuse part: the record */
             h.x = p.x; h.y = p.y; h.z = p.z;
             h.nx = nf.x; h.ny = nf.y; h.nz = nf.z;
+            h.snx = sf.x; h.sny = sf.y; h.snz = sf.z;
             h.prim = hit.prim;
             h.wox = -d.x; h.woy = -d.y; h.woz = -d.z;
             for (int c = 0; c < 3; ++c) {
@@ -309,14 +319,14 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
         }
         PclV3 dNew;
         float w[3];
-        if (!eye_specular_scatter(M, d, n, rng_u01(wb[3]), rng_u01(wb[0]), rng_u01(wb[1]), &dNew, w)) break;
+        if (!eye_specular_scatter(M, d, n, ns, rng_u01(wb[3]), rng_u01(wb[0]), rng_u01(wb[1]), &dNew, w)) break;
         /* Through the surface (refraction): the medium on the other side. */
         if (hasMedia && sampling_dot(dNew, n) * dn > 0.0f)
             medium = dn < 0.0f ? primMedia[hit.prim].inside : primMedia[hit.prim].outside;
         const float ps = 1.0f - pd;
         for (int c = 0; c < 3; ++c) T[c] = T[c] * w[c] / ps;
         pdfLobe = M.specular == PCL_SPECULAR_GLOSSY
-                      ? ps * ((M.exponent + 1.0f) / (2.0f * PCL_PI_F)) * eye_phong_cos_power(d, nf, dNew, M.exponent)
+                      ? ps * ((M.exponent + 1.0f) / (2.0f * PCL_PI_F)) * eye_phong_cos_power(d, sf, dNew, M.exponent)
                       : 0.0f;
         o = eye_spawn(p, nf, dNew, params.rayEpsilon);
         d = dNew;

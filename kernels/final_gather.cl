@@ -30,6 +30,7 @@
 #include "shared/eye.h"
 #include "shared/environment.h"
 #include "shared/texture.h"
+#include "shared/shading_frame.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -41,7 +42,10 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
                                  __global PclEstimateQuery* queries, __global PclGatherHit* gathered,
                                  const PclEnvironment env, __global const float* envData,
                                  __global const PclMaterialTextures* materialTextures, __global const float* texels,
-                                 __global const PclTriangleUv* triangleUvs) {
+                                 __global const PclTriangleUv* triangleUvs,
+                                 __global const PclTriangleNormals* triangleNormals,
+                                 __global const PclNormalMap* normalMaps,
+                                 __global const PclTriangleTangents* triangleTangents) {
     const uint j = (uint)get_global_id(0);
     const uint N = params.gatherRays;
     if (j >= params.sampleCount * N) return;
@@ -64,6 +68,7 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
     const uint bounceWord = h.sample * N + g;
     const PclV3 p0 = sampling_v3(h.x, h.y, h.z);
     const PclV3 n0 = sampling_v3(h.nx, h.ny, h.nz);
+    const PclV3 s0 = sampling_v3(h.snx, h.sny, h.snz); /* the gather rays' frame: the shading normal */
     const float tau = h.time;
     uint w[4];
     rng_block(seed, h.pixel, bounceWord, 0u, PCL_RNG_STREAM_GATHER, w);
@@ -80,8 +85,14 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
         s2 = ((float)(c / G) + s2) / (float)G;
         ratio = 1.0f / ((float)(G * G) * eye_cell_probability(cdf, c));
     }
-    PclV3 d = sampling_cosine_hemisphere(n0, s1, s2);
-    const float pdfB = sampling_dot(n0, d) / PCL_PI_F / ratio;  /* the gather ray's density */
+    PclV3 d = sampling_cosine_hemisphere(s0, s1, s2);
+    const float pdfB = sampling_dot(s0, d) / PCL_PI_F / ratio;  /* the gather ray's density */
+    if (shading_is_smooth(s0, n0) && !(sampling_dot(d, n0) > 0.0f)) {
+        /* Below the geometric surface: the BSDF is 0 there (no light through the surface). */
+        queries[j] = q;
+        gathered[j] = out;
+        return;
+    }
     PclV3 o = eye_add_scaled(p0, n0, params.rayEpsilon);
     float T[3] = {ratio, ratio, ratio}, Le[3] = {0.0f, 0.0f, 0.0f};
     bool afterSpecular = false;
@@ -144,7 +155,9 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
         if (b == params.maxSpecular) break;
         PclV3 dNew;
         float ws[3];
-        if (!eye_specular_scatter(M, d, n, rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3]), &dNew, ws)) break;
+        const PclV3 ns = shading_normal(triangleNormals, triangleTangents, normalMaps, texels, triangleUvs, mat,
+                                        hit.prim, params.triangleCount, hit.u, hit.v, n);
+        if (!eye_specular_scatter(M, d, n, ns, rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3]), &dNew, ws)) break;
         const float ps = 1.0f - pd;
         for (int c = 0; c < 3; ++c) T[c] = T[c] * ws[c] / ps;
         o = eye_spawn(p, nf, dNew, params.rayEpsilon);
@@ -190,7 +203,7 @@ __kernel void final_gather_histogram(const PclGatherParams params, __global cons
     for (uint c = 0u; c < C; ++c) f[c] = 0.0f;
     float total = 0.0f;
     if (h.flags & PCL_EYE_DIFFUSE) {
-        const PclV3 n = sampling_v3(h.nx, h.ny, h.nz);
+        const PclV3 n = sampling_v3(h.snx, h.sny, h.snz); /* the gather rays' frame */
         const uint count = counts[i];
         for (uint j = 0u; j < count; ++j) {
             const PclPhoton ph = photons[indices[(size_t)i * stride + j]];

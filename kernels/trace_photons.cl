@@ -44,6 +44,7 @@
 #include "shared/bvh.h"
 #include "shared/medium.h"
 #include "shared/texture.h"
+#include "shared/shading_frame.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -66,7 +67,9 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
                        __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                        __global const int* lightMedia, __global PclPhoton* volumeSlots,
                        __global uint* volumeCounts, __global const PclMaterialTextures* materialTextures,
-                       __global const float* texels, __global const PclTriangleUv* triangleUvs) {
+                       __global const float* texels, __global const PclTriangleUv* triangleUvs,
+                       __global const PclTriangleNormals* triangleNormals, __global const PclNormalMap* normalMaps,
+                       __global const PclTriangleTangents* triangleTangents) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.batchSize) return;
     const uint j = params.firstPhoton + i;
@@ -154,6 +157,12 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
         }
         const float dn = sampling_dot(d, n);
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
+        /* The shading normal (on n's side) and its twin sf on the photon's side: the scattering
+         * frame; a smooth one adds the adjoint factor and the geometric side tests below. */
+        const PclV3 nsh = shading_normal(triangleNormals, triangleTangents, normalMaps, texels, triangleUvs,
+                                         info.material, hit.prim, params.triangleCount, hit.u, hit.v, n);
+        const PclV3 sf = dn < 0.0f ? nsh : sampling_v3(-nsh.x, -nsh.y, -nsh.z);
+        const bool smooth = shading_is_smooth(nsh, n);
         PclMaterial M = materials[info.material];
         /* The material at the hit: its constants times its textures (shared/texture.h). */
         texture_material_at(materialTextures, texels, triangleUvs, info.material, hit.prim, params.triangleCount,
@@ -207,23 +216,24 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
             }
         }
         PclV3 dNew;
+        bool refracted = false;
         if (z < pd) {
             if (caustic) { /* a diffuse bounce: no longer LS+D */
                 cause = endHere;
                 break;
             }
-            dNew = sampling_cosine_hemisphere(nf, uA, uB);
+            dNew = sampling_cosine_hemisphere(sf, uA, uB);
             for (int c = 0; c < 3; ++c) phi[c] = phi[c] * M.rhoD[c] / pd;
             flags |= PCL_PHOTON_AFTER_DIFFUSE;
         } else if (z < pd + ps) {
             for (int c = 0; c < 3; ++c) phi[c] = phi[c] * M.rhoS[c] / ps;
             flags |= PCL_PHOTON_AFTER_SPECULAR;
             if (M.specular == PCL_SPECULAR_MIRROR) {
-                dNew = sampling_reflect(d, nf);
+                dNew = sampling_reflect(d, sf);
             } else if (M.specular == PCL_SPECULAR_GLOSSY) {
                 const float e = M.exponent;
-                dNew = sampling_phong_lobe(sampling_reflect(d, nf), e, uA, uB);
-                const float cosOut = sampling_dot(dNew, nf);
+                dNew = sampling_phong_lobe(sampling_reflect(d, sf), e, uA, uB);
+                const float cosOut = sampling_dot(dNew, sf);
                 if (!(cosOut > 0.0f)) {
                     cause = endHere;
                     break;
@@ -232,16 +242,30 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
             } else { /* dielectric: n is the outside normal */
                 const bool entering = dn < 0.0f;
                 const float eta = entering ? 1.0f / M.ior : M.ior;
-                const float cosI = fabs(dn);
+                const float cosI = fabs(sampling_dot(d, nsh));
                 const float F = sampling_fresnel_dielectric(cosI, eta);
                 if (uF < F)
-                    dNew = sampling_reflect(d, nf);
-                else
-                    dNew = sampling_refract(d, nf, cosI, eta);
+                    dNew = sampling_reflect(d, sf);
+                else {
+                    dNew = sampling_refract(d, sf, cosI, eta);
+                    refracted = true;
+                }
             }
         } else {
             cause = endHere;
             break;
+        }
+        if (smooth) {
+            /* A refraction must cross the geometric surface, anything else stay on the photon's
+             * side; then the adjoint factor for scattering with the shading normal
+             * (host/reference/light_tracer.cpp). */
+            const float side = sampling_dot(dNew, n) * dn;
+            if (refracted ? !(side > 0.0f) : !(side < 0.0f)) {
+                cause = endHere;
+                break;
+            }
+            const float adj = shading_adjoint(nsh, n, sampling_v3(-d.x, -d.y, -d.z), dNew);
+            for (int c = 0; c < 3; ++c) phi[c] = phi[c] * adj;
         }
         if (b >= params.maxDepth) {
             cause = PCL_END_MAX_DEPTH;
@@ -271,9 +295,13 @@ __kernel void trace_photons_global(const PclPhotonParams params, __global const 
                                    __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                                    __global const int* lightMedia, __global PclPhoton* volumeSlots,
                                    __global uint* volumeCounts, __global const PclMaterialTextures* materialTextures,
-                                   __global const float* texels, __global const PclTriangleUv* triangleUvs) {
+                                   __global const float* texels, __global const PclTriangleUv* triangleUvs,
+                                   __global const PclTriangleNormals* triangleNormals,
+                                   __global const PclNormalMap* normalMaps,
+                                   __global const PclTriangleTangents* triangleTangents) {
     trace_path(params, false, rays, nodes, packets, spheres, primInfo, materials, slots, counts, ends, media,
-               primMedia, lightMedia, volumeSlots, volumeCounts, materialTextures, texels, triangleUvs);
+               primMedia, lightMedia, volumeSlots, volumeCounts, materialTextures, texels, triangleUvs,
+               triangleNormals, normalMaps, triangleTangents);
 }
 
 __kernel void trace_photons_caustic(const PclPhotonParams params, __global const PclPhotonRay* rays,
@@ -284,7 +312,11 @@ __kernel void trace_photons_caustic(const PclPhotonParams params, __global const
                                     __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                                     __global const int* lightMedia, __global PclPhoton* volumeSlots,
                                     __global uint* volumeCounts, __global const PclMaterialTextures* materialTextures,
-                                    __global const float* texels, __global const PclTriangleUv* triangleUvs) {
+                                    __global const float* texels, __global const PclTriangleUv* triangleUvs,
+                                    __global const PclTriangleNormals* triangleNormals,
+                                    __global const PclNormalMap* normalMaps,
+                                    __global const PclTriangleTangents* triangleTangents) {
     trace_path(params, true, rays, nodes, packets, spheres, primInfo, materials, slots, counts, ends, media,
-               primMedia, lightMedia, volumeSlots, volumeCounts, materialTextures, texels, triangleUvs);
+               primMedia, lightMedia, volumeSlots, volumeCounts, materialTextures, texels, triangleUvs,
+               triangleNormals, normalMaps, triangleTangents);
 }

@@ -6,11 +6,13 @@
 Everything is generated here, deterministically, so the asset is reproducible and carries no
 third-party licence:
 - courtyard.gltf: a tiled floor (baseColorTexture repeated by KHR_texture_transform), a brick
-  wall (baseColorTexture; no normal map yet: photoncl does not read normalTexture), a plaster wall
-  without textures, a wooden crate (baseColorTexture) and a glass ball (KHR_materials_transmission
+  wall (baseColorTexture), a plaster wall with a normal map of gentle bumps (normalTexture,
+  repeated; tangents left to the loader), a wooden crate (baseColorTexture) and a glass ball (KHR_materials_transmission
   + KHR_materials_ior) that throws the sun's caustic on the floor; a perspective camera. One
   buffer, embedded as a base64 data URI.
 - tiles.png, bricks.png, planks.png: 8-bit sRGB PNGs, 256 × 256.
+- plaster-normal.png: an 8-bit linear tangent-space normal map, 128 × 128, tileable (glTF's
+  convention: rgb = (n + 1)/2, +x right, +y up the image).
 - sky.pfm: an equirectangular sky (photoncl's and Mitsuba's mapping: u = atan2(w.x, −w.z)/2π,
   v = acos(w.y)/π, row 0 up): a blue gradient, a darker ground, and a sun of one texel whose
   irradiance is SUN_IRRADIANCE at normal incidence.
@@ -105,6 +107,39 @@ def planks(x, y):
     grain = 0.5 + 0.5 * math.sin(0.09 * x * (1 + hash01(plank)) + 6 * hash01(plank, 3) + 0.35 * math.sin(0.05 * x + ly))
     tone = 0.7 + 0.25 * hash01(plank, 1) + 0.12 * grain
     return (0.55 * tone, 0.36 * tone, 0.20 * tone)
+
+
+PLASTER_NORMAL_SIZE = 128
+
+
+def plaster_height(x, y):
+    """Tileable value noise (period PLASTER_NORMAL_SIZE): two octaves of smoothly interpolated
+    lattice values, the plaster's bumps in texels of height."""
+    h = 0.0
+    for cell, amplitude in ((16, 1.6), (8, 0.7)):
+        n = PLASTER_NORMAL_SIZE // cell
+        gx, gy = x / cell, y / cell
+        ix, iy = int(math.floor(gx)), int(math.floor(gy))
+        fx, fy = gx - ix, gy - iy
+        sx, sy = fx * fx * (3 - 2 * fx), fy * fy * (3 - 2 * fy)
+
+        def lattice(i, j):
+            return hash01(7, cell, i % n, j % n)
+
+        top = lattice(ix, iy) * (1 - sx) + lattice(ix + 1, iy) * sx
+        bottom = lattice(ix, iy + 1) * (1 - sx) + lattice(ix + 1, iy + 1) * sx
+        h += amplitude * (top * (1 - sy) + bottom * sy)
+    return h
+
+
+def plaster_normal(x, y):
+    """The bumps' tangent-space normal, encoded: n = normalise(−∂h/∂x, ∂h/∂row, 1) (rows run down
+    the image, +y up), rgb = (n + 1)/2, linear (a normal map is not sRGB)."""
+    size = PLASTER_NORMAL_SIZE
+    hx = (plaster_height((x + 1) % size, y) - plaster_height((x - 1) % size, y)) / 2
+    hy = (plaster_height(x, (y + 1) % size) - plaster_height(x, (y - 1) % size)) / 2
+    n = normalize([-hx, hy, 1.0])
+    return [(c + 1) / 2 for c in n]
 
 
 def srgb(pixel):
@@ -203,6 +238,7 @@ def main():
     write_png(os.path.join(out, "tiles.png"), TEXTURE_SIZE, TEXTURE_SIZE, srgb(tiles))
     write_png(os.path.join(out, "bricks.png"), TEXTURE_SIZE, TEXTURE_SIZE, srgb(bricks))
     write_png(os.path.join(out, "planks.png"), TEXTURE_SIZE, TEXTURE_SIZE, srgb(planks))
+    write_png(os.path.join(out, "plaster-normal.png"), PLASTER_NORMAL_SIZE, PLASTER_NORMAL_SIZE, plaster_normal)
     sun_radiance, sun_solid_angle = write_sky(os.path.join(out, "sky.pfm"))
 
     buf = Buffer()
@@ -213,8 +249,8 @@ def main():
         meshes.append({"name": name, "primitives": [{"attributes": attributes, "indices": buf.indices(idx)}]})
     PLANE, CUBE, SPHERE = range(3)
 
-    images = [{"uri": name} for name in ("tiles.png", "bricks.png", "planks.png")]
-    TILES, BRICKS, PLANKS = range(3)
+    images = [{"uri": name} for name in ("tiles.png", "bricks.png", "planks.png", "plaster-normal.png")]
+    TILES, BRICKS, PLANKS, PLASTER_NORMAL = range(4)
     textures = [{"source": i, "sampler": 0} for i in range(len(images))]
     samplers = [{"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 10497}]  # linear, repeat
 
@@ -233,7 +269,7 @@ def main():
     materials = [
         diffuse("floor-tiles", TILES, repeat=[2.5, 2.5]),
         diffuse("brick-wall", BRICKS, repeat=[5, 2]),
-        diffuse("plaster", factor=(0.72, 0.70, 0.66)),
+        dict(diffuse("plaster", factor=(0.72, 0.70, 0.66)), normalTexture=dict(texture(PLASTER_NORMAL, [2, 5]), scale=1.0)),
         diffuse("crate-planks", PLANKS),
         {"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 0},
          "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.5}}},
@@ -281,7 +317,7 @@ def main():
 
     scene = {
         "comment": ("A sunny courtyard, written by scripts/make_courtyard_scene.py: tiled floor, brick wall, "
-                    "wooden crate, a glass ball's caustic; lit only by sky.pfm "
+                    "wooden crate, a normal-mapped plaster wall, a glass ball's caustic; lit only by sky.pfm "
                     f"(sun: one texel of {sun_radiance:.0f} W m^-2 sr^-1 over {sun_solid_angle:.3g} sr, "
                     f"{SUN_IRRADIANCE} W m^-2 at normal incidence)."),
         "environment": {"image": "sky.pfm"},

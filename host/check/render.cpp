@@ -128,15 +128,17 @@ StageComparison compareRays(const std::vector<PclRay>& device, const std::vector
 
 StageComparison compareEyeHits(const std::vector<PclEyeHit>& device, const std::vector<PclEyeHit>& twin,
                                double tolerance, size_t worstShown) {
-    // Values: throughput, position, normal, emitted, albedo (ρd at the hit: textured), then a
+    // Values: throughput, position, normal, emitted, albedo (ρd at the hit: textured), shading
+    // normal (smooth meshes), then a
     // 0/1 "same flags, prim, pixel, sample" value (twin 1, device 1 when equal, else 0: a
     // mismatch of 100 %).
     auto flat = [&](const std::vector<PclEyeHit>& hits, bool isDevice) {
         std::vector<float> v;
         for (size_t i = 0; i < hits.size(); ++i) {
             const PclEyeHit& h = hits[i];
-            v.insert(v.end(), {h.throughput[0], h.throughput[1], h.throughput[2], h.x, h.y, h.z, h.nx, h.ny, h.nz,
-                               h.emitted[0], h.emitted[1], h.emitted[2], h.albedo[0], h.albedo[1], h.albedo[2]});
+            v.insert(v.end(),
+                     {h.throughput[0], h.throughput[1], h.throughput[2], h.x, h.y, h.z, h.nx, h.ny, h.nz, h.emitted[0],
+                      h.emitted[1], h.emitted[2], h.albedo[0], h.albedo[1], h.albedo[2], h.snx, h.sny, h.snz});
             float same = 1.0f;
             if (isDevice && i < twin.size()) {
                 const PclEyeHit& t = twin[i];
@@ -149,7 +151,7 @@ StageComparison compareEyeHits(const std::vector<PclEyeHit>& device, const std::
         }
         return v;
     };
-    return compareValues("eye paths", flat(device, true), flat(twin, false), 16, tolerance, worstShown);
+    return compareValues("eye paths", flat(device, true), flat(twin, false), 19, tolerance, worstShown);
 }
 
 bool RenderCheckReport::passed() const {

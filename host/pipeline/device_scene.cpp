@@ -21,6 +21,13 @@ DeviceScene::DeviceScene(Device& device, const SceneGeometry& g, const SceneBuff
                            "scene: texels")),
       triangleUvs(device.upload(b.textures.textured() ? b.textures.triangleUvs : std::vector<PclTriangleUv>(1),
                                 CL_MEM_READ_ONLY, "scene: triangle texture coordinates")),
-      textured(b.textures.textured()) {}
+      triangleNormals(device.upload(b.triangleNormals.empty() ? std::vector<PclTriangleNormals>(1) : b.triangleNormals,
+                                    CL_MEM_READ_ONLY, "scene: triangle normals")),
+      normalMaps(device.upload(b.normalMaps.mapped() ? b.normalMaps.maps : std::vector<PclNormalMap>(1),
+                               CL_MEM_READ_ONLY, "scene: normal maps")),
+      triangleTangents(
+          device.upload(b.normalMaps.mapped() ? b.normalMaps.triangleTangents : std::vector<PclTriangleTangents>(1),
+                        CL_MEM_READ_ONLY, "scene: triangle tangents")),
+      textured(b.textures.textured()), smooth(!b.triangleNormals.empty()), normalMapped(b.normalMaps.mapped()) {}
 
 }  // namespace pcl

@@ -28,11 +28,21 @@ struct DeviceScene {
     // Textures (TextureBuffers): a descriptor per material; texels and triangle coordinates are
     // one-element placeholders in a scene without textures (every descriptor then has width 0).
     cl::Buffer materialTextures, texels, triangleUvs;
-    bool textured = false;
+    // Shading normals (SceneBuffers::triangleNormals): a one-element placeholder when no
+    // triangle is smooth.
+    cl::Buffer triangleNormals;
+    // Normal maps (NormalMapBuffers): one-element placeholders when no material has one.
+    cl::Buffer normalMaps, triangleTangents;
+    bool textured = false, smooth = false, normalMapped = false;
     // The options of the programs that read materials at hits (trace_photons, eye_paths,
-    // final_gather): the BVH's, and PCL_TEXTURED when the scene has textures, so an untextured
-    // scene runs the same code as before textures existed (kernels/shared/texture.h).
-    std::string programOptions() const { return geometry.programOptions() + (textured ? " -DPCL_TEXTURED=1" : ""); }
+    // final_gather): the BVH's, PCL_TEXTURED when the scene has textures, PCL_SHADING_NORMALS
+    // when it has smooth triangles and PCL_NORMAL_MAPPED when it has normal maps, so other
+    // scenes run the same code as before those existed (kernels/shared/texture.h,
+    // kernels/shared/shading_frame.h).
+    std::string programOptions() const {
+        return geometry.programOptions() + (textured ? " -DPCL_TEXTURED=1" : "") +
+               (smooth ? " -DPCL_SHADING_NORMALS=1" : "") + (normalMapped ? " -DPCL_NORMAL_MAPPED=1" : "");
+    }
 };
 
 }  // namespace pcl

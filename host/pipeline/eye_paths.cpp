@@ -50,13 +50,14 @@ cl::Event traceEyePaths(Device& device, const DeviceScene& scene, const DeviceAr
                             std::to_string(params.maxDepth) + ": expected ≥ 1 and 1..64");
     auto kernel = device.kernel<PclEyeParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                                cl::Buffer, PclEnvironment, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
-        "eye_paths", "eye_paths", scene.programOptions());
+                                cl::Buffer, PclEnvironment, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
+                                cl::Buffer, cl::Buffer>("eye_paths", "eye_paths", scene.programOptions());
     return device.launchLocal("eye_paths", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, rays, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
                               scene.primInfo, scene.materials, scene.lights, lights.cdf, lights.lightOfPrim,
                               scene.media, scene.primMedia, hits, segments, segmentCounts, scene.sky, scene.skyData,
-                              scene.materialTextures, scene.texels, scene.triangleUvs);
+                              scene.materialTextures, scene.texels, scene.triangleUvs, scene.triangleNormals,
+                              scene.normalMaps, scene.triangleTangents);
 }
 
 }  // namespace pcl

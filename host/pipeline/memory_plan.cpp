@@ -135,6 +135,9 @@ private:
         add("scene", "scene: material textures", s.materials, sizeof(PclMaterialTextures));
         add("scene", "scene: texels", s.texelFloats, sizeof(float));
         add("scene", "scene: triangle texture coordinates", s.triangleUvs, sizeof(PclTriangleUv));
+        add("scene", "scene: triangle normals", s.triangleNormals, sizeof(PclTriangleNormals));
+        add("scene", "scene: normal maps", s.normalMaps, sizeof(PclNormalMap));
+        add("scene", "scene: triangle tangents", s.triangleTangents, sizeof(PclTriangleTangents));
     }
 
     // runPhotonPass's buildMap: per batch emit → trace → deposit; the map buffer from
@@ -265,6 +268,9 @@ SceneBufferCounts sceneBufferCounts(const SceneGeometry& geometry, const SceneBu
     s.skyFloats = buffers.sky.data.size();
     s.texelFloats = buffers.textures.textured() ? buffers.textures.texels.size() : 0;
     s.triangleUvs = buffers.textures.textured() ? buffers.textures.triangleUvs.size() : 0;
+    s.triangleNormals = buffers.triangleNormals.size();
+    s.normalMaps = buffers.normalMaps.maps.size();
+    s.triangleTangents = buffers.normalMaps.triangleTangents.size();
     return s;
 }
 

@@ -47,6 +47,8 @@ struct SceneBufferCounts {
     // Textures (TextureBuffers): floats of texels and triangles with coordinates (0 without
     // textures: one-element placeholders); the per-material descriptors are `materials` long.
     size_t texelFloats = 0, triangleUvs = 0;
+    size_t triangleNormals = 0;                   // smooth-shaded scenes: one PclTriangleNormals per triangle (else 0)
+    size_t normalMaps = 0, triangleTangents = 0;  // normal-mapped scenes: per material, per triangle (else 0)
 };
 SceneBufferCounts sceneBufferCounts(const SceneGeometry& geometry, const SceneBuffers& buffers);
 

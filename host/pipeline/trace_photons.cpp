@@ -32,14 +32,14 @@ cl::Event tracePhotons(Device& device, const DeviceScene& scene, const PclPhoton
                             ": expected 1..255 (the bounce count is a byte of the photon record)");
     auto kernel = device.kernel<PclPhotonParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "trace_photons", params.pass == PCL_PASS_CAUSTIC ? "trace_photons_caustic" : "trace_photons_global",
         scene.programOptions());
     return device.launchLocal("trace_photons", kernel, photonGlobalRange(params.batchSize), cl::NDRange(kPhotonGroup),
                               params, rays, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
                               scene.primInfo, scene.materials, slots, counts, ends, scene.media, scene.primMedia,
                               scene.lightMedia, volumeSlots, volumeCounts, scene.materialTextures, scene.texels,
-                              scene.triangleUvs);
+                              scene.triangleUvs, scene.triangleNormals, scene.normalMaps, scene.triangleTangents);
 }
 
 }  // namespace pcl

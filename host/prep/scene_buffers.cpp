@@ -48,6 +48,8 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
     SceneBuffers b;
     for (const Material& m : scene.materials) b.materials.push_back(toDevice(m));
     b.textures = buildTextureBuffers(scene, geometry);
+    b.triangleNormals = buildTriangleNormals(scene, geometry);
+    b.normalMaps = buildNormalMapBuffers(scene, geometry, b.textures);
 
     std::vector<uint32_t> meshFirst(scene.meshes.size() + 1, 0);
     for (size_t i = 0; i < scene.meshes.size(); ++i)

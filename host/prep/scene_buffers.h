@@ -7,6 +7,8 @@
 
 #include "geometry/scene_geometry.h"
 #include "prep/environment_buffers.h"
+#include "prep/normal_map_buffers.h"
+#include "prep/shading_normals.h"
 #include "prep/texture_buffers.h"
 #include "scene/scene.h"
 #include "shared/types.h"
@@ -28,8 +30,11 @@ struct SceneBuffers {
     int32_t cameraMedium = PCL_NO_MEDIUM;  // the medium at the camera position (the eye rays start in it)
     Vec3 sceneCentre{0.0f};                // bounding sphere of the geometry over the shutter
     float sceneRadius = 0.0f;
-    TextureBuffers textures;   // ρd textures (prep/texture_buffers.h); descriptors of width 0 without
-    float rayEpsilon = 1e-6f;  // spawn offset: 1e-4 of the bounds' diagonal, at least 1e-6
+    TextureBuffers textures;  // ρd textures (prep/texture_buffers.h); descriptors of width 0 without
+    // Vertex normals of the smooth triangles (prep/shading_normals.h); empty when none is smooth.
+    std::vector<PclTriangleNormals> triangleNormals;
+    NormalMapBuffers normalMaps;  // prep/normal_map_buffers.h; empty when no material has a normal map
+    float rayEpsilon = 1e-6f;     // spawn offset: 1e-4 of the bounds' diagonal, at least 1e-6
     bool hasMotion = false;
     // The sky (prep/environment_buffers): its tables, and its photon light entry, the last of
     // lights, when the scene has one.

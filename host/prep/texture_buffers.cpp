@@ -69,7 +69,8 @@ TextureBuffers buildTextureBuffers(const Scene& scene, const SceneGeometry& geom
     if (!scene.hasTextures()) return b;
 
     // Each texture's texels once, in Scene::textures order.
-    std::vector<uint32_t> offsets(scene.textures.size(), 0);
+    std::vector<uint32_t>& offsets = b.offsets;
+    offsets.assign(scene.textures.size(), 0);
     for (size_t t = 0; t < scene.textures.size(); ++t) {
         const Image& image = scene.textures[t].image;
         if (b.texels.size() + image.rgb.size() > 0xFFFFFFFFull)

@@ -21,6 +21,7 @@ struct TextureBuffers {
     std::vector<PclMaterialTextures> materialTextures;  // by material: its texture slots and mapping
     std::vector<float> texels;                          // linear RGB, three floats a texel
     std::vector<PclTriangleUv> triangleUvs;             // by global primitive id below triangleCount
+    std::vector<uint32_t> offsets;                      // by Scene::textures index: its first float in texels
     bool textured() const { return !texels.empty(); }
 };
 

@@ -17,6 +17,7 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
     PclRadiance out{};
     if (!(h.flags & PCL_EYE_DIFFUSE)) return out;
     const Vec3 p(h.x, h.y, h.z), nf(h.nx, h.ny, h.nz);
+    const Vec3 sf(h.snx, h.sny, h.snz);  // the shading normal: cosines and the gather rays' frame
     const float eps = params.rayEpsilon, tau = h.time;
     const Vec3 o = p + nf * eps;
     // Shadow rays start in the medium on the record's side of its surface.
@@ -31,7 +32,7 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
         const PclLight& L = buffers.lights[l];
         if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
         Vec3 wi, tr;
-        const float g = lightDelta(geometry, buffers, sm, L, p, nf, o, tau, wi, tr);
+        const float g = lightDelta(geometry, buffers, sm, L, p, nf, sf, o, tau, wi, tr);
         if (g > 0.0f) sum = sum + eyeVec(L.power) * g * tr;
     }
     const uint32_t M = params.lightSamples;
@@ -43,13 +44,13 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
             rng_block(seed, h.pixel, h.sample * M + m, 0, PCL_RNG_STREAM_LIGHT, w);
             Vec3 wi, le;
             float pdfL, cosS;
-            if (!lightAreaSample(geometry, buffers, table, sm, params.lightCount, params.areaPowerTotal, p, nf, o, eps,
-                                 tau, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), wi, pdfL, cosS, le))
+            if (!lightAreaSample(geometry, buffers, table, sm, params.lightCount, params.areaPowerTotal, p, nf, sf, o,
+                                 eps, tau, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), wi, pdfL, cosS, le))
                 continue;
             float pdfB = cosS / kPi;
             if (params.histogramCells > 0 && cdf) {
                 const uint32_t G = params.histogramCells;
-                pdfB = pdfB * (float(G * G) * eyeCellProbability(cdf, eyeCellOfDirection(nf, wi, G)));
+                pdfB = pdfB * (float(G * G) * eyeCellProbability(cdf, eyeCellOfDirection(sf, wi, G)));
             }
             const float wMis = params.gatherRays == 0 ? 1.0f : eyeMisWeight(M, pdfL, params.gatherRays, pdfB);
             area = area + le * (cosS * wMis / pdfL);
@@ -66,15 +67,15 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
             Vec3 wi, Lsky, tr;
             const float pdfL = skySample(buffers, rng_u01(w[0]), rng_u01(w[1]), wi, Lsky);
             if (!(pdfL > 0.0f)) continue;
-            const float cosS = dot(nf, wi);
-            if (!(cosS > 0.0f)) continue;
+            const float cosS = dot(sf, wi);
+            if (!(cosS > 0.0f) || !(dot(nf, wi) > 0.0f)) continue;
             tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, wi,
                                         std::numeric_limits<float>::infinity(), tau);
             if (!(maxComponent(tr) > 0.0f)) continue;
             float pdfB = cosS / kPi;
             if (params.histogramCells > 0 && cdf) {
                 const uint32_t G = params.histogramCells;
-                pdfB = pdfB * (float(G * G) * eyeCellProbability(cdf, eyeCellOfDirection(nf, wi, G)));
+                pdfB = pdfB * (float(G * G) * eyeCellProbability(cdf, eyeCellOfDirection(sf, wi, G)));
             }
             const float wMis = params.gatherRays == 0 ? 1.0f : eyeMisWeight(M, pdfL, params.gatherRays, pdfB);
             sky = sky + Lsky * tr * (cosS * wMis / pdfL);

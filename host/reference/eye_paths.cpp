@@ -156,6 +156,8 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
         const Vec3 n = eyeNormalAt(buffers, hit.prim, params.triangleCount, p, ray.time);
         const float dn = dot(d, n);
         const Vec3 nf = dn < 0.0f ? n : -n;
+        const Vec3 ns = eyeShadingNormal(buffers, params.triangleCount, hit, n);  // the BSDF's frame
+        const Vec3 sf = dn < 0.0f ? ns : -ns;
         const uint32_t mat = buffers.primInfo[hit.prim].material;
         const PclMaterial m = texturedMaterial(buffers, params.triangleCount, hit);  // ρd at the hit
         if (hasMedia) {
@@ -192,17 +194,17 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
                 const PclLight& L = buffers.lights[l];
                 if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
                 Vec3 wi, tr;
-                const float g = lightDelta(geometry, buffers, sm, L, p, nf, lifted, ray.time, wi, tr);
-                if (g > 0.0f) sum = sum + eyeVec(L.power) * (g * eyePhongCosPower(d, nf, wi, e)) * tr;
+                const float g = lightDelta(geometry, buffers, sm, L, p, nf, sf, lifted, ray.time, wi, tr);
+                if (g > 0.0f) sum = sum + eyeVec(L.power) * (g * eyePhongCosPower(d, sf, wi, e)) * tr;
             }
             Vec3 wi, le;
             float pdfL, cosS;
             if (params.areaPowerTotal > 0.0f &&
-                lightAreaSample(geometry, buffers, table, sm, params.lightCount, params.areaPowerTotal, p, nf, lifted,
-                                buffers.rayEpsilon, ray.time, sampler.vertex(v, PathVertexDims::kLightSelect),
+                lightAreaSample(geometry, buffers, table, sm, params.lightCount, params.areaPowerTotal, p, nf, sf,
+                                lifted, buffers.rayEpsilon, ray.time, sampler.vertex(v, PathVertexDims::kLightSelect),
                                 sampler.vertex(v, PathVertexDims::kLightPoint),
                                 sampler.vertex(v, PathVertexDims::kLightPoint + 1), wi, pdfL, cosS, le)) {
-                const float cp = eyePhongCosPower(d, nf, wi, e);
+                const float cp = eyePhongCosPower(d, sf, wi, e);
                 const float pdfB = (1.0f - pd) * ((e + 1.0f) / (2.0f * kPi)) * cp;
                 sum = sum + le * (cp * cosS * eyeMisWeight(1, pdfL, 1, pdfB) / pdfL);
             }
@@ -216,6 +218,9 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
             h.nx = nf.x;
             h.ny = nf.y;
             h.nz = nf.z;
+            h.snx = sf.x;
+            h.sny = sf.y;
+            h.snz = sf.z;
             h.prim = hit.prim;
             h.wox = -d.x;
             h.woy = -d.y;
@@ -231,7 +236,7 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
             break;
         }
         Vec3 dNew, w;
-        if (!eyeSpecularScatter(m, d, n, sampler.vertex(v, 7), sampler.vertex(v, PathVertexDims::kDirection),
+        if (!eyeSpecularScatter(m, d, n, ns, sampler.vertex(v, 7), sampler.vertex(v, PathVertexDims::kDirection),
                                 sampler.vertex(v, PathVertexDims::kDirection + 1), dNew, w))
             break;
         // Through the surface (refraction): the medium on the other side.
@@ -239,7 +244,7 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
             medium = dn < 0.0f ? buffers.primMedia[hit.prim].inside : buffers.primMedia[hit.prim].outside;
         T = T * w / Vec3(1.0f - pd);
         pdfLobe = m.specular == PCL_SPECULAR_GLOSSY
-                      ? (1.0f - pd) * ((m.exponent + 1.0f) / (2.0f * kPi)) * eyePhongCosPower(d, nf, dNew, m.exponent)
+                      ? (1.0f - pd) * ((m.exponent + 1.0f) / (2.0f * kPi)) * eyePhongCosPower(d, sf, dNew, m.exponent)
                       : 0.0f;
         o = p + nf * (dot(dNew, nf) > 0.0f ? buffers.rayEpsilon : -buffers.rayEpsilon);
         d = dNew;

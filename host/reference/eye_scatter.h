@@ -8,6 +8,7 @@
 #include "prep/scene_buffers.h"
 #include "reference/bsdf.h"
 #include "reference/sampling.h"
+#include "shared/shading_frame.h"
 #include "shared/types.h"
 
 namespace pcl {
@@ -24,6 +25,22 @@ inline Vec3 eyeNormalAt(const SceneBuffers& b, uint32_t prim, uint32_t triangleC
     return {info.a, info.b, info.c};
 }
 
+// The shading normal of a hit (on n's side; n where there is none) by the kernels' own lookup
+// (kernels/shared/shading_frame.h), from the buffers' per-triangle normals and normal maps
+// (empty: none).
+inline Vec3 eyeShadingNormal(const SceneBuffers& b, uint32_t triangleCount, const PclHit& hit, Vec3 n) {
+    const bool mapped = b.normalMaps.mapped();
+    if (b.triangleNormals.empty() && !mapped) return n;
+    const PclV3 s = shading_normal(b.triangleNormals.empty() ? nullptr : b.triangleNormals.data(),
+                                   mapped ? b.normalMaps.triangleTangents.data() : nullptr,
+                                   mapped ? b.normalMaps.maps.data() : nullptr, b.textures.texels.data(),
+                                   b.textures.triangleUvs.data(), b.primInfo[hit.prim].material, hit.prim,
+                                   triangleCount, hit.u, hit.v, sampling_v3(n.x, n.y, n.z));
+    return {s.x, s.y, s.z};
+}
+
+inline bool eyeIsSmooth(Vec3 ns, Vec3 n) { return ns.x != n.x || ns.y != n.y || ns.z != n.z; }
+
 // P_d = lum(ρd) / (lum(ρd) + lum(ρs)); negative for a black surface.
 inline float eyeDiffuseProbability(const PclMaterial& m) {
     const float ld = luminance(eyeVec(m.rhoD));
@@ -32,27 +49,30 @@ inline float eyeDiffuseProbability(const PclMaterial& m) {
     return sum > 0.0f ? ld / sum : -1.0f;
 }
 
-// The specular part scatters unit d (arriving at outside normal n); weight before 1/P_s
-// (refraction: ρs η², η = η_i/η_t on the path's side over the other).
-inline bool eyeSpecularScatter(const PclMaterial& m, Vec3 d, Vec3 n, float uF, float uA, float uB, Vec3& dNew,
+// The specular part scatters unit d (arriving at outside normal n, shading normal ns on n's
+// side, = n on flat surfaces); weight before 1/P_s (refraction: ρs η², η = η_i/η_t on the
+// path's side over the other). Where ns differs from n a reflection must stay on d's side of
+// the geometric surface and a refraction cross it.
+inline bool eyeSpecularScatter(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 ns, float uF, float uA, float uB, Vec3& dNew,
                                Vec3& weight) {
     const float dn = dot(d, n);
-    const Vec3 nf = dn < 0.0f ? n : -n;
+    const Vec3 nf = dn < 0.0f ? ns : -ns;  // the shading normal on the path's side
     weight = eyeVec(m.rhoS);
     const Vec3 mirror = d - nf * (2.0f * dot(d, nf));
+    bool crosses = false;
     switch (m.specular) {
-        case PCL_SPECULAR_MIRROR: dNew = mirror; return true;
+        case PCL_SPECULAR_MIRROR: dNew = mirror; break;
         case PCL_SPECULAR_GLOSSY: {
             dNew = samplePhongLobe(mirror, m.exponent, uA, uB);
             const float cosOut = dot(dNew, nf);
             if (!(cosOut > 0.0f)) return false;
             weight = weight * ((m.exponent + 2.0f) / (m.exponent + 1.0f) * cosOut);
-            return true;
+            break;
         }
         case PCL_SPECULAR_DIELECTRIC: {
             const bool entering = dn < 0.0f;
             const float eta = entering ? 1.0f / m.ior : m.ior;
-            const float cosI = std::fabs(dn);
+            const float cosI = std::fabs(dot(d, ns));
             const float F = entering ? fresnelDielectric(cosI, 1.0f, m.ior) : fresnelDielectric(cosI, m.ior, 1.0f);
             if (uF < F) {
                 dNew = mirror;
@@ -60,11 +80,17 @@ inline bool eyeSpecularScatter(const PclMaterial& m, Vec3 d, Vec3 n, float uF, f
                 const float cosT = std::sqrt(std::max(0.0f, 1.0f - eta * eta * (1.0f - cosI * cosI)));
                 dNew = d * eta + nf * (eta * cosI - cosT);
                 weight = weight * (eta * eta);  // radiance scales by (η_i/η_t)² across the surface
+                crosses = true;
             }
-            return true;
+            break;
         }
         default: return false;
     }
+    if (eyeIsSmooth(ns, n)) {
+        const float side = dot(dNew, n) * dn;  // < 0: back to d's side
+        if (crosses ? !(side > 0.0f) : !(side < 0.0f)) return false;
+    }
+    return true;
 }
 
 // The normalised Phong lobe of exponent e at a hit reached along d (facing normal nf), toward

@@ -59,7 +59,7 @@ std::vector<float> referenceGatherHistograms(const std::vector<PclPhoton>& map, 
         float total = 0.0f;
         const PclEyeHit& h = hits[i];
         if (h.flags & PCL_EYE_DIFFUSE) {
-            const Vec3 n(h.nx, h.ny, h.nz);
+            const Vec3 n(h.snx, h.sny, h.snz);  // the gather rays' frame
             for (uint32_t j = 0; j < knn.counts[i]; ++j) {
                 const PclPhoton& ph = map[knn.indices[i * knn.stride + j]];
                 const Vec3 wi = decodePhotonDirection(ph.packed);
@@ -92,6 +92,7 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
     const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
     const uint32_t bounceWord = h.sample * N + g;
     const Vec3 p0(h.x, h.y, h.z), n0(h.nx, h.ny, h.nz);
+    const Vec3 s0(h.snx, h.sny, h.snz);  // the gather rays' frame: the shading normal
     const float tau = h.time;
     uint32_t w[4];
     rng_block(seed, h.pixel, bounceWord, 0, PCL_RNG_STREAM_GATHER, w);
@@ -104,8 +105,9 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
         s2 = (float(c / G) + s2) / float(G);
         ratio = 1.0f / (float(G * G) * eyeCellProbability(cdf, c));
     }
-    Vec3 d = sampleCosineHemisphere(n0, s1, s2);
-    const float pdfB = dot(n0, d) / kPi / ratio;
+    Vec3 d = sampleCosineHemisphere(s0, s1, s2);
+    const float pdfB = dot(s0, d) / kPi / ratio;
+    if (eyeIsSmooth(s0, n0) && !(dot(d, n0) > 0.0f)) return;  // below the geometric surface: no light
     Vec3 o = p0 + n0 * params.rayEpsilon;
     Vec3 T(ratio), Le(0.0f);
     bool afterSpecular = false;
@@ -159,7 +161,8 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
         }
         if (b == params.maxSpecular) break;
         Vec3 dNew, ws;
-        if (!eyeSpecularScatter(m, d, n, rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3]), dNew, ws)) break;
+        const Vec3 ns = eyeShadingNormal(buffers, params.triangleCount, hit, n);
+        if (!eyeSpecularScatter(m, d, n, ns, rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3]), dNew, ws)) break;
         T = T * ws / Vec3(1.0f - pd);
         o = p + nf * (dot(dNew, nf) > 0.0f ? params.rayEpsilon : -params.rayEpsilon);
         d = dNew;

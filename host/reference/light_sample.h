@@ -32,15 +32,16 @@ inline float lightIntensityScale(const PclLight& L, Vec3 wi) {
     return falloff / (2.0f * kPi * ((1.0f - L.cosInner) + 0.5f * (L.cosInner - L.cosOuter)));
 }
 
-// A point, spot or directional light seen from p (facing normal nf, o = p lifted): wi, the
+// A point, spot or directional light seen from p (facing geometric normal nf for the side
+// test, facing shading normal sf for the cosine; o = p lifted): wi, the
 // shadow ray's transmittance tr and the factor g with contribution Φ g tr (times the BRDF); 0
 // when unlit or occluded.
 inline float lightDelta(const SceneGeometry& geometry, const SceneBuffers& buffers, ShadowMedium sm, const PclLight& L,
-                        Vec3 p, Vec3 nf, Vec3 o, float tau, Vec3& wi, Vec3& tr) {
+                        Vec3 p, Vec3 nf, Vec3 sf, Vec3 o, float tau, Vec3& wi, Vec3& tr) {
     if (L.type == PCL_LIGHT_DIRECTIONAL) {
         wi = -eyeVec(L.axis);
-        const float cosS = dot(nf, wi);
-        if (!(cosS > 0.0f)) return 0.0f;
+        const float cosS = dot(sf, wi);
+        if (!(cosS > 0.0f) || !(dot(nf, wi) > 0.0f)) return 0.0f;
         tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, wi,
                                     std::numeric_limits<float>::infinity(), tau);
         if (!(maxComponent(tr) > 0.0f)) return 0.0f;
@@ -51,8 +52,8 @@ inline float lightDelta(const SceneGeometry& geometry, const SceneBuffers& buffe
     if (!(d2 > 0.0f)) return 0.0f;
     const float dist = std::sqrt(d2);
     wi = Vec3(toL.x / dist, toL.y / dist, toL.z / dist);
-    const float cosS = dot(nf, wi);
-    if (!(cosS > 0.0f)) return 0.0f;
+    const float cosS = dot(sf, wi);
+    if (!(cosS > 0.0f) || !(dot(nf, wi) > 0.0f)) return 0.0f;
     const float scale = lightIntensityScale(L, wi);  // I/Φ with the spot's falloff
     if (!(scale > 0.0f)) return 0.0f;
     tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, eyeVec(L.p) - o, 1.0f, tau);
@@ -77,12 +78,12 @@ inline bool lightAreaPoint(const SceneBuffers& buffers, const AreaLightTable& ta
     return true;
 }
 
-// One triangle-light sample (lightAreaPoint). On success wi, the solid-angle density pdfL, cosθ
-// at p and the light's radiance times the shadow ray's transmittance, le.
+// One triangle-light sample (lightAreaPoint; nf, sf as for lightDelta). On success wi, the
+// solid-angle density pdfL, cosθ to sf at p and the light's radiance times the shadow ray's transmittance, le.
 inline bool lightAreaSample(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
-                            ShadowMedium sm, uint32_t lightCount, float areaPowerTotal, Vec3 p, Vec3 nf, Vec3 o,
-                            float eps, float tau, float u0, float u1, float u2, Vec3& wi, float& pdfL, float& cosS,
-                            Vec3& le) {
+                            ShadowMedium sm, uint32_t lightCount, float areaPowerTotal, Vec3 p, Vec3 nf, Vec3 sf,
+                            Vec3 o, float eps, float tau, float u0, float u1, float u2, Vec3& wi, float& pdfL,
+                            float& cosS, Vec3& le) {
     const PclLight* chosen = nullptr;
     Vec3 q;
     if (!lightAreaPoint(buffers, table, lightCount, tau, u0, u1, u2, chosen, q)) return false;
@@ -92,8 +93,8 @@ inline bool lightAreaSample(const SceneGeometry& geometry, const SceneBuffers& b
     if (!(d2 > 0.0f)) return false;
     const float dist = std::sqrt(d2);
     wi = Vec3(toL.x / dist, toL.y / dist, toL.z / dist);
-    cosS = dot(nf, wi);
-    if (!(cosS > 0.0f)) return false;
+    cosS = dot(sf, wi);
+    if (!(cosS > 0.0f) || !(dot(nf, wi) > 0.0f)) return false;
     pdfL = eyeAreaLightPdf(L, areaPowerTotal, wi, d2);
     if (!(pdfL > 0.0f)) return false;
     const Vec3 end = q + eyeVec(L.axis) * eps;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "prep/texture_buffers.h"
+#include "shared/shading_frame.h"
 #include "shared/texture.h"
 
 namespace pcl {
@@ -32,16 +33,37 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
         float w = 1.0f - hit.u - hit.v;
         s.p = v.p0 * w + v.p1 * hit.u + v.p2 * hit.v;
         s.ng = normalize(cross(v.p1 - v.p0, v.p2 - v.p0));
-        s.ns = s.ng;
+        // The shading normal as kernels/shared/shading_frame.h defines it: the interpolated
+        // vertex normal, perturbed by the material's normal map, on the geometric side.
+        const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(ref.index)];
+        Vec3 n = s.ng;
+        bool shaded = false;
         if (!mesh.normals.empty()) {
-            const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(ref.index)];
-            Vec3 n = mesh.normals[idx[0]] * w + mesh.normals[idx[1]] * hit.u + mesh.normals[idx[2]] * hit.v;
-            float len = length(n);
+            Vec3 m = mesh.normals[idx[0]] * w + mesh.normals[idx[1]] * hit.u + mesh.normals[idx[2]] * hit.v;
+            float len = length(m);
             if (len > 0.0f) {
-                s.ns = n / len;
-                if (dot(s.ns, s.ng) < 0.0f) s.ns = -s.ns;  // keep both on the geometric side
+                n = m / len;
+                shaded = true;
             }
         }
+        const Material& material = scene.materials[mesh.material];
+        if (material.normalTexture >= 0 && mesh.tangents.size() == 4 * mesh.positions.size()) {
+            const Texture& texture = scene.textures[size_t(material.normalTexture)];
+            const float* uv = mesh.uv[texture.texCoord].data();
+            const float u = w * uv[2 * idx[0]] + hit.u * uv[2 * idx[1]] + hit.v * uv[2 * idx[2]];
+            const float v = w * uv[2 * idx[0] + 1] + hit.u * uv[2 * idx[1] + 1] + hit.v * uv[2 * idx[2] + 1];
+            float texel[3];
+            texture_bilinear(textureDescriptor(texture, 0), texture.image.rgb.data(), u, v, texel);
+            const float* t = mesh.tangents.data();
+            auto at = [&](int c) {
+                return w * t[4 * idx[0] + c] + hit.u * t[4 * idx[1] + c] + hit.v * t[4 * idx[2] + c];
+            };
+            const PclV3 p = shading_perturb(sampling_v3(n.x, n.y, n.z), sampling_v3(at(0), at(1), at(2)),
+                                            at(3) < 0.0f ? -1.0f : 1.0f, texel, material.normalScale);
+            n = Vec3(p.x, p.y, p.z);
+            shaded = true;
+        }
+        s.ns = !shaded ? s.ng : (dot(n, s.ng) < 0.0f ? -n : n);  // both on the geometric side
         s.material = &scene.materials[mesh.material];
         s.rhoD = s.material->rhoD;
         s.rhoS = s.material->rhoS;
@@ -51,7 +73,6 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
             const PclMaterialTextures t = materialTextureDescriptor(scene, m, {});
             const int slots[PCL_TEXTURE_SLOTS] = {m.rhoDTexture, m.rhoSTexture, m.exponentTexture};
             PclTexels x{};
-            const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(ref.index)];
             for (int k = 0; k < PCL_TEXTURE_SLOTS; ++k) {
                 if (slots[k] < 0) continue;
                 const Texture& texture = scene.textures[size_t(slots[k])];

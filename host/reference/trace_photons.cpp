@@ -4,24 +4,24 @@
 #include <cmath>
 
 #include "reference/bsdf.h"
+#include "reference/eye_scatter.h"
 #include "reference/medium.h"
 #include "reference/parallel_for.h"
 #include "reference/sampling.h"
 #include "reference/textured_material.h"
 #include "shared/rng.h"
+#include "shared/shading_frame.h"
 
 namespace pcl {
 namespace {
 
 Vec3 vec(const float v[4]) { return {v[0], v[1], v[2]}; }
 
-}  // namespace
-
-// ---- Step 2 of the spec: Russian roulette on a mixed surface, then the new direction --------
-ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 power, const float u[4]) {
+// Roulette and the new direction in the frame of shading normal ns (= n on flat surfaces).
+ReferenceScatter scatterInShadingFrame(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 ns, Vec3 power, const float u[4]) {
     ReferenceScatter s;
     const Vec3 rhoD = vec(m.rhoD), rhoS = vec(m.rhoS);
-    const Vec3 nf = dot(d, n) < 0.0f ? n : -n;  // the side the photon arrives on
+    const Vec3 nf = dot(d, n) < 0.0f ? ns : -ns;  // the shading normal on the photon's side
 
     // Jensen 2001 §5.3.2: per-channel probabilities, so a coloured surface keeps the photon's
     // power level and changes only its colour. (Grey surfaces: the notes' z < ρd, z < ρd + ρs.)
@@ -70,7 +70,7 @@ ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Ve
         default: {  // dielectric: exact Fresnel chooses reflection or refraction
             const bool entering = dot(d, n) < 0.0f;
             const float eta = entering ? 1.0f / m.ior : m.ior;
-            const float cosI = std::fabs(dot(d, n));
+            const float cosI = std::fabs(dot(d, ns));
             const float F = entering ? fresnelDielectric(cosI, 1.0f, m.ior) : fresnelDielectric(cosI, m.ior, 1.0f);
             if (u[1] < F) {
                 s.kind = ReferenceScatter::Reflected;
@@ -84,6 +84,28 @@ ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Ve
             break;
         }
     }
+    return s;
+}
+
+}  // namespace
+
+// ---- Step 2 of the spec: Russian roulette on a mixed surface, then the new direction --------
+ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 power, const float u[4]) {
+    return scatterPhotonReference(m, d, n, n, power, u);
+}
+
+ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 ns, Vec3 power, const float u[4]) {
+    ReferenceScatter s = scatterInShadingFrame(m, d, n, ns, power, u);
+    const bool moved = s.kind != ReferenceScatter::Absorbed && s.kind != ReferenceScatter::GlossyBelow;
+    if (!moved || !eyeIsSmooth(ns, n)) return s;
+    const float side = dot(s.direction, n) * dot(d, n);  // > 0: through the surface
+    if (s.kind == ReferenceScatter::Refracted ? !(side > 0.0f) : !(side < 0.0f)) {
+        s.kind = ReferenceScatter::WrongSide;
+        s.power = Vec3(0.0f);
+        return s;
+    }
+    auto v3 = [](Vec3 v) { return sampling_v3(v.x, v.y, v.z); };
+    s.power = s.power * shading_adjoint(v3(ns), v3(n), v3(-d), v3(s.direction));
     return s;
 }
 
@@ -261,11 +283,14 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         uint32_t w[4];
         rng_block(seed, j, b, 0, stream, w);
         const float u[4] = {rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3])};
-        const ReferenceScatter s = scatterPhotonReference(m, d, n, power, u);
+        const Vec3 ns = eyeShadingNormal(buffers, params.triangleCount, hit, n);  // the scattering frame
+        const ReferenceScatter s = scatterPhotonReference(m, d, n, ns, power, u);
         if (hits) hits->push_back({b, s.kind, s.pDiffuse, s.pSpecular, power, s.power, hit.prim, p, d, n, s.direction});
         // A caustic path ending here: STORED when this hit deposited, else ABSORBED.
         const uint32_t endHere = depositedHere ? PCL_END_STORED : PCL_END_ABSORBED;
-        if (s.kind == ReferenceScatter::Absorbed || s.kind == ReferenceScatter::GlossyBelow) return b | endHere << 8;
+        if (s.kind == ReferenceScatter::Absorbed || s.kind == ReferenceScatter::GlossyBelow ||
+            s.kind == ReferenceScatter::WrongSide)
+            return b | endHere << 8;
         if (caustic && s.kind == ReferenceScatter::Diffuse) return b | endHere << 8;  // no longer LS+D
         flags |= s.kind == ReferenceScatter::Diffuse ? PCL_PHOTON_AFTER_DIFFUSE : PCL_PHOTON_AFTER_SPECULAR;
         power = s.power;
@@ -278,8 +303,8 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         }
 
         // 3. Spawn on the side the new direction leaves from.
-        const Vec3 ns = dot(s.direction, nf) > 0.0f ? nf : -nf;
-        o = p + ns * params.rayEpsilon;
+        const Vec3 side = dot(s.direction, nf) > 0.0f ? nf : -nf;
+        o = p + side * params.rayEpsilon;
         d = s.direction;
         ++b;
     }

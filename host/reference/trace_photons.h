@@ -35,7 +35,9 @@ struct ReferencePhotonHit {
 
 // One roulette-and-scatter step at a hit (step 2 of the spec), exposed for the sampling tests.
 struct ReferenceScatter {
-    enum Kind : uint32_t { Absorbed, Diffuse, Mirror, Glossy, Reflected, Refracted, GlossyBelow };
+    // WrongSide: scattered with a shading normal onto the wrong side of the geometric surface
+    // (a reflection through it, a refraction back), which ends the path like GlossyBelow.
+    enum Kind : uint32_t { Absorbed, Diffuse, Mirror, Glossy, Reflected, Refracted, GlossyBelow, WrongSide };
     Kind kind = Absorbed;
     Vec3 direction;                     // d'
     Vec3 power;                         // Φ after the step
@@ -44,6 +46,11 @@ struct ReferenceScatter {
 // d: incoming direction, n: geometric normal (outside for dielectrics), u: the four numbers of
 // the bounce (z, Fresnel choice, direction pair).
 ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 power, const float u[4]);
+// The same with shading normal ns (unit, on n's side; kernels/shared/shading_frame.h): the
+// scattering frame is ns's; where ns differs from n the direction must leave on the geometric
+// side it should (else WrongSide) and the power takes the adjoint factor
+// |ω_in·ns| |ω_out·n| / (|ω_in·n| |ω_out·ns|) (host/reference/light_tracer.cpp).
+ReferenceScatter scatterPhotonReference(const PclMaterial& m, Vec3 d, Vec3 n, Vec3 ns, Vec3 power, const float u[4]);
 
 // Ward's RGBE and the (θ, φ) bytes, exactly as the spec writes them.
 uint32_t referenceEncodeRgbe(Vec3 power);

@@ -211,8 +211,8 @@ public:
         walkNodes();
         if (!ignoredTextures_.empty())
             warnInput(file_, "textures ignored: " + ignoredTextures_ +
-                                 " (only baseColorTexture and metallicRoughnessTexture from image files are read; "
-                                 "materials use their factors)");
+                                 " (only baseColorTexture, metallicRoughnessTexture and normalTexture from image files "
+                                 "are read; materials use their factors)");
         return result_;
     }
 
@@ -321,7 +321,8 @@ private:
             fail(af + ".sparse", "a dense accessor (sparse accessors are not supported)", "a sparse one");
         if (a.type != type)
             fail(af + ".type",
-                 type == TINYGLTF_TYPE_VEC3   ? "VEC3"
+                 type == TINYGLTF_TYPE_VEC4   ? "VEC4"
+                 : type == TINYGLTF_TYPE_VEC3 ? "VEC3"
                  : type == TINYGLTF_TYPE_VEC2 ? "VEC2"
                                               : "SCALAR",
                  "type code " + std::to_string(a.type));
@@ -376,6 +377,21 @@ private:
         View v = view(index, field, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
         std::vector<Vec3> out(v.count);
         for (size_t i = 0; i < v.count; ++i) std::memcpy(&out[i], v.data + i * v.stride, sizeof(float) * 3);
+        return out;
+    }
+
+    // TANGENT: x, y, z, w per vertex, VEC4 of FLOAT (glTF 2.0 §3.7.2.1), finite, w = ±1.
+    std::vector<float> readTangents(int index, const std::string& field) {
+        View v = view(index, field, TINYGLTF_TYPE_VEC4, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        std::vector<float> out(4 * v.count);
+        for (size_t i = 0; i < v.count; ++i) std::memcpy(&out[4 * i], v.data + i * v.stride, sizeof(float) * 4);
+        for (size_t i = 0; i < v.count; ++i) {
+            for (int c = 0; c < 4; ++c)
+                if (!std::isfinite(out[4 * i + size_t(c)]))
+                    fail(field, "finite tangents", show(out[4 * i + size_t(c)]));
+            if (out[4 * i + 3] != 1.0f && out[4 * i + 3] != -1.0f)
+                fail(field, "w = 1 or -1 (the bitangent's sign)", show(out[4 * i + 3]));
+        }
         return out;
     }
 
@@ -456,6 +472,13 @@ private:
                          std::to_string(out.positions.size()) + " normals (one per position)",
                          std::to_string(out.normals.size()));
             }
+            if (auto tan = prim.attributes.find("TANGENT"); tan != prim.attributes.end()) {
+                out.tangents = readTangents(tan->second, field + ".attributes.TANGENT");
+                if (out.tangents.size() != 4 * out.positions.size())
+                    fail(field + ".attributes.TANGENT",
+                         std::to_string(out.positions.size()) + " tangents (one per position)",
+                         std::to_string(out.tangents.size() / 4));
+            }
             for (int set = 0; set < 2; ++set) {
                 const std::string name = "TEXCOORD_" + std::to_string(set);
                 auto tc = prim.attributes.find(name);
@@ -480,6 +503,18 @@ private:
             out.indices = triangles(vertices, mode);
             for (auto& x : out.positions) x = world.point(x);
             for (auto& n : out.normals) n = world.normal(n);
+            for (size_t v = 0; 4 * v < out.tangents.size(); ++v) {
+                // A tangent is a surface direction (the linear part moves it); a mirroring
+                // transform flips the handedness of (N, T, B), so w changes sign.
+                const Vec3 t =
+                    world.vector(Vec3(out.tangents[4 * v], out.tangents[4 * v + 1], out.tangents[4 * v + 2]));
+                const float l = length(t);
+                const Vec3 u = l > 0.0f ? t / l : Vec3(0.0f);
+                out.tangents[4 * v] = u.x;
+                out.tangents[4 * v + 1] = u.y;
+                out.tangents[4 * v + 2] = u.z;
+                if (world.flipsWinding()) out.tangents[4 * v + 3] = -out.tangents[4 * v + 3];
+            }
             if (world.flipsWinding())
                 for (size_t i = 0; i + 2 < out.indices.size(); i += 3)
                     std::swap(out.indices[i + 1], out.indices[i + 2]);
@@ -621,8 +656,19 @@ private:
         if (gltfIndex >= textures_.materials.size() || !textures_.materials[gltfIndex].is_object()) return;
         const json& g = textures_.materials[gltfIndex];
         const std::string field = at("materials", gltfIndex);
-        for (const char* other : {"normalTexture", "occlusionTexture", "emissiveTexture"})
+        for (const char* other : {"occlusionTexture", "emissiveTexture"})
             if (g.contains(other)) noteIgnored(other);
+        if (auto normal = g.find("normalTexture"); normal != g.end()) {
+            // Linear texels (glTF 2.0 §3.9.3); scale multiplies the decoded x and y.
+            const std::string nf = field + ".normalTexture";
+            m.normalTexture = textureFor(*normal, nf, "normalTexture", TextureEncoding::Linear);
+            if (normal->is_object())
+                if (auto s = normal->find("scale"); s != normal->end()) {
+                    if (!s->is_number() || !std::isfinite(s->get<double>()))
+                        fail(nf + ".scale", "a number", showJson(*s));
+                    m.normalScale = float(s->get<double>());
+                }
+        }
         auto pbr = g.find("pbrMetallicRoughness");
         if (pbr == g.end() || !pbr->is_object()) return;
         const std::string pf = field + ".pbrMetallicRoughness";

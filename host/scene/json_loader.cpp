@@ -210,7 +210,7 @@ private:
     // ---- Materials -------------------------------------------------------------------------
 
     void readMaterial(const json& value, const std::string& path) {
-        checkObject(value, path, {"name", "rho_d", "specular", "emission"});
+        checkObject(value, path, {"name", "rho_d", "specular", "emission", "normal_map"});
         Material m;
         m.name = text(required(value, path, "name", "a material name"), keyPath(path, "name"));
         if (m.name.empty()) fail(keyPath(path, "name"), "a non-empty name", value["name"]);
@@ -223,6 +223,7 @@ private:
                 m.rhoD = reflectance(*v, keyPath(path, "rho_d"));
             }
         }
+        if (auto* v = optional(value, "normal_map")) readNormalMap(*v, keyPath(path, "normal_map"), m);
         if (auto* v = optional(value, "emission")) m.emission = radiometric(*v, keyPath(path, "emission"));
         if (auto* s = optional(value, "specular")) readSpecular(*s, keyPath(path, "specular"), m);
         Vec3 sum = m.rhoD + m.rhoS;
@@ -255,6 +256,17 @@ private:
         for (int i = 0; i < 2; ++i) range[i] = float(number(r[size_t(i)], rp, 0.0, 1e6, expected));
         if (!(range[0] > 0.0f) || range[1] < range[0]) fail(rp, expected, r);
         return t;
+    }
+
+    // {"texture": "bumps.png", "normal_scale": s, ...the texture's keys}: a tangent-space normal
+    // map (glTF's normalTexture; "scale" is the coordinates' scale as for every texture, so glTF's
+    // normalTexture.scale is "normal_scale" here, default 1). Linear unless "encoding" says
+    // otherwise: a normal map stores vectors, not colours.
+    void readNormalMap(const json& value, const std::string& path, Material& m) {
+        if (!value.is_object()) fail(path, "an object {\"texture\": FILE, ...}", value);
+        m.normalTexture = readTexture(value, path, "normal_scale", TextureEncoding::Linear);
+        if (auto* s = optional(value, "normal_scale"))
+            m.normalScale = float(number(*s, keyPath(path, "normal_scale"), -1e6, 1e6, "a number"));
     }
 
     // {"texture": "wood.png", "wrap": "repeat" | "clamp" | "mirror" | [u, v], "offset": [u, v],

@@ -35,6 +35,11 @@ struct Material {
     // colour and exponentTexture the metallic (B) and roughness (G) texture; ρd, ρs and the
     // exponent come per texel from them and the factors below (scenes/README.md, "Materials").
     int rhoDTexture = -1;
+    // Index into Scene::textures, or -1: a tangent-space normal map (glTF normalTexture; linear
+    // texels, rgb = (n + 1)/2), its x and y scaled by normalScale. Meshes only; they get
+    // tangents (TriangleMesh::tangents) from the file or scene/mesh_tangents.h.
+    int normalTexture = -1;
+    float normalScale = 1.0f;
     int rhoSTexture = -1;
     int exponentTexture = -1;
     float exponentRange[2] = {0.0f, 0.0f};
@@ -64,7 +69,11 @@ struct Medium {
 struct TriangleMesh {
     std::string name;
     std::vector<Vec3> positions;
-    std::vector<Vec3> normals;      // optional per-vertex shading normals (empty: geometric)
+    std::vector<Vec3> normals;  // optional per-vertex shading normals (empty: geometric)
+    // Optional per-vertex tangents for normal maps: x, y, z, w (glTF TANGENT: unit xyz along
+    // ∂p/∂u, w = ±1 the bitangent's sign, B = (N × T) w); filled by addMissingTangents for the
+    // meshes of normal-mapped materials that have none.
+    std::vector<float> tangents;
     std::vector<uint32_t> indices;  // three per triangle
     // Texture coordinate sets 0 and 1: (u, v) per vertex, or empty. A mesh whose material has a
     // texture has the set it names.
@@ -155,7 +164,7 @@ struct Scene {
     }
     bool hasTextures() const {
         for (const auto& m : materials)
-            if (m.textured()) return true;
+            if (m.textured() || m.normalTexture >= 0) return true;
         return false;
     }
     bool hasMotion() const {

@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "scene/mesh_tangents.h"
 #include "scene/mesh_topology.h"
 #include "scene/scene_error.h"
 
@@ -278,6 +279,12 @@ void checkTextures(const Scene& s) {
             if (t >= int(s.textures.size()) || t < -1)
                 failInput(s.path, at("materials", i) + " (\"" + m.name + "\")." + name,
                           "a texture index below " + std::to_string(s.textures.size()), std::to_string(t));
+        if (m.normalTexture >= int(s.textures.size()) || m.normalTexture < -1)
+            failInput(s.path, at("materials", i) + " (\"" + m.name + "\").normal_map",
+                      "a texture index below " + std::to_string(s.textures.size()), std::to_string(m.normalTexture));
+        if (!std::isfinite(m.normalScale))
+            failInput(s.path, at("materials", i) + " (\"" + m.name + "\").normal_map.normal_scale", "a finite number",
+                      std::to_string(m.normalScale));
     }
     for (size_t i = 0; i < s.meshes.size(); ++i) {
         const TriangleMesh& m = s.meshes[i];
@@ -290,9 +297,13 @@ void checkTextures(const Scene& s) {
             for (float x : m.uv[set])
                 if (!std::isfinite(x)) failInput(s.path, field, "finite texture coordinates", std::to_string(x));
         }
+        if (!m.tangents.empty() && m.tangents.size() != 4 * m.positions.size())
+            failInput(s.path, f + ".tangents",
+                      std::to_string(m.positions.size()) + " tangents (x, y, z, w per position)",
+                      std::to_string(m.tangents.size() / 4));
         if (m.material < 0 || size_t(m.material) >= s.materials.size()) continue;
         const Material& mat = s.materials[size_t(m.material)];
-        for (int t : {mat.rhoDTexture, mat.rhoSTexture, mat.exponentTexture}) {
+        for (int t : {mat.rhoDTexture, mat.rhoSTexture, mat.exponentTexture, mat.normalTexture}) {
             if (t < 0) continue;
             const int set = s.textures[size_t(t)].texCoord;
             if (m.uv[set].empty())
@@ -304,7 +315,8 @@ void checkTextures(const Scene& s) {
     }
     for (size_t i = 0; i < s.spheres.size(); ++i) {
         const Sphere& sp = s.spheres[i];
-        if (sp.material >= 0 && size_t(sp.material) < s.materials.size() && s.materials[size_t(sp.material)].textured())
+        if (sp.material >= 0 && size_t(sp.material) < s.materials.size() &&
+            (s.materials[size_t(sp.material)].textured() || s.materials[size_t(sp.material)].normalTexture >= 0))
             failInput(s.path, at("spheres", i) + " (\"" + sp.name + "\").material",
                       "an untextured material (spheres have no texture coordinates; use a mesh)",
                       "\"" + s.materials[size_t(sp.material)].name + "\" with a texture");
@@ -319,6 +331,7 @@ void validateScene(Scene& scene) {
     checkMeshes(scene);
     checkSpheres(scene);
     dropDegenerateTriangles(scene);
+    addMissingTangents(scene);
     if (scene.meshes.empty() && scene.spheres.empty())
         failInput(scene.path, "shapes", "at least one shape with non-zero area", "none");
     checkMedia(scene);

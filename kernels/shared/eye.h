@@ -41,42 +41,51 @@ inline float eye_diffuse_probability(const PclMaterial M) {
 }
 
 /* The specular part of M scatters the unit direction d arriving at a surface with outside
- * normal n: mirror, glossy (Phong lobe about the mirror direction, weight ρs (e+2)/(e+1) cosθ';
- * false below the surface) or dielectric (reflect when uF < F, weight ρs; else refract, weight
- * ρs η² with η = η_i/η_t, the indices on the path's side and beyond).
+ * geometric normal n and shading normal ns (shared/shading_frame.h; on n's side, = n on flat
+ * surfaces): mirror, glossy (Phong lobe about the mirror direction in ns, weight
+ * ρs (e+2)/(e+1) cosθ'; false below the surface) or dielectric (reflect when uF < F, weight ρs;
+ * else refract, weight ρs η² with η = η_i/η_t, the indices on the path's side (by n) and beyond).
+ * Where ns differs from n, a reflection must stay on d's side of the geometric surface and a
+ * refraction cross it (false otherwise), as host/reference/bsdf.cpp requires.
  * w gets the weight (before dividing by the lobe choice). */
-inline bool eye_specular_scatter(const PclMaterial M, PclV3 d, PclV3 n, float uF, float uA, float uB,
+inline bool eye_specular_scatter(const PclMaterial M, PclV3 d, PclV3 n, PclV3 ns, float uF, float uA, float uB,
                                  PclV3* dNew, float w[3]) {
     const float dn = sampling_dot(d, n);
-    const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
+    const PclV3 sf = dn < 0.0f ? ns : sampling_v3(-ns.x, -ns.y, -ns.z);
+    bool crosses = false;
     w[0] = M.rhoS[0];
     w[1] = M.rhoS[1];
     w[2] = M.rhoS[2];
     if (M.specular == PCL_SPECULAR_MIRROR) {
-        *dNew = sampling_reflect(d, nf);
+        *dNew = sampling_reflect(d, sf);
     } else if (M.specular == PCL_SPECULAR_GLOSSY) {
         const float e = M.exponent;
-        *dNew = sampling_phong_lobe(sampling_reflect(d, nf), e, uA, uB);
-        const float cosOut = sampling_dot(*dNew, nf);
+        *dNew = sampling_phong_lobe(sampling_reflect(d, sf), e, uA, uB);
+        const float cosOut = sampling_dot(*dNew, sf);
         if (!(cosOut > 0.0f)) return false;
         const float f = (e + 2.0f) / (e + 1.0f) * cosOut;
         for (int c = 0; c < 3; ++c) w[c] = w[c] * f;
     } else if (M.specular == PCL_SPECULAR_DIELECTRIC) {
         const float eta = dn < 0.0f ? 1.0f / M.ior : M.ior;
-        const float cosI = fabs(dn);
+        const float cosI = fabs(sampling_dot(d, ns));
         const float F = sampling_fresnel_dielectric(cosI, eta);
         if (uF < F) {
-            *dNew = sampling_reflect(d, nf);
+            *dNew = sampling_reflect(d, sf);
         } else {
             /* Radiance crossing into the path's side scales by (η_i/η_t)² = η² (pbrt-v4's
              * radiance mode): an eye path carries importance, its throughput picks up the factor
              * light undergoes on the way back. Photons (flux) are not scaled. */
-            *dNew = sampling_refract(d, nf, cosI, eta);
+            *dNew = sampling_refract(d, sf, cosI, eta);
+            crosses = true;
             const float eta2 = eta * eta;
             for (int c = 0; c < 3; ++c) w[c] = w[c] * eta2;
         }
     } else {
         return false;
+    }
+    if (ns.x != n.x || ns.y != n.y || ns.z != n.z) { /* shading_is_smooth (shared/shading_frame.h) */
+        const float side = sampling_dot(*dNew, n) * dn; /* < 0: back to d's side of the surface */
+        if (crosses ? !(side > 0.0f) : !(side < 0.0f)) return false;
     }
     return true;
 }

@@ -52,17 +52,18 @@ inline float light_intensity_scale(const PclLight L, PclV3 wi) {
     return falloff / (2.0f * PCL_PI_F * ((1.0f - L.cosInner) + 0.5f * (L.cosInner - L.cosOuter)));
 }
 
-/* A point, spot or directional light L seen from p (facing normal nf; o = p lifted; the shadow
- * ray starts in `medium`): the unit direction *wi to it, the shadow ray's transmittance tr[3]
+/* A point, spot or directional light L seen from p (facing geometric normal nf, facing shading
+ * normal sf: the side test by nf, the cosine by sf; o = p lifted; the shadow ray starts in
+ * `medium`): the unit direction *wi to it, the shadow ray's transmittance tr[3]
  * and the factor g with contribution Φ ⊙ g ⊙ tr (times the BRDF): cosθ/(πR²) (directional),
  * I/Φ · cosθ/d² (point, spot with its fall-off); 0 when unlit or occluded. */
 inline float light_delta(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                          __global const PclSphere* spheres, const EyeMedia em, int medium, const PclLight L, PclV3 p,
-                         PclV3 nf, PclV3 o, float tau, PclV3* wi, float tr[3]) {
+                         PclV3 nf, PclV3 sf, PclV3 o, float tau, PclV3* wi, float tr[3]) {
     if (L.type == PCL_LIGHT_DIRECTIONAL) {
         *wi = sampling_v3(-L.axis[0], -L.axis[1], -L.axis[2]);
-        const float cosS = sampling_dot(nf, *wi);
-        if (!(cosS > 0.0f)) return 0.0f;
+        const float cosS = sampling_dot(sf, *wi);
+        if (!(cosS > 0.0f) || !(sampling_dot(nf, *wi) > 0.0f)) return 0.0f;
         if (!light_shadow(nodes, packets, spheres, em, medium, o, *wi, INFINITY, tau, tr)) return 0.0f;
         return cosS / (PCL_PI_F * L.radius * L.radius);  /* E = Φ / (π R²) */
     }
@@ -71,8 +72,8 @@ inline float light_delta(__global const PclBvhNode* nodes, __global const PclTri
     if (!(d2 > 0.0f)) return 0.0f;
     const float dist = sqrt(d2);
     *wi = sampling_v3(toL.x / dist, toL.y / dist, toL.z / dist);
-    const float cosS = sampling_dot(nf, *wi);
-    if (!(cosS > 0.0f)) return 0.0f;
+    const float cosS = sampling_dot(sf, *wi);
+    if (!(cosS > 0.0f) || !(sampling_dot(nf, *wi) > 0.0f)) return 0.0f;
     const float scale = light_intensity_scale(L, *wi); /* I / Φ × falloff */
     if (!(scale > 0.0f)) return 0.0f;
     const PclV3 seg = sampling_v3(L.p[0] - o.x, L.p[1] - o.y, L.p[2] - o.z);
@@ -99,15 +100,16 @@ inline bool light_area_point(__global const PclLight* lights, __global const flo
     return true;
 }
 
-/* One triangle-light sample for p (light_area_point): on success *wi, the solid-angle density
- * *pdfL, cosθ at p (*cosS) and the light's radiance times the shadow ray's transmittance le[3]
+/* One triangle-light sample for p (light_area_point; facing normals nf and sf as for
+ * light_delta): on success *wi, the solid-angle density *pdfL, cosθ to sf at p (*cosS) and the
+ * light's radiance times the shadow ray's transmittance le[3]
  * (the ray starts in `medium`); false when the sample is below the surface, on the light's back
  * or occluded. */
 inline bool light_area_sample(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                               __global const PclSphere* spheres, const EyeMedia em, int medium,
                               __global const PclPrimInfo* primInfo, __global const PclMaterial* materials,
                               __global const PclLight* lights, __global const float* areaCdf, uint lightCount,
-                              float areaPowerTotal, PclV3 p, PclV3 nf, PclV3 o, float eps, float tau, float u0,
+                              float areaPowerTotal, PclV3 p, PclV3 nf, PclV3 sf, PclV3 o, float eps, float tau, float u0,
                               float u1, float u2, PclV3* wi, float* pdfL, float* cosS, float le[3]) {
     PclLight L;
     PclV3 q;
@@ -117,8 +119,8 @@ inline bool light_area_sample(__global const PclBvhNode* nodes, __global const P
     if (!(d2 > 0.0f)) return false;
     const float dist = sqrt(d2);
     *wi = sampling_v3(toL.x / dist, toL.y / dist, toL.z / dist);
-    *cosS = sampling_dot(nf, *wi);
-    if (!(*cosS > 0.0f)) return false;
+    *cosS = sampling_dot(sf, *wi);
+    if (!(*cosS > 0.0f) || !(sampling_dot(nf, *wi) > 0.0f)) return false;
     *pdfL = eye_area_light_pdf(L, areaPowerTotal, *wi, d2);
     if (!(*pdfL > 0.0f)) return false;
     const PclV3 end = sampling_v3(q.x + L.axis[0] * eps, q.y + L.axis[1] * eps, q.z + L.axis[2] * eps);

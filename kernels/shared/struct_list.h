@@ -42,6 +42,9 @@
     X(PclEnvironment)          \
     X(PclTexture)              \
     X(PclMaterialTextures)     \
-    X(PclTriangleUv)
+    X(PclTriangleUv)           \
+    X(PclTriangleNormals)      \
+    X(PclNormalMap)            \
+    X(PclTriangleTangents)
 
 #endif /* PCL_STRUCT_LIST_H */

@@ -387,8 +387,11 @@ typedef struct PclEyeHit {
     pcl_u32 material;         /* material index at the hit (0 when none) */
     pcl_u32 depth;            /* specular bounces before the hit */
     pcl_u32 flags;            /* PCL_EYE_DIFFUSE */
+    pcl_f32 snx, sny, snz;    /* unit shading normal on the viewer's side (shared/shading_frame.h): the
+                                 BSDF's frame and cosines; = (nx, ny, nz) on flat surfaces */
+    pcl_u32 pad0;
 } PclEyeHit;
-PCL_STATIC_ASSERT(sizeof(PclEyeHit) == 112, PclEyeHit_size);
+PCL_STATIC_ASSERT(sizeof(PclEyeHit) == 128, PclEyeHit_size);
 
 /* Radiance one stage gives one eye sample, rgb (W/(m² sr)); a is 0. */
 typedef struct PclRadiance {
@@ -516,5 +519,33 @@ typedef struct PclTriangleUv {
     pcl_f32 uv[2][6];       /* set s: u0, v0, u1, v1, u2, v2 of the triangle's vertices 0, 1, 2 */
 } PclTriangleUv;
 PCL_STATIC_ASSERT(sizeof(PclTriangleUv) == 48, PclTriangleUv_size);
+
+/* ---- Shading normals (shared/shading_frame.h; kernels/README.md, "Shading normals") --------
+ * The vertex normals of every triangle (indexed by global primitive id; triangles only), on the
+ * geometric normal's side or not: the lookup orients the interpolated one. All zero: the
+ * triangle shades with its geometric normal (a mesh without normals). Uploaded only when some
+ * mesh has normals that differ from its faces' (PCL_SHADING_NORMALS). */
+typedef struct PclTriangleNormals {
+    pcl_f32 n[9];           /* x0, y0, z0, x1, y1, z1, x2, y2, z2 of vertices 0, 1, 2 */
+    pcl_f32 pad[3];
+} PclTriangleNormals;
+PCL_STATIC_ASSERT(sizeof(PclTriangleNormals) == 48, PclTriangleNormals_size);
+
+/* ---- Normal maps (shared/shading_frame.h; kernels/README.md, "Normal maps") ----------------
+ * A material's tangent-space normal map (indexed by material; texture width 0: none), its
+ * texels in the texel buffer with the other textures; the vertex tangents of every triangle
+ * (indexed by global primitive id; triangles only). Uploaded only when some material has a
+ * normal map (PCL_NORMAL_MAPPED). */
+typedef struct PclNormalMap {
+    PclTexture texture;     /* linear rgb = (n + 1)/2 in tangent space */
+    pcl_f32 scale;          /* glTF normalTexture.scale: multiplies the decoded x and y */
+    pcl_u32 pad0, pad1, pad2;
+} PclNormalMap;
+PCL_STATIC_ASSERT(sizeof(PclNormalMap) == 64, PclNormalMap_size);
+
+typedef struct PclTriangleTangents {
+    pcl_f32 t[12];          /* x, y, z, w of vertices 0, 1, 2 (w = ±1: B = (N × T) w) */
+} PclTriangleTangents;
+PCL_STATIC_ASSERT(sizeof(PclTriangleTangents) == 48, PclTriangleTangents_size);
 
 #endif /* PCL_TYPES_H */

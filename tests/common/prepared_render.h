@@ -14,6 +14,7 @@
 #include "prep/scene_buffers.h"
 #include "reference/path_tracer.h"
 #include "render/photon_renderer.h"
+#include "scene/mesh_tangents.h"
 #include "stages/device_fixture.h"
 
 namespace pcl::test {
@@ -31,6 +32,7 @@ struct Prepared {
 inline std::unique_ptr<Prepared> prepare(Scene scene) {
     auto p = std::make_unique<Prepared>();
     p->scene = std::move(scene);
+    addMissingTangents(p->scene);  // what validateScene does for a loaded scene
     p->geometry = std::make_unique<SceneGeometry>(SceneGeometry::build(p->scene));
     p->buffers = buildSceneBuffers(p->scene, *p->geometry);
     buildProjectionMaps(p->scene, *p->geometry, p->buffers);

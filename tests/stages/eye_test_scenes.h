@@ -25,7 +25,8 @@ inline BuiltScene shippedScene(const std::string& name, int width, int height) {
     return b;
 }
 
-// A diffuse eye record at p with viewer-side normal n, throughput 1, albedo rho.
+// A diffuse eye record at p with viewer-side normal n (geometric and shading: a flat surface),
+// throughput 1, albedo rho.
 inline PclEyeHit handMadeHit(Vec3 p, Vec3 n, float rho, uint32_t pixel, uint32_t sample, uint32_t prim = 0) {
     PclEyeHit h{};
     h.x = p.x;
@@ -34,6 +35,9 @@ inline PclEyeHit handMadeHit(Vec3 p, Vec3 n, float rho, uint32_t pixel, uint32_t
     h.nx = n.x;
     h.ny = n.y;
     h.nz = n.z;
+    h.snx = n.x;
+    h.sny = n.y;
+    h.snz = n.z;
     h.wox = n.x;
     h.woy = n.y;
     h.woz = n.z;
