@@ -103,7 +103,8 @@ Errors compare(const Scene& scene, const Image& img, NormalAt normalAt) {
     return e;
 }
 
-void renderAndCheck(const Scene& scene, const char* what, auto normalAt, int minPixels) {
+template <typename NormalAt>
+void renderAndCheck(const Scene& scene, const char* what, NormalAt normalAt, int minPixels) {
     auto p = test::prepare(scene);
     ASSERT_TRUE(p->buffers.normalMaps.mapped());
     PhotonRenderSettings s;
