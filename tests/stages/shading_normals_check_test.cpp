@@ -10,33 +10,19 @@
 
 #include <cstdio>
 
-#include "check/photon_stages.h"
-#include "check/render.h"
 #include "common/smooth_scenes.h"
-#include "device_fixture.h"
-#include "prep/projection_map.h"
+#include "room_check.h"
 
 namespace pcl {
 namespace {
 
-struct Room {
-    Scene scene = test_scenes::smoothRoom();
-    SceneGeometry geometry = SceneGeometry::build(scene);
-    SceneBuffers buffers = buildSceneBuffers(scene, geometry);
-    Room() { buildProjectionMaps(scene, geometry, buffers); }
-};
-const Room& room() {
-    static const Room r;
+const test::CheckRoom& room() {
+    static const test::CheckRoom r("smooth room", test_scenes::smoothRoom());
     return r;
 }
 
 PhotonCheckReport photonStage(const char* stage, uint32_t photons) {
-    PhotonCheckOptions o;
-    o.photons = photons;
-    o.seed = 5;
-    const PhotonCheckReport r = checkPhotonStage(test::testDevice(), room().geometry, room().buffers, stage, o);
-    std::printf("smooth room --stage %s, %u photons per pass\n%s", stage, photons, r.table().c_str());
-    return r;
+    return test::checkRoomPhotons(room(), stage, photons, 5);
 }
 
 TEST(ShadingNormalsCheck, SceneIsSmooth) {
@@ -58,21 +44,7 @@ TEST(ShadingNormalsCheck, WholePhotonPassMatchesTheTwin) {
     EXPECT_TRUE(r.passed());
 }
 
-TEST(ShadingNormalsCheck, EyeStagesAndFilmsMatchTheTwin) {
-    RenderCheckOptions o;
-    o.width = 48;
-    o.height = 36;
-    const RenderCheckReport r = checkRender(test::testDevice(), room().scene, o);
-    std::printf("%s", r.table().c_str());
-    for (const StageComparison& s : r.stages)
-        std::printf("[figure] check render smooth room %s: %.4f %% of %zu match, max rel %.3e\n", s.stage.c_str(),
-                    100.0 * s.fraction(), s.compared, s.maxRelError);
-    EXPECT_TRUE(r.passed());
-    for (const StageComparison& s : r.stages)
-        if (s.stage == "final gather" || s.stage == "direct light") {
-            EXPECT_GT(s.nonzero, s.compared / 2) << s.stage << ": mostly black rows would match trivially";
-        }
-}
+TEST(ShadingNormalsCheck, EyeStagesAndFilmsMatchTheTwin) { test::expectRoomEyeStagesMatch(room()); }
 
 }  // namespace
 }  // namespace pcl

@@ -11,33 +11,19 @@
 
 #include <cstdio>
 
-#include "check/photon_stages.h"
-#include "check/render.h"
 #include "common/textured_scenes.h"
-#include "device_fixture.h"
-#include "prep/projection_map.h"
+#include "room_check.h"
 
 namespace pcl {
 namespace {
 
-struct Room {
-    Scene scene = test_scenes::specularTexturedRoom();
-    SceneGeometry geometry = SceneGeometry::build(scene);
-    SceneBuffers buffers = buildSceneBuffers(scene, geometry);
-    Room() { buildProjectionMaps(scene, geometry, buffers); }
-};
-const Room& room() {
-    static const Room r;
+const test::CheckRoom& room() {
+    static const test::CheckRoom r("specular textured room", test_scenes::specularTexturedRoom());
     return r;
 }
 
 PhotonCheckReport photonStage(const char* stage, uint32_t photons) {
-    PhotonCheckOptions o;
-    o.photons = photons;
-    o.seed = 11;
-    const PhotonCheckReport r = checkPhotonStage(test::testDevice(), room().geometry, room().buffers, stage, o);
-    std::printf("specular textured room --stage %s, %u photons per pass\n%s", stage, photons, r.table().c_str());
-    return r;
+    return test::checkRoomPhotons(room(), stage, photons, 11);
 }
 
 TEST(SpecularTextureCheck, SlotsArePacked) {
@@ -63,17 +49,7 @@ TEST(SpecularTextureCheck, WholePhotonPassMatchesTheTwin) {
     EXPECT_TRUE(r.passed());
 }
 
-TEST(SpecularTextureCheck, EyeStagesAndFilmsMatchTheTwin) {
-    RenderCheckOptions o;
-    o.width = 48;
-    o.height = 36;
-    const RenderCheckReport r = checkRender(test::testDevice(), room().scene, o);
-    std::printf("%s", r.table().c_str());
-    for (const StageComparison& s : r.stages)
-        std::printf("[figure] check render specular textured room %s: %.4f %% of %zu match, max rel %.3e\n",
-                    s.stage.c_str(), 100.0 * s.fraction(), s.compared, s.maxRelError);
-    EXPECT_TRUE(r.passed());
-}
+TEST(SpecularTextureCheck, EyeStagesAndFilmsMatchTheTwin) { test::expectRoomEyeStagesMatch(room(), false); }
 
 }  // namespace
 }  // namespace pcl
