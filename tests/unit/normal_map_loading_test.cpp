@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "common/optional_feature.h"
+#include "common/scene_folder_test.h"
 #include "core/error.h"
 #include "image/image_io.h"
 #include "scene/load_scene.h"
@@ -26,14 +27,11 @@ using json = nlohmann::json;
 
 namespace {
 
-class NormalMapLoadingTest : public ::testing::Test {
+class NormalMapLoadingTest : public test::SceneFolderTest {
 protected:
     void SetUp() override {
         PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (PNG normal maps)");
-        dir_ = fs::temp_directory_path() / ("photoncl-normal-map-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
+        makeFolder("photoncl-normal-map");
         // The unit quad in z = 0 facing +z, TEXCOORD_0 upright (v down), TANGENT +x with w = 1.
         const float pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
         const float uv0[8] = {0, 1, 1, 1, 1, 0, 0, 0};
@@ -52,8 +50,6 @@ protected:
         Image two(2, 2);  // 2 channels are refused
         ASSERT_TRUE(writeSrgbPng((dir_ / "flat.png").string(), two));
     }
-    void TearDown() override { fs::remove_all(dir_); }
-
     static constexpr float kGrey = 0.2158605f;  // linear of sRGB code 128
 
     static json gltf() {
@@ -97,24 +93,6 @@ protected:
         s["materials"][0]["normal_map"] = normalMap;
         return s;
     }
-    std::string write(const std::string& name, const std::string& text) {
-        const std::string p = (dir_ / name).string();
-        std::ofstream(p, std::ios::binary) << text;
-        return p;
-    }
-    void expectError(const std::string& name, const json& d, std::initializer_list<std::string> fragments) {
-        const std::string p = write(name, d.dump());
-        try {
-            loadScene(p);
-            ADD_FAILURE() << "loaded fine";
-        } catch (const InputError& e) {
-            const std::string msg = e.what();
-            EXPECT_NE(msg.find(p), std::string::npos) << msg;
-            for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "lacks " << f << ": " << msg;
-        }
-    }
-
-    fs::path dir_;
 };
 
 }  // namespace

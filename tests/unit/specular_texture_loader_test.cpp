@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "common/optional_feature.h"
+#include "common/scene_folder_test.h"
 #include "core/error.h"
 #include "image/image_io.h"
 #include "scene/load_scene.h"
@@ -23,26 +24,16 @@ using json = nlohmann::json;
 
 namespace {
 
-class SpecularTextureLoaderTest : public ::testing::Test {
+class SpecularTextureLoaderTest : public test::SceneFolderTest {
 protected:
     void SetUp() override {
         PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (PNG textures)");
-        dir_ = fs::temp_directory_path() / ("photoncl-specular-texture-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
+        makeFolder("photoncl-specular-texture");
         // A 2 × 1 PNG: codes 255 and 128 (grey).
         Image img(2, 1);
         img.set(0, 0, Vec3(1.0f));
         img.set(1, 0, Vec3(srgbToLinear(128.0f / 255.0f)));
         ASSERT_TRUE(writeSrgbPng((dir_ / "shine.png").string(), img));
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    std::string write(const std::string& name, const std::string& text) {
-        const std::string p = (dir_ / name).string();
-        std::ofstream(p, std::ios::binary) << text;
-        return p;
     }
     // One quad with material "m" (rho_d 0.2 and `specular`) under a directional light.
     static json scene(const json& specular) {
@@ -55,21 +46,6 @@ protected:
         s["materials"][0]["specular"] = specular;
         return s;
     }
-    Scene load(const json& s) { return loadScene(write("scene.json", s.dump())); }
-    void expectError(const json& s, std::initializer_list<std::string> fragments) {
-        const std::string file = write("bad.json", s.dump());
-        try {
-            loadScene(file);
-            ADD_FAILURE() << "expected InputError, loaded fine";
-        } catch (const InputError& e) {
-            const std::string msg = e.what();
-            EXPECT_NE(msg.find(file), std::string::npos) << msg;
-            for (const auto& f : fragments)
-                EXPECT_NE(msg.find(f), std::string::npos) << "lacks \"" << f << "\": " << msg;
-        }
-    }
-
-    fs::path dir_;
 };
 
 }  // namespace

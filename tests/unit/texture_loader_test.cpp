@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "common/optional_feature.h"
+#include "common/scene_folder_test.h"
 #include "common/textured_scenes.h"
 #include "core/error.h"
 #include "core/math.h"
@@ -28,26 +29,16 @@ using json = nlohmann::json;
 
 namespace {
 
-class TextureLoaderTest : public ::testing::Test {
+class TextureLoaderTest : public test::SceneFolderTest {
 protected:
     void SetUp() override {
         PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (EXR/PNG textures)");
-        dir_ = fs::temp_directory_path() / ("photoncl-texture-test-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
+        makeFolder("photoncl-texture-test");
         // A 4 × 2 linear EXR: texel (x, y) = (x/4, y/2, 0.5).
         Image img(4, 2);
         for (int y = 0; y < 2; ++y)
             for (int x = 0; x < 4; ++x) img.set(x, y, Vec3(float(x) / 4.0f, float(y) / 2.0f, 0.5f));
         writeLinearImage(path("grad.exr"), img, ImageMetadata{});
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-    std::string write(const std::string& name, const std::string& text) {
-        std::ofstream(path(name), std::ios::binary) << text;
-        return path(name);
     }
     // One quad with material "tex" whose rho_d is `rhoD`, under a directional light.
     static json scene(const json& rhoD) {
@@ -60,21 +51,6 @@ protected:
         s["materials"][0]["rho_d"] = rhoD;
         return s;
     }
-    Scene load(const json& s) { return loadScene(write("scene.json", s.dump())); }
-    void expectError(const json& s, std::initializer_list<std::string> fragments) {
-        const std::string file = write("bad.json", s.dump());
-        try {
-            loadScene(file);
-            ADD_FAILURE() << "expected InputError, loaded fine";
-        } catch (const InputError& e) {
-            const std::string msg = e.what();
-            EXPECT_NE(msg.find(file), std::string::npos) << msg;
-            for (const auto& f : fragments)
-                EXPECT_NE(msg.find(f), std::string::npos) << "lacks \"" << f << "\": " << msg;
-        }
-    }
-
-    fs::path dir_;
 };
 
 }  // namespace
