@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "common/optional_feature.h"
+#include "common/scene_folder_test.h"
 #include "core/error.h"
 #include "image/image_io.h"
 #include "prep/scene_buffers.h"
@@ -29,17 +30,14 @@ using json = nlohmann::json;
 
 namespace {
 
-class GltfTextureTest : public ::testing::Test {
+class GltfTextureTest : public test::SceneFolderTest {
 protected:
     void SetUp() override {
 #ifndef PHOTONCL_HAVE_GLTF
         PCL_REQUIRE_FEATURE(false, "glTF support (tinygltf)");
 #endif
         PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (PNG textures)");
-        dir_ = fs::temp_directory_path() / ("photoncl-gltf-texture-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
+        makeFolder("photoncl-gltf-texture");
         // The unit quad in z = 0, facing +z; TEXCOORD_0 puts the image upright (v down), TEXCOORD_1
         // is TEXCOORD_0 mirrored in u.
         const float pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
@@ -60,7 +58,6 @@ protected:
         img.set(1, 1, Vec3(1.0f, 0.0f, 0.0f));
         ASSERT_TRUE(writeSrgbPng((dir_ / "base.png").string(), img));
     }
-    void TearDown() override { fs::remove_all(dir_); }
 
     static json doc() {
         return json::parse(R"({
@@ -108,8 +105,6 @@ protected:
                             uint32_t(s.meshes[0].material), prim, g.triangleCount(), b1, b2, &M);
         return Vec3(M.rhoD[0], M.rhoD[1], M.rhoD[2]);
     }
-
-    fs::path dir_;
 };
 
 }  // namespace

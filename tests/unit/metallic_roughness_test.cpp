@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "common/optional_feature.h"
+#include "common/scene_folder_test.h"
 #include "image/image_io.h"
 #include "prep/scene_buffers.h"
 #include "prep/texture_buffers.h"
@@ -34,17 +35,14 @@ namespace {
 
 const float kHalf = 128.0f / 255.0f;  // an 8-bit code of 128 read as linear data
 
-class MetallicRoughnessTest : public ::testing::Test {
+class MetallicRoughnessTest : public test::SceneFolderTest {
 protected:
     void SetUp() override {
 #ifndef PHOTONCL_HAVE_GLTF
         PCL_REQUIRE_FEATURE(false, "glTF support (tinygltf)");
 #endif
         PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (PNG textures)");
-        dir_ = fs::temp_directory_path() / ("photoncl-metallic-roughness-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
+        makeFolder("photoncl-metallic-roughness");
         // The unit quad in z = 0, facing +z, TEXCOORD_0 upright (v down): position (x, y) has
         // uv (x, 1 − y); triangles (0, 1, 2) below the diagonal, (0, 2, 3) above.
         const float pos[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
@@ -71,7 +69,6 @@ protected:
         mr.set(1, 1, Vec3(0.0f, 1.0f, 1.0f));
         ASSERT_TRUE(writeSrgbPng((dir_ / "mr.png").string(), mr));
     }
-    void TearDown() override { fs::remove_all(dir_); }
 
     static json doc(double metallic, double roughness) {
         json d = json::parse(R"({
@@ -110,8 +107,6 @@ protected:
         std::ofstream(p) << d.dump();
         return loadScene(p);
     }
-
-    fs::path dir_;
 };
 
 // The documented mapping for one texel (in double, then compared with the float kernels).
