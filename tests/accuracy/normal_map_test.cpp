@@ -50,21 +50,9 @@ Scene planeScene(Image map, float scale) {
     const int m = addMaterial(s, kRho);
     s.materials[size_t(m)].normalTexture = t;
     s.materials[size_t(m)].normalScale = scale;
-    addTexturedQuad(s, Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), m);
-    Light l;
-    l.type = LightType::Directional;
-    l.direction = -kToLight;
-    l.irradiance = kIrradiance;
-    s.lights.push_back(l);
-    setCamera(s, Vec3(0, 4, 0), Vec3(0, 0, 0), Vec3(0, 0, -1), 30.0f, kSize, kSize);
+    addQuadSeenFromAbove(s, m, kSize);
+    addDirectionalLight(s, -kToLight, kIrradiance);
     return s;
-}
-
-void uvAt(const Camera& cam, int x, int y, float fx, float fy, float& u, float& v) {
-    const Vec3 d = pinholeDirection(cam, x, y, fx, fy);
-    const Vec3 p = cam.position + d * (-cam.position.y / d.y);
-    u = (p.x + 1.0f) / 2.0f;
-    v = (1.0f - p.z) / 2.0f;
 }
 
 Vec3 expected(Vec3 n) { return kRho / Vec3(kPi) * kIrradiance * std::max(0.0f, dot(n, kToLight)); }
@@ -89,7 +77,7 @@ Errors compare(const Scene& scene, const Image& img, NormalAt normalAt) {
             for (float fx : {0.0f, 1.0f})
                 for (float fy : {0.0f, 1.0f}) {
                     float u, v;
-                    uvAt(scene.camera, x, y, fx, fy, u, v);
+                    quadUvAt(scene.camera, x, y, fx, fy, u, v);
                     Vec3 c;
                     ok = ok && u > 0.0f && u < 1.0f && v > 0.0f && v < 1.0f && normalAt(u, v, c);
                     if (ok && (fx != 0.0f || fy != 0.0f) && !(c == n)) ok = false;

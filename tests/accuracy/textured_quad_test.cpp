@@ -39,23 +39,9 @@ Scene quadScene(Image texture) {
     const int t = addTexture(s, std::move(texture), TextureWrap::Clamp, TextureWrap::Clamp);
     const int m = addMaterial(s, kFactor);
     s.materials[size_t(m)].rhoDTexture = t;
-    addTexturedQuad(s, Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), m);
-    Light l;
-    l.type = LightType::Directional;
-    l.direction = Vec3(0, -1, 0);
-    l.irradiance = kIrradiance;
-    s.lights.push_back(l);
-    setCamera(s, Vec3(0, 4, 0), Vec3(0, 0, 0), Vec3(0, 0, -1), 30.0f, kSize, kSize);
+    addQuadSeenFromAbove(s, m, kSize);
+    addDirectionalLight(s, Vec3(0, -1, 0), kIrradiance);
     return s;
-}
-
-// The quad's coordinates where film point (x + fx, y + fy) looks.
-void uvAt(const Camera& cam, int x, int y, float fx, float fy, float& u, float& v) {
-    const Vec3 d = pinholeDirection(cam, x, y, fx, fy);
-    const float t = -cam.position.y / d.y;
-    const Vec3 p = cam.position + d * t;
-    u = (p.x + 1.0f) / 2.0f;
-    v = (1.0f - p.z) / 2.0f;
 }
 
 // Whether the pixel's footprint lies in [lo, hi]² of uv.
@@ -63,7 +49,7 @@ bool inside(const Camera& cam, int x, int y, float loU, float hiU, float loV, fl
     for (float fx : {0.0f, 1.0f})
         for (float fy : {0.0f, 1.0f}) {
             float u, v;
-            uvAt(cam, x, y, fx, fy, u, v);
+            quadUvAt(cam, x, y, fx, fy, u, v);
             if (!(u >= loU && u <= hiU && v >= loV && v <= hiV)) return false;
         }
     return true;
@@ -88,13 +74,13 @@ PixelError compareGradient(const Scene& scene, const Image& img) {
             for (float fx : {0.0f, 1.0f})
                 for (float fy : {0.0f, 1.0f}) {
                     float u, v;
-                    uvAt(scene.camera, x, y, fx, fy, u, v);
+                    quadUvAt(scene.camera, x, y, fx, fy, u, v);
                     const Vec3 L = gradientAt(5, 4, u, v) * kFactor * kIrradiance / Vec3(kPi);
                     lo = vmin(lo, L);
                     hi = vmax(hi, L);
                 }
             float u, v;
-            uvAt(scene.camera, x, y, 0.5f, 0.5f, u, v);
+            quadUvAt(scene.camera, x, y, 0.5f, 0.5f, u, v);
             const Vec3 centre = gradientAt(5, 4, u, v) * kFactor * kIrradiance / Vec3(kPi);
             const Vec3 got = img.at(x, y);
             for (int c = 0; c < 3; ++c) {

@@ -53,17 +53,12 @@ Scene quadScene(bool glossy) {
         s.materials[size_t(m)].exponentRange[0] = kExpLo;
         s.materials[size_t(m)].exponentRange[1] = kExpHi;
     }
-    addTexturedQuad(s, Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), m);
+    addQuadSeenFromAbove(s, m, kSize);
     if (glossy) {
-        Light l;
-        l.type = LightType::Directional;
-        l.direction = Vec3(0, -1, 0);
-        l.irradiance = kIrradiance;
-        s.lights.push_back(l);
+        addDirectionalLight(s, Vec3(0, -1, 0), kIrradiance);
     } else {  // a 40 × 40 emitter at y = 6 facing down: every reflected ray meets it
         addQuad(s, Vec3(-20, 6, -20), Vec3(40, 0, 0), Vec3(0, 0, 40), addEmitter(s, Vec3(0.0f), kLe));
     }
-    setCamera(s, Vec3(0, 4, 0), Vec3(0, 0, 0), Vec3(0, 0, -1), 30.0f, kSize, kSize);
     return s;
 }
 

@@ -52,6 +52,29 @@ inline int addTexturedQuad(Scene& s, Vec3 corner, Vec3 u, Vec3 v, int material) 
     return m;
 }
 
+// The quad tests' set: the 2 × 2 quad in y = 0 with `material` (its image upright seen from
+// above), seen straight down from (0, 4, 0) through a 30° size × size camera.
+inline void addQuadSeenFromAbove(Scene& s, int material, int size) {
+    addTexturedQuad(s, Vec3(-1, 0, 1), Vec3(2, 0, 0), Vec3(0, 0, -2), material);
+    setCamera(s, Vec3(0, 4, 0), Vec3(0, 0, 0), Vec3(0, 0, -1), 30.0f, size, size);
+}
+
+// The quad's coordinates where film point (x + fx, y + fy) of addQuadSeenFromAbove's camera looks.
+inline void quadUvAt(const Camera& cam, int x, int y, float fx, float fy, float& u, float& v) {
+    const Vec3 d = pinholeDirection(cam, x, y, fx, fy);
+    const Vec3 p = cam.position + d * (-cam.position.y / d.y);
+    u = (p.x + 1.0f) / 2.0f;
+    v = (1.0f - p.z) / 2.0f;
+}
+
+inline void addDirectionalLight(Scene& s, Vec3 direction, Vec3 irradiance) {
+    Light l;
+    l.type = LightType::Directional;
+    l.direction = direction;
+    l.irradiance = irradiance;
+    s.lights.push_back(l);
+}
+
 // A closed 2 × 2 × 2 room lit by a point light under the ceiling, seen from inside: a checkered
 // floor (repeat, the transform scales by 3 and turns by 0.3 rad), a gradient back wall (mirror
 // and clamp wrap, scaled by 2, read through coordinate set 1), the other walls plain; a mirror-and-diffuse block so some paths reach a
