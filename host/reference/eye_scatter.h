@@ -39,7 +39,10 @@ inline Vec3 eyeShadingNormal(const SceneBuffers& b, uint32_t triangleCount, cons
     return {s.x, s.y, s.z};
 }
 
-inline bool eyeIsSmooth(Vec3 ns, Vec3 n) { return ns.x != n.x || ns.y != n.y || ns.z != n.z; }
+// shading_is_smooth (the kernels' rule) on host vectors.
+inline bool eyeIsSmooth(Vec3 ns, Vec3 n) {
+    return shading_is_smooth(sampling_v3(ns.x, ns.y, ns.z), sampling_v3(n.x, n.y, n.z));
+}
 
 // P_d = lum(ρd) / (lum(ρd) + lum(ρs)); negative for a black surface.
 inline float eyeDiffuseProbability(const PclMaterial& m) {

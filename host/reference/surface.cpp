@@ -36,6 +36,12 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
         // The shading normal as kernels/shared/shading_frame.h defines it: the interpolated
         // vertex normal, perturbed by the material's normal map, on the geometric side.
         const uint32_t* idx = &mesh.indices[3 * static_cast<size_t>(ref.index)];
+        // The hit's coordinates in `texture`'s set, interpolated as the kernels do.
+        auto texCoordAt = [&](const Texture& texture, float& u, float& v) {
+            const float* uv = mesh.uv[texture.texCoord].data();
+            u = w * uv[2 * idx[0]] + hit.u * uv[2 * idx[1]] + hit.v * uv[2 * idx[2]];
+            v = w * uv[2 * idx[0] + 1] + hit.u * uv[2 * idx[1] + 1] + hit.v * uv[2 * idx[2] + 1];
+        };
         Vec3 n = s.ng;
         bool shaded = false;
         if (!mesh.normals.empty()) {
@@ -49,9 +55,8 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
         const Material& material = scene.materials[mesh.material];
         if (material.normalTexture >= 0 && mesh.tangents.size() == 4 * mesh.positions.size()) {
             const Texture& texture = scene.textures[size_t(material.normalTexture)];
-            const float* uv = mesh.uv[texture.texCoord].data();
-            const float u = w * uv[2 * idx[0]] + hit.u * uv[2 * idx[1]] + hit.v * uv[2 * idx[2]];
-            const float v = w * uv[2 * idx[0] + 1] + hit.u * uv[2 * idx[1] + 1] + hit.v * uv[2 * idx[2] + 1];
+            float u, v;
+            texCoordAt(texture, u, v);
             float texel[3];
             texture_bilinear(textureDescriptor(texture, 0), texture.image.rgb.data(), u, v, texel);
             const float* t = mesh.tangents.data();
@@ -76,9 +81,8 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
             for (int k = 0; k < PCL_TEXTURE_SLOTS; ++k) {
                 if (slots[k] < 0) continue;
                 const Texture& texture = scene.textures[size_t(slots[k])];
-                const float* uv = mesh.uv[texture.texCoord].data();
-                const float u = w * uv[2 * idx[0]] + hit.u * uv[2 * idx[1]] + hit.v * uv[2 * idx[2]];
-                const float v = w * uv[2 * idx[0] + 1] + hit.u * uv[2 * idx[1] + 1] + hit.v * uv[2 * idx[2] + 1];
+                float u, v;
+                texCoordAt(texture, u, v);
                 texture_bilinear(t.slot[k], texture.image.rgb.data(), u, v, x.value[k]);
                 x.has |= 1u << k;
             }

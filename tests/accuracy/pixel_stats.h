@@ -61,11 +61,11 @@ inline PixelStats renderWithErrors(const Scene& scene, const PathTracerSettings&
     return out;
 }
 
-// Whether pixel (x, y)'s whole footprint sees scene.spheres[0]: 1 when all n × n camera rays
-// through film positions 0, 1/(n−1) … 1 hit it, 0 when none do, −1 on its edge (tests skip those).
-inline int sphereCoverage(const Scene& scene, int x, int y, int n) {
-    const RayCamera camera(scene.camera);
-    const Sphere& s = scene.spheres[0];
+// Whether pixel (x, y)'s whole footprint sees the sphere (centre, radius): 1 when all n × n camera
+// rays through film positions 0, 1/(n−1) … 1 hit it, 0 when none do, −1 on its edge (tests skip
+// those).
+inline int sphereCoverage(const Camera& cam, int x, int y, int n, Vec3 centre, float radius) {
+    const RayCamera camera(cam);
     int hits = 0;
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
@@ -74,11 +74,16 @@ inline int sphereCoverage(const Scene& scene, int x, int y, int n) {
             cs.filmY = float(j) / float(n - 1);
             const PclRay r = camera.generateRay(x, y, cs);
             const Vec3 o(r.ox, r.oy, r.oz), d = normalize(Vec3(r.dx, r.dy, r.dz));
-            const Vec3 oc = o - s.centre;
-            const float b = dot(oc, d), c = dot(oc, oc) - s.radius * s.radius;
+            const Vec3 oc = o - centre;
+            const float b = dot(oc, d), c = dot(oc, oc) - radius * radius;
             hits += b * b - c > 0.0f && -b > 0.0f;
         }
     return hits == n * n ? 1 : (hits == 0 ? 0 : -1);
+}
+
+// The same for the scene's first sphere.
+inline int sphereCoverage(const Scene& scene, int x, int y, int n) {
+    return sphereCoverage(scene.camera, x, y, n, scene.spheres[0].centre, scene.spheres[0].radius);
 }
 
 }  // namespace pcl

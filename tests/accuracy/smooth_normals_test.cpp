@@ -13,6 +13,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "accuracy/accuracy_common.h"
+#include "accuracy/pixel_stats.h"
 #include "common/prepared_render.h"
 #include "common/smooth_scenes.h"
 #include "core/math.h"
@@ -53,13 +55,7 @@ Scene sphereRoom(bool normals) {
 // Whether the whole of pixel (x, y) sees the sphere (c, r) well inside its silhouette (its four
 // corners' rays hit the sphere of radius 0.85 r), so the faceted mesh covers it too.
 bool insideSphere(const Camera& cam, int x, int y, Vec3 c, float r) {
-    for (float fx : {0.0f, 1.0f})
-        for (float fy : {0.0f, 1.0f}) {
-            const Vec3 d = pinholeDirection(cam, x, y, fx, fy), oc = cam.position - c;
-            const float b = dot(oc, d), q = dot(oc, oc) - 0.85f * r * 0.85f * r;
-            if (!(b * b - q > 0.0f)) return false;
-        }
-    return true;
+    return sphereCoverage(cam, x, y, 2, c, 0.85f * r) == 1;
 }
 
 // Mean over the spheres' inner pixels and channels of ((a − b) / b)².
@@ -78,13 +74,6 @@ double sphereRelDiff(const Camera& cam, const Image& a, const Image& b, int& pix
             ++pixels;
         }
     return pixels ? sum / (3.0 * pixels) : 0.0;
-}
-
-double imageMean(const Image& img) {
-    double s = 0.0;
-    for (int y = 0; y < img.height; ++y)
-        for (int x = 0; x < img.width; ++x) s += double(img.at(x, y)[0]) + img.at(x, y)[1] + img.at(x, y)[2];
-    return s / (3.0 * img.width * img.height);
 }
 
 }  // namespace
@@ -109,10 +98,10 @@ TEST(SmoothNormalsAccuracy, PhotonMethodsMatchThePathTracerOnSmoothSpheres) {
                 "relative difference d2 %.5f\n",
                 pixels, d2);
     ASSERT_GT(pixels, 60);
-    const double refMean = imageMean(ref);
+    const double refMean = accuracy::meanValue(ref);
     for (RenderMethod m : {RenderMethod::FinalGather, RenderMethod::Progressive, RenderMethod::DirectVisualisation}) {
         const Image img = test::renderImage(*smooth, m, s, 0, 0, "smooth spheres");
-        const double meanRatio = imageMean(img) / refMean;
+        const double meanRatio = accuracy::meanValue(img) / refMean;
         const double toSmooth = sphereRelDiff(smooth->scene.camera, img, ref, pixels);
         const double toFaceted = sphereRelDiff(smooth->scene.camera, img, flat, pixels);
         std::printf("[figure] smooth spheres %s: mean / path %.4f; sphere pixels' mean squared rel diff to the smooth "

@@ -99,7 +99,7 @@ protected:
 
 TEST_F(NormalMapLoadingTest, GltfNormalTextureIsLinearWithScaleTransformAndTangents) {
 #ifndef PHOTONCL_HAVE_GLTF
-    GTEST_SKIP() << "built without glTF";
+    PCL_REQUIRE_FEATURE(false, "glTF support (tinygltf)");
 #endif
     const Scene s = loadScene(write("quad.gltf", gltf().dump()));
     const Material& m = s.materials[size_t(s.meshes[0].material)];
@@ -119,7 +119,7 @@ TEST_F(NormalMapLoadingTest, GltfNormalTextureIsLinearWithScaleTransformAndTange
 
 TEST_F(NormalMapLoadingTest, GltfTangentsFollowTheNodeAndMirrorFlipsW) {
 #ifndef PHOTONCL_HAVE_GLTF
-    GTEST_SKIP() << "built without glTF";
+    PCL_REQUIRE_FEATURE(false, "glTF support (tinygltf)");
 #endif
     json d = gltf();
     d["nodes"][0]["rotation"] = {0.0, 0.0, std::sqrt(0.5), std::sqrt(0.5)};  // 90° about z: +x → +y
@@ -136,7 +136,7 @@ TEST_F(NormalMapLoadingTest, GltfTangentsFollowTheNodeAndMirrorFlipsW) {
 
 TEST_F(NormalMapLoadingTest, GltfWithoutTangentsGetsGeneratedOnes) {
 #ifndef PHOTONCL_HAVE_GLTF
-    GTEST_SKIP() << "built without glTF";
+    PCL_REQUIRE_FEATURE(false, "glTF support (tinygltf)");
 #endif
     json d = gltf();
     d["meshes"][0]["primitives"][0]["attributes"].erase("TANGENT");
@@ -151,7 +151,7 @@ TEST_F(NormalMapLoadingTest, GltfWithoutTangentsGetsGeneratedOnes) {
 
 TEST_F(NormalMapLoadingTest, BadGltfNormalMapsAreRefused) {
 #ifndef PHOTONCL_HAVE_GLTF
-    GTEST_SKIP() << "built without glTF";
+    PCL_REQUIRE_FEATURE(false, "glTF support (tinygltf)");
 #endif
     json d = gltf();
     d["materials"][0]["normalTexture"]["index"] = 4;
