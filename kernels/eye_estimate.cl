@@ -2,11 +2,13 @@
  * the global map for the direct-visualisation preview (kernels/README.md, "Eye pass: estimates
  * at the eye hits").
  *
- * eye_estimate_queries — in: params (sampleCount, k, maxRadius2), hits[i] (PclEyeHit);
+ * eye_estimate_queries — in: params (sampleCount, k, maxRadius2, minDepth), hits[i] (PclEyeHit);
  *   out: queries[i] PclEstimateQuery at the hit with its viewer-side normal; maxRadius2 = 0
- *   (nothing found) at the origin for records without a diffuse hit.
- * eye_estimate_resolve — in: params (irradianceStride), hits[i], irradiance (stride floats per
- *   query, rgb first); out: radiance[i] = throughput × ρd × E / π. */
+ *   (nothing found) at the origin for records without a diffuse hit or with fewer than
+ *   minDepth specular bounces before it (caustic connections light those: connect_caustics.cl).
+ * eye_estimate_resolve — in: params (irradianceStride, minDepth), hits[i], irradiance (stride
+ *   floats per query, rgb first); out: radiance[i] = throughput × ρd × E / π, 0 where the
+ *   query was empty. */
 #include "shared/types.h"
 #include "shared/sampling.h"
 
@@ -19,7 +21,7 @@ __kernel void eye_estimate_queries(const PclEyeEstimateParams params, __global c
     const PclEyeHit h = hits[i];
     PclEstimateQuery q;
     q.k = params.k;
-    if (h.flags & PCL_EYE_DIFFUSE) {
+    if ((h.flags & PCL_EYE_DIFFUSE) && h.depth >= params.minDepth) {
         q.x = h.x; q.y = h.y; q.z = h.z;
         q.nx = h.nx; q.ny = h.ny; q.nz = h.nz;
         q.maxRadius2 = params.maxRadius2;
@@ -38,7 +40,7 @@ __kernel void eye_estimate_resolve(const PclEyeEstimateParams params, __global c
     const PclEyeHit h = hits[i];
     __global const float* E = irradiance + (size_t)i * params.irradianceStride;
     float L3[3] = {0.0f, 0.0f, 0.0f};
-    if (h.flags & PCL_EYE_DIFFUSE)
+    if ((h.flags & PCL_EYE_DIFFUSE) && h.depth >= params.minDepth)
         for (int c = 0; c < 3; ++c) {
             L3[c] = h.throughput[c] * h.albedo[c] * E[c] / PCL_PI_F;
             if (!isfinite(L3[c])) L3[c] = 0.0f;

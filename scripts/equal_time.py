@@ -7,7 +7,10 @@ budget run one after the other in an order that rotates with the repeat, so a ch
 machine's load falls on all of them alike. Each image is compared with the reference by
 `photoncl compare` (RMSE, relMSE with eps = 0.01, mean ratio). With --reference-halves A B the
 reference's own MSE (MSE(A, B) / 4 for the average of two independent halves) is measured and
-written beside the rows: errors near it are the reference's noise, not the contender's.
+written beside the rows: errors near it are the reference's noise, not the contender's. With
+--skip-specular-pixels each image is also compared without the pixels that see mirrors or glass
+first (`photoncl compare --skip-specular-pixels`: there references made by path and light tracing
+lack the L S...S E light of delta lights), in the *_masked columns.
 
 Usage:
   scripts/equal_time.py SCENE --reference REF.exr [--width 256] [--budgets 10 30]
@@ -33,9 +36,9 @@ DEFAULT_CONTENDERS = [
 ]
 
 
-def compare(photoncl, image, reference):
-    out = subprocess.run([photoncl, "compare", image, reference], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                         text=True)
+def compare(photoncl, image, reference, extra=()):
+    out = subprocess.run([photoncl, "compare", image, reference] + list(extra), stdout=subprocess.PIPE,
+                         stderr=subprocess.STDOUT, text=True)
     m = re.search(r"RMSE (\S+)\s+relMSE (\S+)\s+mean ratio (\S+)\s+max diff (\S+)", out.stdout)
     if out.returncode not in (0, 1) or not m:
         sys.exit("compare failed (%d): %s" % (out.returncode, out.stdout))
@@ -61,6 +64,8 @@ def main():
     ap.add_argument("--contender", action="append", default=[], help="NAME='render options'")
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--skip-specular-pixels", action="store_true",
+                    help="also compare without the pixels that see mirrors or glass first (*_masked columns)")
     ap.add_argument("-o", "--output", default="equal-time.csv")
     args = ap.parse_args()
 
@@ -98,9 +103,14 @@ def main():
                            "budget_s": budget, "wall_s": round(wall, 2), "passes": passes, "samples_per_pixel": spp,
                            "rmse": rmse, "relmse": relmse, "mean_ratio": ratio, "max_diff": maxdiff,
                            "reference_mse": refMse, "repeat": rep}
+                    masked = ""
+                    if args.skip_specular_pixels:
+                        m = compare(args.photoncl, image, args.reference, ["--skip-specular-pixels", args.scene])
+                        row.update({"rmse_masked": m[0], "relmse_masked": m[1], "mean_ratio_masked": m[2]})
+                        masked = "  masked: RMSE %.5f  relMSE %.6f  mean %.4f" % tuple(m[:3])
                     rows.append(row)
-                    print("%-14s %5.0f s  wall %6.1f s  spp %5d  RMSE %.5f  relMSE %.6f  mean %.4f" %
-                          (name, budget, wall, spp, rmse, relmse, ratio), file=sys.stderr)
+                    print("%-14s %5.0f s  wall %6.1f s  spp %5d  RMSE %.5f  relMSE %.6f  mean %.4f%s" %
+                          (name, budget, wall, spp, rmse, relmse, ratio, masked), file=sys.stderr)
     tmpOut = args.output + ".tmp"
     with open(tmpOut, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))

@@ -100,6 +100,13 @@ std::vector<CheckReport> directLight(Device& device, const Scene& scene, const P
     return {toCheckReport("direct_light", checkDirectLightStage(device, scene, prepared, eyeOptions(o)))};
 }
 
+std::vector<CheckReport> connectCaustics(Device& device, const Scene& scene, const PreparedScene& prepared,
+                                         const CheckOptions& o) {
+    RenderCheckOptions options = eyeOptions(o);
+    options.causticPhotons = o.photons;
+    return {toCheckReport("connect_caustics", checkConnectCausticsStage(device, scene, prepared, options))};
+}
+
 std::vector<CheckReport> volumeEstimate(Device& device, const Scene& scene, const PreparedScene& prepared,
                                         const CheckOptions& o) {
     VolumeEstimateCheckOptions options;
@@ -139,6 +146,10 @@ const std::vector<CheckStage>& checkStages() {
          "CPU twin", eyePaths},
         {"direct_light", "direct light at the eye records (shadow rays through media), record by record", "CPU twin",
          directLight},
+        {"connect_caustics",
+         "fg's caustic connections: each caustic photon joined to the camera, record by record, and their film "
+         "(scenes with caustics)",
+         "CPU twin", connectCaustics},
         {"volume_estimate",
          "the beam radiance estimate along camera-ray medium segments from the volume photon maps (scenes with "
          "media)",

@@ -5,10 +5,12 @@
 #include "check/on_device.h"
 #include "core/clock.h"
 #include "pipeline/camera_rays.h"
+#include "pipeline/connect_caustics.h"
 #include "pipeline/direct_light.h"
 #include "pipeline/eye_paths.h"
 #include "prep/area_light_table.h"
 #include "reference/camera_rays.h"
+#include "reference/connect_caustics.h"
 #include "reference/direct_light.h"
 
 namespace pcl {
@@ -119,6 +121,60 @@ RenderCheckReport checkDirectLightStage(Device& device, const Scene& sceneIn, co
     c.deviceSeconds = dt;
     c.twinSeconds = since(t0);
     report.stages.push_back(c);
+    return report;
+}
+
+// The splats summed per pixel (the film the render adds them to), as radiance samples.
+std::vector<PclRadiance> splatFilm(const std::vector<PclSplat>& splats, size_t pixels) {
+    std::vector<PclRadiance> film(pixels, PclRadiance{0, 0, 0, 0});
+    for (const PclSplat& s : splats) {
+        if (s.pixel == PCL_NO_SPLAT) continue;
+        if (s.pixel >= pixels)
+            throw InternalError("connect caustics: splat pixel " + std::to_string(s.pixel) + " outside the " +
+                                std::to_string(pixels) + "-pixel film");
+        film[s.pixel].r += s.r;
+        film[s.pixel].g += s.g;
+        film[s.pixel].b += s.b;
+    }
+    return film;
+}
+
+RenderCheckReport checkConnectCausticsStage(Device& device, const Scene& sceneIn, const PreparedScene& prepared,
+                                            const RenderCheckOptions& o) {
+    RenderCheckReport report = makeReport(o);
+    const Scene scene = resized(sceneIn, o);
+    const PhotonMaps maps = photonMapsOnDevice(device, prepared.geometry, prepared.buffers, o.causticPhotons, o.seed);
+    report.causticPhotons = maps.caustic.size();
+    const uint64_t passSeed = eyePassSeed(o.seed, o.pass);
+    PclCameraParams cp = cameraParams(scene.camera, prepared.plan, passSeed, o.strata);
+    cp.timeSampling = 0;  // the kernel reads no time; the render refuses scenes that move
+    const PclConnectParams params =
+        connectParams(prepared.geometry, prepared.buffers, uint32_t(maps.caustic.size()), passSeed);
+    auto t0 = Clock::now();
+    DeviceScene dscene(device, prepared.geometry, prepared.buffers);
+    const std::vector<PclSplat> d = connectCaustics(device, dscene, params, cp, maps.caustic);
+    const double dt = since(t0);
+    t0 = Clock::now();
+    const std::vector<PclSplat> t = referenceConnectCaustics(scene, prepared.geometry, params, cp, maps.caustic);
+    const double tt = since(t0);
+    const size_t pixels = size_t(o.width) * o.height;
+    // Per record: the pixel (1 where both name the same one or none) and the value.
+    std::vector<float> dv, tv;
+    for (size_t i = 0; i < t.size(); ++i) {
+        const bool same = d[i].pixel == t[i].pixel;
+        for (const PclSplat* s : {&d[i], &t[i]}) {
+            std::vector<float>& v = s == &d[i] ? dv : tv;
+            v.insert(v.end(), {s == &t[i] || same ? 1.0f : 0.0f, s->r, s->g, s->b});
+        }
+    }
+    StageComparison records = compareValues("connections (pixel, rgb)", dv, tv, 4, o.tolerance, o.worstShown);
+    records.deviceSeconds = dt;
+    records.twinSeconds = tt;
+    report.stages.push_back(records);
+    StageComparison film =
+        compareRadiance("connection film", splatFilm(d, pixels), splatFilm(t, pixels), o.tolerance, o.worstShown);
+    film.ownRequired = o.filmRequired;
+    report.stages.push_back(film);
     return report;
 }
 

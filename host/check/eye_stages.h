@@ -31,4 +31,9 @@ RenderCheckReport checkEyePathsStage(Device& device, const Scene& scene, const P
 RenderCheckReport checkDirectLightStage(Device& device, const Scene& scene, const PreparedScene& prepared,
                                         const RenderCheckOptions& options = {});
 
+// Rows: each caustic photon's connection to the camera (pixel and value, record by record) and
+// the film they add up to, from one device caustic pass of options.causticPhotons paths.
+RenderCheckReport checkConnectCausticsStage(Device& device, const Scene& scene, const PreparedScene& prepared,
+                                            const RenderCheckOptions& options = {});
+
 }  // namespace pcl

@@ -60,6 +60,11 @@ Run addCheckCommand(CLI::App& app) {
             refuseMediaWithoutPathTracer(scene, "check --stage " + o->stage +
                                                     " (only emit, trace_photons, deposit, pass, eye_paths, "
                                                     "direct_light and volume_estimate handle media)");
+        const PreparedScene prepared = prepareScene(scene);
+        const bool caustics = prepared.plan.causticMap;
+        if (o->stage == "connect_caustics" && !caustics)
+            throw InputError(o->scene + ": expected a scene with caustics (a caustic map) for check --stage "
+                                        "connect_caustics, got none");
         if (o->stage == "volume_estimate" && !scene.hasMedia())
             throw InputError(o->scene + ": medium: expected a scene with a participating medium for check --stage "
                                         "volume_estimate, got none");
@@ -67,7 +72,6 @@ Run addCheckCommand(CLI::App& app) {
         applyBufferCap(device, o->maxBufferMib);
         std::printf("check %s on %s (%s)\n", o->scene.c_str(), device.info().name.c_str(),
                     device.info().platform.c_str());
-        const PreparedScene prepared = prepareScene(scene);
         bool ok = true;
         std::string leftOut;
         for (const CheckStage& stage : checkStages()) {
@@ -75,6 +79,7 @@ Run addCheckCommand(CLI::App& app) {
             if (o->stage == "all") {
                 const std::string name = stage.name;
                 if (name == "volume_estimate" && !scene.hasMedia()) continue;  // no volume map to read
+                if (name == "connect_caustics" && !caustics) continue;         // no caustic photons
                 if (scene.hasMedia() && name != "trace" && !handlesMedia(name)) {
                     leftOut += (leftOut.empty() ? "" : ", ") + name;
                     continue;

@@ -400,6 +400,11 @@ Run addRenderCommand(CLI::App& app) {
                     "Media: the beam estimate's radii: fixed (one per pass) or photon (each photon's own, from "
                     "its k-th nearest volume photon)")
         ->check(CLI::IsMember({"fixed", "photon"}));
+    sub->add_option("--caustics", o->request.caustics,
+                    "fg: connect (each caustic photon joined to the camera, as a light tracer does: sharp caustics "
+                    "where the eye sees them directly; the caustic map only through mirrors and glass; not in "
+                    "scenes that move) or map (Jensen's caustic map at every eye hit)")
+        ->check(CLI::IsMember({"connect", "map"}));
     sub->add_option("--gather-rays", o->request.gatherRays, "fg: final-gather rays per diffuse eye hit")
         ->check(CLI::Range(1u, 4096u));
     sub->add_option("--light-samples", o->request.lightSamples, "Area-light samples (shadow rays) per diffuse eye hit")
@@ -460,6 +465,7 @@ Run addRenderCommand(CLI::App& app) {
                                  "--volume-k",
                                  "--volume-radii",
                                  "--gather-rays",
+                                 "--caustics",
                                  "--light-samples",
                                  "--gather-source",
                                  "--gather-importance",

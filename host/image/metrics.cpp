@@ -10,15 +10,23 @@
 namespace pcl {
 
 ImageErrors compare(const Image& a, const Image& b, double relMseEpsilon) {
+    return compare(a, b, std::vector<uint8_t>(a.rgb.size() / 3, 1), relMseEpsilon);
+}
+
+ImageErrors compare(const Image& a, const Image& b, const std::vector<uint8_t>& keep, double relMseEpsilon) {
     if (a.width != b.width || a.height != b.height)
         throw InputError("compare: image sizes differ: " + std::to_string(a.width) + "x" + std::to_string(a.height) +
                          " and " + std::to_string(b.width) + "x" + std::to_string(b.height));
+    if (a.rgb.empty()) throw InputError("compare: images are empty");
+    if (keep.size() != a.rgb.size() / 3)
+        throw InputError("compare: a mask of " + std::to_string(keep.size()) + " pixels for " +
+                         std::to_string(a.width) + "x" + std::to_string(a.height));
     ImageErrors e;
-    e.values = a.rgb.size();
-    if (e.values == 0) throw InputError("compare: images are empty");
     // Sums in double: a 4K image has 25M values.
     double se = 0.0, rel = 0.0, sumA = 0.0, sumB = 0.0, maxDiff = 0.0;
-    for (size_t i = 0; i < e.values; ++i) {
+    for (size_t i = 0; i < a.rgb.size(); ++i) {
+        if (!keep[i / 3]) continue;
+        ++e.values;
         double x = a.rgb[i], r = b.rgb[i], d = x - r;
         se += d * d;
         rel += d * d / (r * r + relMseEpsilon);
@@ -27,6 +35,7 @@ ImageErrors compare(const Image& a, const Image& b, double relMseEpsilon) {
         maxDiff = std::max(maxDiff, std::abs(d));
         if (std::isnan(d)) maxDiff = d;  // a NaN anywhere must show, not vanish in max()
     }
+    if (e.values == 0) throw InputError("compare: the mask keeps no pixel");
     double n = static_cast<double>(e.values);
     e.rmse = std::sqrt(se / n);
     e.relMse = rel / n;

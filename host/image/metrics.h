@@ -1,6 +1,7 @@
 // Error metrics between a test image and a reference: what `photoncl compare` prints and what
 // `sweep` charts against time.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,10 @@ constexpr double kRelMseEpsilon = 1e-2;
 // Compares `a` (test) against `b` (reference). Different sizes: InputError naming both.
 // mean(b) == 0 gives meanRatio 1 if mean(a) is 0 too, otherwise +inf.
 ImageErrors compare(const Image& a, const Image& b, double relMseEpsilon = kRelMseEpsilon);
+// The same over the pixels whose `keep` entry is nonzero (one per pixel, row-major; InputError
+// when its size is not the pixel count or it keeps no pixel).
+ImageErrors compare(const Image& a, const Image& b, const std::vector<uint8_t>& keep,
+                    double relMseEpsilon = kRelMseEpsilon);
 
 // Per-pixel Z-test of K independent renders against a reference: is what
 // differs from the reference only the renders' own noise? Per pixel, the value is the channel

@@ -14,7 +14,7 @@ std::vector<PclEstimateQuery> referenceEyeEstimateQueries(const std::vector<PclE
         q[i] = PclEstimateQuery{};
         q[i].k = params.k;
         q[i].nz = 1.0f;
-        if (h.flags & PCL_EYE_DIFFUSE) {
+        if ((h.flags & PCL_EYE_DIFFUSE) && h.depth >= params.minDepth) {
             q[i].x = h.x;
             q[i].y = h.y;
             q[i].z = h.z;

@@ -65,6 +65,26 @@ std::string pathsThePathTracerMisses(const Scene& scene) {
            "', light the path tracer cannot find";
 }
 
+std::vector<uint8_t> pixelsSeeingNoDeltaSurfaceFirst(const Scene& scene, const SceneGeometry& geometry, int n) {
+    Camera pinhole = scene.camera;
+    pinhole.model = CameraModel::Pinhole;
+    const RayCamera rc(pinhole);
+    const int width = pinhole.width, height = pinhole.height;
+    std::vector<uint8_t> keep(size_t(width) * height, 1);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int k = 0; k < n * n && keep[size_t(y) * width + x]; ++k) {
+                CameraSample cs;
+                cs.filmX = (float(k % n) + 0.5f) / float(n);
+                cs.filmY = (float(k / n) + 0.5f) / float(n);
+                const PclRay ray = rc.generateRay(x, y, cs);
+                PclHit hit;
+                if (geometry.intersect(ray, hit) && hasDeltaLobe(*surfaceAt(scene, geometry, ray, hit).material))
+                    keep[size_t(y) * width + x] = 0;
+            }
+    return keep;
+}
+
 LightTracer::LightTracer(const Scene& scene, const SceneGeometry& geometry, LightTracerSettings settings)
     : scene_(scene), geometry_(geometry), settings_(std::move(settings)), camera_(scene.camera) {
     Bounds3 b = geometry.bounds();

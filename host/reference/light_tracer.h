@@ -123,4 +123,10 @@ private:
 // naming a delta light and a material with a delta lobe (mirror or dielectric).
 std::string pathsThePathTracerMisses(const Scene& scene);
 
+// Per pixel of scene.camera (row-major): 1 where none of n × n camera rays through the pixel
+// (pinhole, time 0) first hits a surface with a delta lobe (mirror, glass), 0 where one does:
+// the pixels that L S ... S E light can reach, which the path and light tracers' references
+// lack (compare --skip-specular-pixels measures without them).
+std::vector<uint8_t> pixelsSeeingNoDeltaSurfaceFirst(const Scene& scene, const SceneGeometry& geometry, int n = 4);
+
 }  // namespace pcl

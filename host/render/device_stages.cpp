@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include "pipeline/camera_rays.h"
+#include "pipeline/connect_caustics.h"
 #include "pipeline/estimate.h"
 #include "pipeline/eye_estimate.h"
 #include "pipeline/eye_paths.h"
@@ -139,6 +140,11 @@ void DeviceRenderStages::directLight(const PclDirectParams& params) {
 
 void DeviceRenderStages::causticEstimate(const PclEyeEstimateParams& params) {
     causticRadiance(device_, params, hits_, *maps_->causticSource, causticRad_);
+}
+
+std::vector<PclSplat> DeviceRenderStages::connectCaustics(const PclConnectParams& params, const PclCameraParams& camera,
+                                                          const std::vector<PclPhoton>& photons) {
+    return pcl::connectCaustics(device_, dscene_, params, camera, photons);
 }
 
 void DeviceRenderStages::globalEstimate(const PclEyeEstimateParams& params) {

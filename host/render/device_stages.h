@@ -32,6 +32,8 @@ public:
     void gatherHistograms(const PclGatherParams& params) override;
     void directLight(const PclDirectParams& params) override;
     void causticEstimate(const PclEyeEstimateParams& params) override;
+    std::vector<PclSplat> connectCaustics(const PclConnectParams& params, const PclCameraParams& camera,
+                                          const std::vector<PclPhoton>& photons) override;
     void globalEstimate(const PclEyeEstimateParams& params) override;
     void finalGather(const PclGatherParams& params) override;
     void volumeEstimate() override;

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "pipeline/camera_rays.h"
+#include "pipeline/connect_caustics.h"
 #include "pipeline/direct_light.h"
 #include "pipeline/eye_paths.h"
 #include "pipeline/final_gather.h"
@@ -160,6 +161,7 @@ private:
         e.firstRadius2 = firstSearchRadius2(photons, k, area_);
         return e;
     }
+    void connectCaustics(uint32_t pass, const std::vector<PclPhoton>& caustic, Film& passFilm);
     void eyePass(uint32_t pass, const PassMapSpec& maps, Film& passFilm);
     ChunkParts shadeFinalGather(const PassMapSpec& maps, const PclEyeParams& ep, uint32_t count);
     ChunkParts shadeDirectVisualisation(const PassMapSpec& maps, uint32_t count);
@@ -341,7 +343,8 @@ ChunkParts PhotonRenderer::shadeFinalGather(const PassMapSpec& m, const PclEyePa
     timed(stages_, t.direct, [&] { stages_.directLight(dp); });
     parts.direct = true;
     if (m.caustic.reader != MapReader::None) {
-        PclEyeEstimateParams cq{count, s_.causticK, m.radius2, 0};
+        // With caustic connections the photons lit the directly seen hits already (connectCaustics).
+        PclEyeEstimateParams cq{count, s_.causticK, m.radius2, 0, s_.causticConnections ? 1u : 0u};
         timed(stages_, t.caustic, [&] { stages_.causticEstimate(cq); });
         parts.caustic = true;
     }
@@ -386,6 +389,23 @@ ChunkParts PhotonRenderer::shadeProgressive(const PassMapSpec& m, const PclEyePa
         parts.indirect = true;
     }
     return parts;
+}
+
+// 2b. fg's caustic connections: each caustic photon's splat, weighted by the n² samples a pixel's
+// pass gives it, so that the film's average adds the splat's estimate once per pass.
+void PhotonRenderer::connectCaustics(uint32_t pass, const std::vector<PclPhoton>& caustic, Film& passFilm) {
+    const uint64_t passSeed = eyePassSeed(s_.seed, pass);
+    PclCameraParams cp = cameraParams(scene_.camera, plan_, passSeed, s_.strata);
+    const PclConnectParams params = connectParams(geometry_, buffers_, uint32_t(caustic.size()), passSeed);
+    const std::vector<PclSplat> splats = stages_.connectCaustics(params, cp, caustic);
+    const float weight = float(spp_);
+    for (const PclSplat& sp : splats) {
+        if (sp.pixel == PCL_NO_SPLAT) continue;
+        const int x = int(sp.pixel % uint32_t(width_)), y = int(sp.pixel / uint32_t(width_));
+        const Vec3 v(sp.r * weight, sp.g * weight, sp.b * weight);
+        passFilm.splat(x, y, v);
+        if (s_.aovs) result_.aovs.caustic.splat(x, y, v);
+    }
 }
 
 // 4. Accumulate: sample s of the pass lies in pixel s / n²; its radiance is emitted + the parts.
@@ -529,6 +549,8 @@ PhotonRenderResult PhotonRenderer::run() {
         PassMaps maps;
         specifyMaps(photons, radius2, maps);
         timed(stages_, result_.times.maps, [&] { stages_.buildMaps(maps.spec); });
+        if (s_.causticConnections && maps.spec.caustic.photons)
+            timed(stages_, result_.times.caustic, [&] { connectCaustics(pass, *maps.spec.caustic.photons, passFilm); });
         eyePass(pass, maps.spec, passFilm);
         // 5. The pass's sums, rounded once to fixed point, join the render's (exact: any
         // grouping of passes gives the same bits).

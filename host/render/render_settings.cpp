@@ -23,11 +23,11 @@ std::string exact(double v) {
 }  // namespace
 
 bool fgEyeSamplesAreCheap(const PhotonRenderSettings& s, const RenderPlan& plan) {
-    return !plan.causticMap && s.histogramCells == 0;
+    return (!plan.causticMap || s.causticConnections) && s.histogramCells == 0;
 }
 
 bool fgEyeSamplesReadCaustics(const PhotonRenderSettings& s, const RenderPlan& plan) {
-    return plan.causticMap && s.histogramCells == 0;
+    return plan.causticMap && !s.causticConnections && s.histogramCells == 0;
 }
 
 namespace {
@@ -209,6 +209,13 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
     s.initialRadius = q.radius;
     s.maxRadius = q.maxRadius;
     s.seconds = q.seconds;
+    const bool fgCaustics = s.method == RenderMethod::FinalGather && plan.causticMap;
+    if (!q.caustics.empty() && q.caustics != "connect" && q.caustics != "map")
+        throw InputError("render: caustics \"" + q.caustics + "\", expected connect or map");
+    if (q.caustics == "connect" && fgCaustics && plan.timeSampling)
+        throw InputError("render: --caustics connect needs a scene that does not move (caustic photons hold no "
+                         "shutter time); use --caustics map");
+    s.causticConnections = fgCaustics && !plan.timeSampling && q.caustics == "connect";
     applyMethodDefaults(s, plan);
     if (q.globalPhotons) s.globalPhotons = q.globalPhotons;
     if (q.causticPhotons) s.causticPhotons = q.causticPhotons;
@@ -281,6 +288,10 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
          causticEye ? "Jensen's 50 photons per estimate; 20 per caustic estimate, made at every eye sample (16 per "
                       "pixel and pass average its noise, and it blurs the caustic less)"
                     : "Jensen's 50 photons per estimate");
+    if (fg && built.caustic)
+        note(std::string("caustics ") + (s.causticConnections ? "connect" : "map"), !q.caustics.empty(),
+             plan.timeSampling ? "the caustic map: the scene moves, and caustic photons hold no shutter time"
+                               : "the caustic map at every eye hit");
     if (built.volume) {
         note("volume radii " + std::string(s.volumePhotonRadii ? "photon" : "fixed"), !q.volumeRadii.empty(),
              kVolumeRadiiReason);
@@ -326,6 +337,8 @@ std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const R
         add("alpha", exact(s.alpha));
         add("progressiveK0", exact(s.progressiveK0));
         add("radius", exact(s.initialRadius));
+        if (s.causticConnections && s.method == RenderMethod::FinalGather && maps.caustic)
+            add("causticConnections", "1");  // only when on, so other renders' settings stay as they were
         if (maps.volume) {  // only with media, so the other scenes' settings (and hashes) stay as they were
             add("volumeK", std::to_string(s.volumeK));
             add("volumeRadii", s.volumePhotonRadii ? "photon" : "fixed");

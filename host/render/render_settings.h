@@ -56,6 +56,10 @@ struct PhotonRenderSettings {
     // walls thinner than the search radius, at the cost of one ray per photon used. fg then reads
     // the full estimate, not precomputed irradiance (its nearest-record lookup has no such test).
     bool visibility = false;
+    // fg: every caustic photon joined to the camera (pipeline/connect_caustics.h), so the caustics
+    // an eye sees directly come without the caustic map's blur; the map is then read only at eye
+    // hits seen through mirrors and glass. Scenes whose geometry moves keep the map.
+    bool causticConnections = false;
     GatherSource gatherSource = GatherSource::Precomputed;
     // fg: G > 0 importance-samples the gather rays from a G × G histogram of the incident flux of
     // the globalK photons nearest each eye hit (Jensen 1995; pipeline/final_gather.h), mixed with
@@ -117,6 +121,7 @@ struct RenderRequest {
     uint32_t globalPhotons = 0, causticPhotons = 0, k = 0, causticK = 0, lightSamples = 0, strata = 0, gatherRays = 0;
     uint32_t volumeK = 0;     // 0: the default
     std::string volumeRadii;  // "fixed", "photon"; empty: the default
+    std::string caustics;     // fg: "connect", "map"; empty: the default (connect where it can)
 };
 
 // One resolved setting, as `render` logs it: "gather rays 64  (default: <reason>)" or "(given)".

@@ -8,6 +8,7 @@
 //   stages.tracePhotons(pass options)   the pass's photon maps, as host vectors
 //   stages.buildMaps(spec)              the search structures and irradiance readers of the pass
 //   per chunk of eye samples (records 0 .. count−1):
+//   [connectCaustics(the pass's caustic photons)]    fg: splats into the pass's film
 //     cameraRays → eyePaths → [gatherHistograms] → directLight / causticEstimate /
 //     globalEstimate / finalGather / volumeEstimate (each fills one part) → readChunk (records and
 //     parts to host)
@@ -96,8 +97,11 @@ public:
     virtual void gatherHistograms(const PclGatherParams& params) = 0;
     virtual void directLight(const PclDirectParams& params) = 0;           // → direct
     virtual void causticEstimate(const PclEyeEstimateParams& params) = 0;  // caustic map → caustic
-    virtual void globalEstimate(const PclEyeEstimateParams& params) = 0;   // global map → indirect
-    virtual void finalGather(const PclGatherParams& params) = 0;           // global map → indirect
+    // fg's caustic connections: one splat per caustic photon (pipeline/connect_caustics.h).
+    virtual std::vector<PclSplat> connectCaustics(const PclConnectParams& params, const PclCameraParams& camera,
+                                                  const std::vector<PclPhoton>& photons) = 0;
+    virtual void globalEstimate(const PclEyeEstimateParams& params) = 0;  // global map → indirect
+    virtual void finalGather(const PclGatherParams& params) = 0;          // global map → indirect
     // The beam radiance estimate along the medium segments the last eyePaths wrote, from the
     // pass's volume maps (spec.volume, spec.volumeCaustic), summed → volume.
     virtual void volumeEstimate() = 0;

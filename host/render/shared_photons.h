@@ -40,6 +40,10 @@ public:
     void gatherHistograms(const PclGatherParams& p) override { inner_.gatherHistograms(p); }
     void directLight(const PclDirectParams& p) override { inner_.directLight(p); }
     void causticEstimate(const PclEyeEstimateParams& p) override { inner_.causticEstimate(p); }
+    std::vector<PclSplat> connectCaustics(const PclConnectParams& p, const PclCameraParams& camera,
+                                          const std::vector<PclPhoton>& photons) override {
+        return inner_.connectCaustics(p, camera, photons);
+    }
     void globalEstimate(const PclEyeEstimateParams& p) override { inner_.globalEstimate(p); }
     void finalGather(const PclGatherParams& p) override { inner_.finalGather(p); }
     void volumeEstimate() override { inner_.volumeEstimate(); }

@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include "reference/camera_rays.h"
+#include "reference/connect_caustics.h"
 #include "reference/direct_light.h"
 #include "reference/estimate.h"
 #include "reference/eye_estimate.h"
@@ -91,6 +92,11 @@ void TwinRenderStages::causticEstimate(const PclEyeEstimateParams& params) {
     caustic_ = referenceEstimateAtEyeHits(hits_, params, [&](const std::vector<PclEstimateQuery>& q) {
         return irradiance(spec_.caustic, q);
     });
+}
+
+std::vector<PclSplat> TwinRenderStages::connectCaustics(const PclConnectParams& params, const PclCameraParams& camera,
+                                                        const std::vector<PclPhoton>& photons) {
+    return referenceConnectCaustics(scene_, geometry_, params, camera, photons);
 }
 
 void TwinRenderStages::globalEstimate(const PclEyeEstimateParams& params) {

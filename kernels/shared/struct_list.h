@@ -37,6 +37,8 @@
     X(PclGatherParams)        \
     X(PclGatherHit)           \
     X(PclEyeEstimateParams)   \
+    X(PclConnectParams)       \
+    X(PclSplat)               \
     X(PclVolumeSegment)       \
     X(PclVolumeEstimateParams) \
     X(PclEnvironment)          \

@@ -452,8 +452,35 @@ typedef struct PclEyeEstimateParams {
     pcl_u32 k;
     pcl_f32 maxRadius2;
     pcl_u32 irradianceStride; /* floats per irradiance record (8: PclEstimate, 4: float4) */
+    pcl_u32 minDepth;         /* records with fewer specular bounces before their hit get no estimate
+                                 (1 under caustic connections: connect_caustics.cl lights those) */
+    pcl_u32 pad0, pad1, pad2;
 } PclEyeEstimateParams;
-PCL_STATIC_ASSERT(sizeof(PclEyeEstimateParams) == 16, PclEyeEstimateParams_size);
+PCL_STATIC_ASSERT(sizeof(PclEyeEstimateParams) == 32, PclEyeEstimateParams_size);
+
+/* ---- Caustic connections (connect_caustics.cl; kernels/README.md, "connect_caustics") ----
+ * Each caustic photon (L S+ D) joined to the camera: the light tracer's splat (Veach 1997
+ * §10.2) at the photon's diffuse vertex, instead of the caustic map's estimate at the eye hits
+ * that see that surface directly. */
+typedef struct PclConnectParams {
+    pcl_u32 seedLo, seedHi;   /* the pass seed: lens samples (stream CONNECT, path = photon) */
+    pcl_u32 photonCount;      /* caustic records in photons[] */
+    pcl_u32 triangleCount;    /* global ids at or above it are spheres */
+    pcl_f32 rayEpsilon;       /* spawn offset along the normal */
+    pcl_f32 findDistance;     /* the record's surface is found again by a ray from p + n_f·d to p − n_f·d */
+    pcl_u32 pad0, pad1;
+} PclConnectParams;
+PCL_STATIC_ASSERT(sizeof(PclConnectParams) == 32, PclConnectParams_size);
+
+/* One connection: photon i's light in pixel `pixel`, rgb W/(m² sr) per pass (the pixel's average
+ * radiance from that path); pixel = PCL_NO_SPLAT when the photon reaches no pixel (behind the
+ * camera, off the film, occluded, facing away, surface not found again). */
+#define PCL_NO_SPLAT 0xFFFFFFFFu
+typedef struct PclSplat {
+    pcl_u32 pixel;            /* y * width + x */
+    pcl_f32 r, g, b;
+} PclSplat;
+PCL_STATIC_ASSERT(sizeof(PclSplat) == 16, PclSplat_size);
 
 /* ---- Volume radiance estimate (volume_estimate.cl; kernels/README.md, "volume_estimate") ----
  * The beam radiance estimate (Jarosz, Zwicker & Jensen 2008) along the eye's PclVolumeSegments

@@ -10,9 +10,12 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "geometry/scene_geometry.h"
 #include "image/image_io.h"
 #include "image/metrics.h"
+#include "reference/light_tracer.h"
 #include "run_photoncl.h"
+#include "scene/load_scene.h"
 
 namespace fs = std::filesystem;
 
@@ -155,6 +158,38 @@ TEST_F(CliTest, CompareAveragesMultiplesAndRefusesOtherSizesAndMissingFiles) {
     Result missing = run("compare " + (dir / "a.exr").string() + " " + (dir / "zzz.exr").string());
     EXPECT_EQ(missing.status, 2);
     EXPECT_NE(missing.output.find("zzz.exr"), std::string::npos) << missing.output;
+}
+
+// --skip-specular-pixels SCENE: a change confined to the pixels that see the mirror or glass ball
+// first vanishes from the figures, a change in one other pixel does not; a bad scene is bad input.
+TEST_F(CliTest, CompareCanSkipThePixelsThatSeeMirrorsOrGlassFirst) {
+    const std::string a = (dir / "a.exr").string(), balls = (dir / "balls.exr").string(),
+                      wall = (dir / "wall.exr").string(), sc = scene("cornell-spheres-point.json");
+    ASSERT_EQ(run("render " + sc + " -o " + a + " --method path --width 32 --height 32 --passes 1 -q --no-png").status,
+              0);
+    pcl::Scene s = pcl::loadScene(sc);
+    s.camera.width = s.camera.height = 32;
+    const std::vector<uint8_t> keep = pcl::pixelsSeeingNoDeltaSurfaceFirst(s, pcl::SceneGeometry::build(s));
+    const pcl::Image img = pcl::readImage(a);
+    pcl::Image changedBalls = img, changedWall = img;
+    size_t left = 0;
+    for (size_t i = 0; i < keep.size(); ++i)
+        if (!keep[i]) changedBalls.rgb[3 * i] += 1.0f, ++left;
+    ASSERT_GT(left, 20u);
+    changedWall.rgb[0] += 1.0f;  // the top left pixel sees the ceiling
+    ASSERT_TRUE(keep[0]);
+    pcl::writeLinearImage(balls, changedBalls, pcl::ImageMetadata{});
+    pcl::writeLinearImage(wall, changedWall, pcl::ImageMetadata{});
+    EXPECT_EQ(run("compare " + balls + " " + a + " --max-rmse 1e-6").status, 1);
+    Result masked = run("compare " + balls + " " + a + " --skip-specular-pixels " + sc + " --max-rmse 1e-6");
+    EXPECT_EQ(masked.status, 0) << masked.output;
+    EXPECT_NE(masked.output.find(std::to_string(left) + " pixels that see mirrors or glass first left out"),
+              std::string::npos)
+        << masked.output;
+    EXPECT_EQ(run("compare " + wall + " " + a + " --skip-specular-pixels " + sc + " --max-rmse 1e-6").status, 1);
+    Result bad = run("compare " + wall + " " + a + " --skip-specular-pixels " + (dir / "none.json").string());
+    EXPECT_EQ(bad.status, 2) << bad.output;
+    EXPECT_NE(bad.output.find("none.json"), std::string::npos) << bad.output;
 }
 
 TEST_F(CliTest, UnknownDeviceIsADeviceFailureThatListsDevices) {
