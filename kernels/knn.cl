@@ -22,6 +22,8 @@
  *               ascending (squared distance, photon index) order (PCL_NO_HIT, 0 past count),
  *               radius2[q] = the largest squared distance returned (0 if none).
  *
+ * A query with maxRadius2 ≤ 0 is empty: it finds nothing and costs no search (the eye estimate's
+ * records without a diffuse hit, or left to the caustic connections).
  * A candidate enters when d² ≤ maxRadius2 and (d², index) is below the heap's largest while the
  * heap is full: ties in distance go to the lower photon index, so every structure returns the
  * same set as the brute force. Squared distances are ((px−qx)² + (py−qy)²) + (pz−qz)² in float
@@ -238,7 +240,9 @@ __kernel void knn_kdtree(__global const float4* nodes, uint n, uint bucketFirst,
     const PclKnnQuery q = queries[qi];
     KnnHeap h;
     knn_init(&h, q);
-    if (firstRadius2 < h.maxRadius2) {
+    if (!(q.maxRadius2 > 0.0f)) {
+        /* empty: nothing */
+    } else if (firstRadius2 < h.maxRadius2) {
         h.maxRadius2 = firstRadius2;
         knn_kdtree_search(&h, nodes, n, bucketFirst, q);
         if (h.n < h.k) {
@@ -288,7 +292,7 @@ __kernel void knn_hashgrid(const PclGridParams g, __global const float4* points,
     const PclKnnQuery q = queries[qi];
     KnnHeap h;
     knn_init(&h, q);
-    if (g.photonCount > 0u && h.k > 0u && q.maxRadius2 >= 0.0f) {
+    if (g.photonCount > 0u && h.k > 0u && q.maxRadius2 > 0.0f) {
         /* Window: rounding is monotonic, so a photon p with d² ≤ maxRadius2 (true |p − q| <
          * r·(1 + 1e-6)) has a cell coordinate ≥ that of q − r' whenever r' exceeds that: the
          * relative 1e-4 suffices, the 1e-18 covers d² underflowing for tiny differences. */

@@ -23,7 +23,8 @@ const char* const kKeys[] = {"scene",        "output",       "method",      "sha
                              "seed",         "width",        "height",      "globalPhotons", "causticPhotons",
                              "strata",       "gatherRays",   "k",           "causticK",      "lightSamples",
                              "gatherImportance", "radius",   "alpha",       "maxRadius",     "filter",
-                             "gatherSource", "visibility",   "device",      "maxBufferMib",  "structure", "threads"};
+                             "gatherSource", "visibility",   "device",      "maxBufferMib",  "structure", "threads",
+                             "caustics"};
 // clang-format on
 
 std::string allowedKeys() {
@@ -130,6 +131,7 @@ BatchJob loadBatchJob(const std::string& path) {
     job.filter = r.text("filter", "cone", {"box", "cone", "epanechnikov", "gaussian"});
     job.gatherSource = r.text("gatherSource", "precomputed", {"precomputed", "estimate"});
     job.structure = r.text("structure", "kd-tree", {"kd-tree", "hash-grid"});
+    job.caustics = r.text("caustics", "", {"", "connect", "map"});
     job.visibility = r.flag("visibility", false);
     job.device = r.text("device", "cpu");
     job.maxBufferMib = r.integer("maxBufferMib", 1, uint64_t(1) << 30, 0);

@@ -68,6 +68,7 @@ BatchScene loadBatchScene(const BatchJob& job) {
     q.visibility = job.visibility;
     q.gatherSource = job.gatherSource;
     q.structure = job.structure;
+    q.caustics = job.caustics;
     q.alpha = job.alpha;
     q.gatherImportance = job.gatherImportance;
     q.radius = job.radius;

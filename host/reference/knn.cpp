@@ -21,6 +21,7 @@ ReferenceKnn referenceKnnBruteForce(const std::vector<PclPhoton>& map, const std
     referenceParallelFor(nq, threads, [&](size_t qi) {
         const PclKnnQuery& q = queries[qi];
         std::vector<std::pair<float, uint32_t>> near;
+        if (!(q.maxRadius2 > 0.0f)) return;  // an empty query (kernels/knn.cl): nothing found
         for (size_t i = 0; i < map.size(); ++i) {
             const float dx = map[i].x - q.x;
             const float dy = map[i].y - q.y;

@@ -121,7 +121,7 @@ struct RenderRequest {
     uint32_t globalPhotons = 0, causticPhotons = 0, k = 0, causticK = 0, lightSamples = 0, strata = 0, gatherRays = 0;
     uint32_t volumeK = 0;     // 0: the default
     std::string volumeRadii;  // "fixed", "photon"; empty: the default
-    std::string caustics;     // fg: "connect", "map"; empty: the default (connect where it can)
+    std::string caustics;     // fg: "connect", "map"; empty: the default (connect unless the scene moves)
 };
 
 // One resolved setting, as `render` logs it: "gather rays 64  (default: <reason>)" or "(given)".

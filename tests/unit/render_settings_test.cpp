@@ -53,9 +53,24 @@ TEST(RenderSettings, DefaultsPerMethodFollowThePlan) {
     EXPECT_EQ(fg.gatherRays, 2u);
     EXPECT_EQ(fg.lightSamples, 2u);
     EXPECT_TRUE(fgEyeSamplesAreCheap(fg, box));
-    // A caustic map (a k-nearest estimate per eye hit): 4x4 eye samples of 4 gather rays, 2
-    // shadow rays, 20 photons per caustic estimate.
-    const PhotonRenderSettings fgCaustic = resolve("fg", spheres).settings;
+    // Caustics by connections (the default where nothing moves): eye samples stay cheap, 6x6, and
+    // the caustic map is read through mirrors and glass with 20 photons an estimate.
+    const PhotonRenderSettings fgConnect = resolve("fg", spheres).settings;
+    EXPECT_TRUE(fgConnect.causticConnections);
+    EXPECT_TRUE(fgEyeSamplesAreCheap(fgConnect, spheres));
+    EXPECT_FALSE(fgEyeSamplesReadCaustics(fgConnect, spheres));
+    EXPECT_EQ(fgConnect.strata, 6u);
+    EXPECT_EQ(fgConnect.gatherRays, 2u);
+    EXPECT_EQ(fgConnect.causticK, 20u);
+    EXPECT_FALSE(fg.causticConnections);  // no caustic map, nothing to connect
+    // The scene moves (records hold no shutter time): the map; asked for, connections are refused.
+    EXPECT_FALSE(resolve("fg", dof).settings.causticConnections);
+    EXPECT_THROW(resolve("fg", dof, [](RenderRequest& q) { q.caustics = "connect"; }), InputError);
+    EXPECT_THROW(resolve("fg", spheres, [](RenderRequest& q) { q.caustics = "both"; }), InputError);
+    // The caustic map at every eye hit (a k-nearest estimate per eye hit): 4x4 eye samples of 4
+    // gather rays, 2 shadow rays, 20 photons per caustic estimate.
+    const PhotonRenderSettings fgCaustic =
+        resolve("fg", spheres, [](RenderRequest& q) { q.caustics = "map"; }).settings;
     EXPECT_FALSE(fgEyeSamplesAreCheap(fgCaustic, spheres));
     EXPECT_TRUE(fgEyeSamplesReadCaustics(fgCaustic, spheres));
     EXPECT_EQ(fgCaustic.strata, 4u);
@@ -206,6 +221,7 @@ TEST(RenderSettings, TextIsTheBatchShardFormat) {
                                         q.gatherRays = 64;
                                         q.lightSamples = 16;
                                         q.causticK = 50;
+                                        q.caustics = "map";  // the only kind then
                                     }).settings;
     EXPECT_EQ(settingsText(fg, spheres, 64, 48, 7),
               "method=fg;width=64;height=48;passes=7;seed=0;strata=1;globalPhotons=200000;causticPhotons=100000;"
