@@ -2,7 +2,7 @@
 // One list of stages, each with its own file under host/check/: trace.cpp, emit.cpp,
 // trace_photons.cpp, deposit.cpp, pass.cpp (their report: photon_stages.h), sort.cpp, build.cpp
 // (maps.h), knn.cpp, estimate.cpp (with precomputed_irradiance.cpp, the estimate stage's second
-// part), volume_estimate.cpp, render.cpp. Each file's typed report keeps the stage's own figures (tests read those);
+// part), eye_stages.cpp (eye_paths, direct_light, connect_caustics), volume_estimate.cpp, render.cpp. Each file's typed report keeps the stage's own figures (tests read those);
 // the command gets them as CheckReport. It prepares the scene once and runs the stages it was
 // asked for in this order.
 #pragma once
