@@ -20,11 +20,12 @@ using namespace pcl;
 
 namespace {
 
-AutoMethodChoice pilot(const std::string& name) {
+AutoMethodChoice pilot(const std::string& name, const std::string& caustics = "") {
     const Scene scene = accuracy::loadSceneAt(name, 64, 64);
     const PreparedScene prepared = prepareScene(scene);
     RenderRequest request;
     request.seed = 1;
+    request.caustics = caustics;
     const AutoMethodChoice c = chooseRenderMethod(test::testDevice(), scene, prepared, request);
     std::printf("[figure] %s at 64 wide: %s", name.c_str(), c.log().c_str());
     for (const AutoCandidate& k : c.candidates) {
@@ -36,10 +37,19 @@ AutoMethodChoice pilot(const std::string& name) {
 
 }  // namespace
 
+// By default fg connects caustic photons to the camera and its eye samples are already the cheap
+// 6×6 × 2 split: one fg candidate. With --caustics map the eye samples read the caustic map, and
+// the pilot also tries the 6×6 split.
 TEST(AutoMethod, PicksFinalGatheringForACausticScene) {
     const AutoMethodChoice c = pilot("cornell-spheres.json");
     EXPECT_EQ(c.best().request.method, "fg");
-    EXPECT_EQ(c.candidates.size(), 3u) << "a caustic map: two fg splits and the path tracer";
+    EXPECT_EQ(c.candidates.size(), 2u) << "caustic connections: fg (already 6x6x2) and the path tracer";
+}
+
+TEST(AutoMethod, TriesTheCheapSplitWhenEyeSamplesReadTheCausticMap) {
+    const AutoMethodChoice c = pilot("cornell-spheres.json", "map");
+    EXPECT_EQ(c.best().request.method, "fg");
+    EXPECT_EQ(c.candidates.size(), 3u) << "a caustic map read at eye hits: two fg splits and the path tracer";
 }
 
 TEST(AutoMethod, PicksThePathTracerForMotionDof) { EXPECT_EQ(pilot("motion-dof.json").best().request.method, "path"); }
