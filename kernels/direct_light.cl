@@ -37,6 +37,8 @@
 
 #pragma OPENCL FP_CONTRACT OFF
 
+#include "shared/texture.h"
+
 __kernel void direct_light(const PclDirectParams params, __global const PclEyeHit* hits,
                            __global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                            __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,

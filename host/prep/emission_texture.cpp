@@ -35,15 +35,44 @@ Vec3 meanEmission(const Scene& scene, const TriangleMesh& mesh, uint32_t triangl
     const Material& m = scene.materials[size_t(mesh.material)];
     if (m.emissionTexture < 0 || !m.emits()) return m.emission;
     const Texture& texture = scene.textures[size_t(m.emissionTexture)];
-    // Texels the triangle covers: its area in (transformed) texture coordinates × W × H.
-    float u[3], v[3];
+    const PclTexture d = textureDescriptor(texture, 0);
+    // The corners' coordinates after the transform, in texels (texel centres at integers).
     const float corners[3][2] = {{0, 0}, {1, 0}, {0, 1}};
-    for (int k = 0; k < 3; ++k) texCoordAt(mesh, triangle, texture.texCoord, corners[k][0], corners[k][1], u[k], v[k]);
-    const TextureTransform& t = texture.transform;
-    const double uvArea = 0.5 * std::abs(double(u[1] - u[0]) * (v[2] - v[0]) - double(u[2] - u[0]) * (v[1] - v[0]));
-    const double texels = uvArea * std::abs(double(t.scale[0]) * t.scale[1]) * texture.image.width * texture.image.height;
+    double x[3], y[3];
+    for (int k = 0; k < 3; ++k) {
+        float u, v, tu, tv;
+        texCoordAt(mesh, triangle, texture.texCoord, corners[k][0], corners[k][1], u, v);
+        texture_transform_uv(d, u, v, &tu, &tv);
+        x[k] = double(tu) * texture.image.width - 0.5;
+        y[k] = double(tv) * texture.image.height - 0.5;
+    }
+    // The largest texel bilinear filtering can read anywhere on the triangle: every texel index
+    // from floor(min) to floor(max) + 1 of the footprint's box, wrapped as the lookup wraps it
+    // (the whole image once the box spans a period). 0: the triangle emits nothing anywhere.
+    auto range = [](const double* c, int n, pcl_i32& lo, pcl_i32& count) {
+        const double a = std::min({c[0], c[1], c[2]}), b = std::max({c[0], c[1], c[2]});
+        if (!std::isfinite(a) || !std::isfinite(b) || b - a >= n) {
+            lo = 0, count = n;
+            return;
+        }
+        lo = pcl_i32(std::floor(a));
+        count = std::min(n, pcl_i32(std::floor(b)) + 2 - lo);
+    };
+    const pcl_i32 W = texture.image.width, H = texture.image.height;
+    pcl_i32 x0, nx, y0, ny;
+    range(x, W, x0, nx);
+    range(y, H, y0, ny);
+    Vec3 top(0.0f);
+    for (pcl_i32 j = 0; j < ny; ++j)
+        for (pcl_i32 i = 0; i < nx; ++i)
+            top = vmax(top, texture.image.at(texture_wrap_texel(x0 + i, W, d.wrap & 0xFFu),
+                                             texture_wrap_texel(y0 + j, H, (d.wrap >> 8) & 0xFFu)));
+    if (!(maxComponent(top) > 0.0f)) return Vec3(0.0f);
+
+    // The mean at the centroids of g² congruent sub-triangles, g about twice the texels the
+    // triangle spans along a side: upright (i + ⅓, j + ⅓)/g, inverted (i + ⅔, j + ⅔)/g.
+    const double texels = 0.5 * std::abs((x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]));
     const int g = int(std::clamp(std::ceil(2.0 * std::sqrt(std::isfinite(texels) ? texels : 0.0)), 4.0, 64.0));
-    // Centroids of the g² sub-triangles: upright (i + ⅓, j + ⅓)/g, inverted (i + ⅔, j + ⅔)/g.
     double sum[3] = {0, 0, 0};
     int n = 0;
     auto add = [&](double a, double b) {
@@ -58,9 +87,8 @@ Vec3 meanEmission(const Scene& scene, const TriangleMesh& mesh, uint32_t triangl
         }
     const Vec3 mean(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
     if (maxComponent(mean) > 0.0f) return mean;
-    Vec3 top(0.0f);
-    for (size_t i = 0; i + 2 < texture.image.rgb.size(); i += 3)
-        top = vmax(top, Vec3(texture.image.rgb[i], texture.image.rgb[i + 1], texture.image.rgb[i + 2]));
+    // Light the samples missed (a spot smaller than their spacing): the footprint's largest
+    // texel, an upper bound, so the triangle is still chosen.
     return Vec3(m.emission.x * top.x, m.emission.y * top.y, m.emission.z * top.z);
 }
 

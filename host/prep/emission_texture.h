@@ -20,11 +20,12 @@ namespace pcl {
 Vec3 emissionAt(const Scene& scene, const TriangleMesh& mesh, uint32_t triangle, float bu, float bv);
 
 // The mean emitted radiance over the triangle, estimated once at scene preparation: the
-// constant without an emission texture (exact); with one, the mean of the texture at the
-// centroids of g² congruent sub-triangles (g from 4 to 64, about two samples per texel the
-// triangle covers along each side) times the constant. When every sample reads 0 it falls back
-// to the constant times the texture's largest texel per channel (an upper bound), so the
-// estimate is 0 only where the emitter emits nothing at all.
+// constant without an emission texture (exact). With one: 0 when every texel bilinear filtering
+// can read on the triangle is 0 (it emits nothing anywhere; exact), else the mean of the
+// texture at the centroids of g² congruent sub-triangles (g from 4 to 64, about two samples per
+// texel the triangle spans along a side) times the constant, or, when every sample reads 0,
+// the constant times the largest texel the triangle can read (an upper bound). So the estimate
+// is positive wherever the emitter can emit.
 Vec3 meanEmission(const Scene& scene, const TriangleMesh& mesh, uint32_t triangle);
 
 }  // namespace pcl

@@ -14,7 +14,13 @@
 #include "bvh.h"
 #include "eye.h"
 #include "eye_medium.h"
-#include "texture.h"
+
+/* shared/texture.h's lookup, declared here and defined there: the kernels include texture.h
+ * after this header, so its `FP_CONTRACT OFF` pragma leaves the functions above and here
+ * compiled as they were before emission textures (bit-identical images). */
+inline void texture_emission_at(__global const PclMaterialTextures* materialTextures, __global const float* texels,
+                                __global const PclTriangleUv* triangleUvs, uint material, uint prim, uint triangleCount,
+                                float bu, float bv, const float emission[4], float le[3]);
 
 /* What a triangle light's radiance at a point needs beyond its material's constant: the
  * emission textures (shared/texture.h; placeholders, never read, without PCL_TEXTURED). */
