@@ -42,8 +42,7 @@ cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceArea
     auto kernel = device.kernel<PclDirectParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, PclEnvironment,
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
-        "direct_light", "direct_light",
-        scene.geometry.programOptions() + (scene.textured ? " -DPCL_TEXTURED=1" : ""));
+        "direct_light", "direct_light", scene.geometry.programOptions() + (scene.textured ? " -DPCL_TEXTURED=1" : ""));
     return device.launchLocal("direct_light", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, hits, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
                               scene.primInfo, scene.materials, scene.lights, lights.cdf, histograms, scene.media,

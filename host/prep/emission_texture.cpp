@@ -87,9 +87,12 @@ Vec3 meanEmission(const Scene& scene, const TriangleMesh& mesh, uint32_t triangl
         }
     const Vec3 mean(float(sum[0] / n), float(sum[1] / n), float(sum[2] / n));
     if (maxComponent(mean) > 0.0f) return mean;
-    // Light the samples missed (a spot smaller than their spacing): the footprint's largest
-    // texel, an upper bound, so the triangle is still chosen.
-    return Vec3(m.emission.x * top.x, m.emission.y * top.y, m.emission.z * top.z);
+    // Light the samples missed: a spot smaller than their spacing (about half a texel), so less
+    // than about one sample's share of the triangle. Count it as one sample at the footprint's
+    // largest texel: small (a triangle whose box reaches a bright texel it does not cover is
+    // chosen rarely) but positive, so the triangle can still be chosen.
+    const float share = 1.0f / float(n);
+    return Vec3(m.emission.x * top.x * share, m.emission.y * top.y * share, m.emission.z * top.z * share);
 }
 
 }  // namespace pcl

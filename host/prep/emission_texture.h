@@ -24,8 +24,9 @@ Vec3 emissionAt(const Scene& scene, const TriangleMesh& mesh, uint32_t triangle,
 // can read on the triangle is 0 (it emits nothing anywhere; exact), else the mean of the
 // texture at the centroids of g² congruent sub-triangles (g from 4 to 64, about two samples per
 // texel the triangle spans along a side) times the constant, or, when every sample reads 0,
-// the constant times the largest texel the triangle can read (an upper bound). So the estimate
-// is positive wherever the emitter can emit.
+// the constant times the largest texel the triangle can read over the number of samples (one
+// sample's worth: what the grid can have missed). So the estimate is positive wherever the
+// emitter can emit.
 Vec3 meanEmission(const Scene& scene, const TriangleMesh& mesh, uint32_t triangle);
 
 }  // namespace pcl

@@ -89,7 +89,7 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
 
     Vec3 origin, direction;
     const Vec3 axis = vec(light.axis);
-    Vec3 skyScale(0.0f);  // the sky: π R² L_c(w) / p(w), the map's texel and density (shared/environment.h)
+    Vec3 skyScale(0.0f);    // the sky: π R² L_c(w) / p(w), the map's texel and density (shared/environment.h)
     bool textured = false;  // a triangle light with an emission texture: each photon carries π A L(x) / n
     Vec3 emitted(0.0f);     // then π A L(x)
     switch (light.type) {

@@ -210,10 +210,11 @@ public:
         materialIndex_.assign(model_.materials.size(), -1);
         walkNodes();
         if (!ignoredTextures_.empty())
-            warnInput(file_, "textures ignored: " + ignoredTextures_ +
-                                 " (only baseColorTexture, metallicRoughnessTexture, normalTexture and emissiveTexture from "
-                                 "image files "
-                                 "are read; materials use their factors)");
+            warnInput(file_,
+                      "textures ignored: " + ignoredTextures_ +
+                          " (only baseColorTexture, metallicRoughnessTexture, normalTexture and emissiveTexture from "
+                          "image files "
+                          "are read; materials use their factors)");
         return result_;
     }
 
@@ -665,8 +666,7 @@ private:
             if (m.emits())
                 m.emissionTexture =
                     textureFor(*emissive, field + ".emissiveTexture", "emissiveTexture", TextureEncoding::Srgb);
-            else
-                noteIgnored("emissiveTexture of a material with emissiveFactor 0");
+            else noteIgnored("emissiveTexture of a material with emissiveFactor 0");
         }
         if (auto normal = g.find("normalTexture"); normal != g.end()) {
             // Linear texels (glTF 2.0 §3.9.3); scale multiplies the decoded x and y.

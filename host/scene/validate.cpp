@@ -273,9 +273,10 @@ void checkMedia(const Scene& s) {
 void checkTextures(const Scene& s) {
     for (size_t i = 0; i < s.materials.size(); ++i) {
         const Material& m = s.materials[i];
-        const std::pair<int, const char*> slots[] = {
-            {m.rhoDTexture, "rho_d"}, {m.rhoSTexture, "rho_s"}, {m.exponentTexture, "exponent"},
-            {m.emissionTexture, "emission"}};
+        const std::pair<int, const char*> slots[] = {{m.rhoDTexture, "rho_d"},
+                                                     {m.rhoSTexture, "rho_s"},
+                                                     {m.exponentTexture, "exponent"},
+                                                     {m.emissionTexture, "emission"}};
         for (const auto& [t, name] : slots)
             if (t >= int(s.textures.size()) || t < -1)
                 failInput(s.path, at("materials", i) + " (\"" + m.name + "\")." + name,

@@ -17,8 +17,10 @@
 //    (under the bright side) and left parts, pixels the lamp hides excluded: fg on the device
 //    (next-event estimation of the lamp's texels, the gather rays' MIS against it) within 2 %,
 //    the reference path tracer (its light sampler's texels, its MIS) within 2 %: both ~0.3-0.5 %
-//    standard error over ~300 pixels each (measured figures printed). The left/right ratio (~2.5)
-//    shows that the texture, not the factor alone, lights the floor.
+//    standard error over 432 pixels each (measured: fg 0.9990 left, 1.0004 right; path 0.9957,
+//    1.0002). The right part is 1.33 times brighter than the left (a lamp emitting its factor
+//    everywhere would light both alike), so a method that ignored the texture would miss by
+//    far more than 2 %.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -223,13 +225,14 @@ TEST(EmissionTexture, FloorUnderAHalfBlackLampMatchesTheIntegral) {
         for (int side = 0; side < 2; ++side)
             for (int c = 0; c < 3; ++c) {
                 const double ratio = h.got[side][c] / h.want[side][c];
-                std::printf("[figure] half-lit floor %s %s channel %d: %d pixels, sum %.5f, integral %.5f, ratio %.4f\n",
-                            what, side ? "right" : "left", c, h.pixels[side], h.got[side][c], h.want[side][c], ratio);
+                std::printf(
+                    "[figure] half-lit floor %s %s channel %d: %d pixels, sum %.5f, integral %.5f, ratio %.4f\n", what,
+                    side ? "right" : "left", c, h.pixels[side], h.got[side][c], h.want[side][c], ratio);
                 EXPECT_NEAR(ratio, 1.0, 0.02) << what << (side ? " right" : " left") << " channel " << c;
             }
         ratioWant = (h.want[1][0] / h.pixels[1]) / (h.want[0][0] / h.pixels[0]);
     }
     std::printf("[figure] half-lit floor: right/left mean radiance %.3f (the factor alone would light both alike)\n",
                 ratioWant);
-    EXPECT_GT(ratioWant, 1.5);
+    EXPECT_GT(ratioWant, 1.25);
 }

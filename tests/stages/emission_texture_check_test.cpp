@@ -20,8 +20,8 @@
 #include <cstdio>
 
 #include "check/on_device.h"
-#include "core/math.h"
 #include "common/textured_scenes.h"
+#include "core/math.h"
 #include "prep/photon_allocation.h"
 #include "reference/emit.h"
 #include "room_check.h"
@@ -54,8 +54,7 @@ TEST(EmissionTextureCheck, EmitMatchesTheTwinBitForBitAndCarriesPiTimesTheIntegr
     const test::CheckRoom& r = room();
     constexpr uint32_t kPhotons = 1000000;
     const std::vector<uint32_t> first = lightFirstPhoton(r.buffers, kPhotons, PCL_PASS_GLOBAL);
-    const PclPhotonParams params =
-        makePhotonParams(r.geometry, r.buffers, PCL_PASS_GLOBAL, 11, 8, 0, first.back());
+    const PclPhotonParams params = makePhotonParams(r.geometry, r.buffers, PCL_PASS_GLOBAL, 11, 8, 0, first.back());
     const std::vector<PclPhotonRay> dev = emitOnDevice(test::testDevice(), r.geometry, r.buffers, first, params);
     const std::vector<PclPhotonRay> twin = emitPhotonsReference(r.buffers, first, params);
     ASSERT_EQ(dev.size(), twin.size());
