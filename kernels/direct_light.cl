@@ -14,6 +14,9 @@
  *                              medium on the record's side of its surface (primMedia: outside
  *                              when n_f is the outside normal)
  *      env, envData[]          the sky (shared/environment.h)
+ *      materialTextures, texels, triangleUvs
+ *                              emission textures: a triangle light's radiance at the point
+ *                              sampled (read only with PCL_TEXTURED, shared/texture.h)
  * out: radiance[i]             PclRadiance: throughput × ρd/π × Σ (0 without a diffuse hit)
  *
  * Point, spot, directional lights: every one, one exact shadow ray each. Triangle lights: M
@@ -34,13 +37,17 @@
 
 #pragma OPENCL FP_CONTRACT OFF
 
+#include "shared/texture.h"
+
 __kernel void direct_light(const PclDirectParams params, __global const PclEyeHit* hits,
                            __global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                            __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,
                            __global const PclMaterial* materials, __global const PclLight* lights,
                            __global const float* areaCdf, __global const float* histograms,
                            __global const PclMedium* media, __global const PclPrimMedium* primMedia,
-                           __global PclRadiance* radiance, const PclEnvironment env, __global const float* envData) {
+                           __global PclRadiance* radiance, const PclEnvironment env, __global const float* envData,
+                           __global const PclMaterialTextures* materialTextures, __global const float* texels,
+                           __global const PclTriangleUv* triangleUvs) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
     const PclEyeHit h = hits[i];
@@ -60,6 +67,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
     float sum[3] = {0.0f, 0.0f, 0.0f};
     const EyeMedia em =
         eye_media(primInfo, materials, media, primMedia, params.triangleCount, params.hasMedia, eps);
+    const LightTextures lt = light_textures(materialTextures, texels, triangleUvs, params.triangleCount);
     int medium = PCL_NO_MEDIUM;
     if (params.hasMedia) {
         const PclV3 n = eye_normal(primInfo, h.prim, params.triangleCount, p, tau);
@@ -86,7 +94,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
             rng_block(seed, h.pixel, h.sample * M + m, 0u, PCL_RNG_STREAM_LIGHT, w);
             PclV3 wi;
             float pdfL, cosS, le[3];
-            if (!light_area_sample(nodes, packets, spheres, em, medium, primInfo, materials, lights, areaCdf, params.lightCount,
+            if (!light_area_sample(nodes, packets, spheres, em, medium, primInfo, materials, lt, lights, areaCdf, params.lightCount,
                                    params.areaPowerTotal, p, nf, sf, o, eps, tau, rng_u01(w[0]), rng_u01(w[1]),
                                    rng_u01(w[2]), &wi, &pdfL, &cosS, le))
                 continue;

@@ -7,8 +7,16 @@
  *                              pass (largest-remainder allocation, prep/photon_allocation)
  *      projCells[]             marked projection-map cells, light l's at [projFirst, +projCount)
  *      env, envData[]          the sky (shared/environment.h), read by its light entry only
+ *      primInfo, materials, materialTextures, texels, triangleUvs
+ *                              a triangle light's material and its emission texture (read only
+ *                              with PCL_TEXTURED, shared/texture.h)
  * out: rays[i], i < batchSize  PclPhotonRay of photon j = firstPhoton + i: origin, time, unit
  *                              direction, light index, flux Φ_l / n_l (caustic: Φ_l f_l / n_l)
+ *
+ * A triangle light with an emission texture: its Φ_l = π A L̄ holds only an estimate of the mean
+ * radiance L̄ (prep/emission_texture.h), which allocated its photons; each photon carries
+ * π A L(x) / n_l (caustic: × f_l) of the point x it leaves, L(x) = emission × texel there, so the
+ * photons' flux sums to π ∫ L dA in expectation whatever the estimate.
  *
  * Random numbers: bounce 0 of (pass seed, j), stream PHOTON or CAUSTIC; u0 projection cell,
  * (u1, u2) position, u3 time, (u4, u5) direction.
@@ -24,6 +32,7 @@
 #include "shared/rng.h"
 #include "shared/sampling.h"
 #include "shared/environment.h"
+#include "shared/texture.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -44,7 +53,10 @@ inline uint emit_light_of(__global const uint* lightFirst, uint lightCount, uint
 __kernel void emit_photons(const PclPhotonParams params, __global const PclLight* lights,
                            __global const uint* lightFirst, __global const uint* projCells,
                            __global PclPhotonRay* rays, const PclEnvironment env,
-                           __global const float* envData) {
+                           __global const float* envData, __global const PclPrimInfo* primInfo,
+                           __global const PclMaterial* materials,
+                           __global const PclMaterialTextures* materialTextures, __global const float* texels,
+                           __global const PclTriangleUv* triangleUvs) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.batchSize) return;
     const uint j = params.firstPhoton + i;
@@ -81,6 +93,8 @@ __kernel void emit_photons(const PclPhotonParams params, __global const PclLight
     PclV3 o = sampling_v3(L.p[0], L.p[1], L.p[2]);
     PclV3 d;
     float skyScale[3] = {0.0f, 0.0f, 0.0f}; /* the sky: π R² L_c(w) / p(w) */
+    bool textured = false;                  /* a triangle light with an emission texture */
+    float emitted[3] = {0.0f, 0.0f, 0.0f};  /* then π A L(x) */
     if (L.type == PCL_LIGHT_ENVIRONMENT) {
         PclV3 w;
         float Ls[3];
@@ -112,6 +126,18 @@ __kernel void emit_photons(const PclPhotonParams params, __global const PclLight
         o.y = L.p[1] + b1 * L.e1[1] + b2 * L.e2[1] + L.motion[1] * tau + eps * L.axis[1];
         o.z = L.p[2] + b1 * L.e1[2] + b2 * L.e2[2] + L.motion[2] * tau + eps * L.axis[2];
         d = sampling_cosine_hemisphere(axis, s1, s2);
+#ifdef PCL_TEXTURED
+        const uint mat = primInfo[L.prim].material;
+        if (materialTextures[mat].slot[PCL_TEXTURE_EMISSION].width != 0u) {
+            textured = true;
+            const PclMaterial M = materials[mat];
+            float le[3];
+            texture_emission_at(materialTextures, texels, triangleUvs, mat, L.prim, params.triangleCount, b1, b2,
+                                M.emission, le);
+            const float scale = PCL_PI_F * L.area;
+            for (int c = 0; c < 3; ++c) emitted[c] = scale * le[c];
+        }
+#endif
     } else { /* directional: parallel rays from a disc of radius R, 2R behind the scene centre */
         float x, y;
         sampling_concentric_disk(s1, s2, &x, &y);
@@ -136,6 +162,8 @@ __kernel void emit_photons(const PclPhotonParams params, __global const PclLight
     const float fn = (float)n;
     if (L.type == PCL_LIGHT_ENVIRONMENT) {
         for (int c = 0; c < 3; ++c) r.power[c] = skyScale[c] * (caustic ? flux : 1.0f) / fn;
+    } else if (textured) {
+        for (int c = 0; c < 3; ++c) r.power[c] = emitted[c] * (caustic ? flux : 1.0f) / fn;
     } else if (caustic) {
         r.power[0] = L.power[0] * flux / fn;
         r.power[1] = L.power[1] * flux / fn;

@@ -57,7 +57,8 @@
  * Tr(t) σs p(d·wi) Li tr_shadow / pdf(t) (kernels/README.md, "Eye pass: media"). */
 inline void eye_single_scatter(const PclEyeParams params, __global const PclBvhNode* nodes,
                                __global const PclTriPacket* packets, __global const PclSphere* spheres,
-                               const EyeMedia em, __global const PclLight* lights, __global const float* areaCdf,
+                               const EyeMedia em, const LightTextures lt, __global const PclLight* lights,
+                               __global const float* areaCdf,
                                const PclMedium m, int medium, PclV3 o, PclV3 d, float tEnd, float tau, ulong seed,
                                uint pixel, uint k, uint segment, float Ls[3]) {
     Ls[0] = Ls[1] = Ls[2] = 0.0f;
@@ -108,8 +109,9 @@ inline void eye_single_scatter(const PclEyeParams params, __global const PclBvhN
     rng_block(seed, pixel, k, base, PCL_RNG_STREAM_EYE_MEDIUM, w);
     PclLight L;
     PclV3 q;
+    float bu, bv;
     if (!light_area_point(lights, areaCdf, params.lightCount, tau, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), &L,
-                          &q))
+                          &q, &bu, &bv))
         return;
     float t, pdf;
     if (!eye_equiangular(o, d, q, tEnd, rng_u01(w[3]), &t, &pdf)) return;
@@ -125,11 +127,12 @@ inline void eye_single_scatter(const PclEyeParams params, __global const PclBvhN
     const PclV3 seg = sampling_v3(end.x - x.x, end.y - x.y, end.z - x.z);
     float tr[3];
     if (!light_shadow(nodes, packets, spheres, em, medium, x, seg, 1.0f, tau, tr)) return;
-    const PclMaterial E = em.materials[em.primInfo[L.prim].material];
+    float Le[3]; /* the light's radiance at q (its emission texture's, if any) */
+    light_emission_at(lt, em.primInfo, em.materials, L, bu, bv, Le);
     float trE[3];
     eye_medium_tr(m, t, trE);
     const float f = eye_hg_phase(sampling_dot(d, wi), m.g) / (pdfL * pdf);
-    for (int c = 0; c < 3; ++c) Ls[c] = Ls[c] + trE[c] * m.sigmaS[c] * E.emission[c] * tr[c] * f;
+    for (int c = 0; c < 3; ++c) Ls[c] = Ls[c] + trE[c] * m.sigmaS[c] * Le[c] * tr[c] * f;
 }
 
 __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, __global const PclBvhNode* nodes,
@@ -174,6 +177,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
     const bool hasMedia = params.volumeSegments > 0u;
     const EyeMedia em = eye_media(primInfo, materials, media, primMedia, params.triangleCount, hasMedia ? 1u : 0u,
                                   params.rayEpsilon);
+    const LightTextures lt = light_textures(materialTextures, texels, triangleUvs, params.triangleCount);
     int medium = hasMedia ? params.cameraMedium : PCL_NO_MEDIUM;
     uint segmentCount = 0u, crossings = 0u;
     float travelled = 0.0f; /* media: distance from the last hit to the invisible boundary crossed last */
@@ -207,7 +211,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                 sg.pad0 = sg.pad1 = 0u;
                 segments[(size_t)segmentCount * params.sampleCount + i] = sg;
                 float Ls[3];
-                eye_single_scatter(params, nodes, packets, spheres, em, lights, areaCdf, m, medium, o, d, tEnd, tau,
+                eye_single_scatter(params, nodes, packets, spheres, em, lt, lights, areaCdf, m, medium, o, d, tEnd, tau,
                                    seed, pixel, k, segmentCount, Ls);
                 for (int c = 0; c < 3; ++c) Le[c] = Le[c] + T[c] * Ls[c];
                 ++segmentCount;
@@ -291,7 +295,7 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
             PclV3 wi;
             float pdfL, cosS, le[3];
             if (params.areaPowerTotal > 0.0f &&
-                light_area_sample(nodes, packets, spheres, em, medium, primInfo, materials, lights, areaCdf, params.lightCount,
+                light_area_sample(nodes, packets, spheres, em, medium, primInfo, materials, lt, lights, areaCdf, params.lightCount,
                                   params.areaPowerTotal, p, nf, sf, lifted, params.rayEpsilon, tau, rng_u01(wa[0]),
                                   rng_u01(wa[1]), rng_u01(wa[2]), &wi, &pdfL, &cosS, le)) {
                 const float cp = eye_phong_cos_power(d, sf, wi, e);

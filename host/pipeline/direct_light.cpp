@@ -38,13 +38,16 @@ cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceArea
 cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceAreaLights& lights,
                       const PclDirectParams& params, const cl::Buffer& hits, const cl::Buffer& histograms,
                       cl::Buffer& radiance) {
+    // PCL_TEXTURED: triangle lights may have emission textures (kernels/shared/texture.h).
     auto kernel = device.kernel<PclDirectParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, PclEnvironment,
-                                cl::Buffer>("direct_light", "direct_light", scene.geometry.programOptions());
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+        "direct_light", "direct_light", scene.geometry.programOptions() + (scene.textured ? " -DPCL_TEXTURED=1" : ""));
     return device.launchLocal("direct_light", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, hits, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
                               scene.primInfo, scene.materials, scene.lights, lights.cdf, histograms, scene.media,
-                              scene.primMedia, radiance, scene.sky, scene.skyData);
+                              scene.primMedia, radiance, scene.sky, scene.skyData, scene.materialTextures, scene.texels,
+                              scene.triangleUvs);
 }
 
 }  // namespace pcl

@@ -32,7 +32,9 @@ float emitFraction(const PclLight& light);
 std::vector<uint32_t> lightFirstPhoton(const SceneBuffers& buffers, uint32_t photons, uint32_t passKind);
 
 // The flux rgb that the photons of a pass carry in total, computed as emit does it (per photon
-// Φ_c / n_i or (Φ_c f_i) / n_i in float, times n_i, summed in double).
+// Φ_c / n_i or (Φ_c f_i) / n_i in float, times n_i, summed in double); for a light with an
+// emission texture only an estimate (its Φ = π A L̄ holds the estimated mean radiance L̄, while
+// each of its photons carries π A L(x) / n_i of its own point: π ∫ L dA in expectation).
 void emittedFlux(const SceneBuffers& buffers, const std::vector<uint32_t>& first, uint32_t passKind, double flux[3]);
 
 // The params of one batch: photons [firstPhoton, firstPhoton + batchSize) of a pass of kind

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "prep/emission_texture.h"
 #include "prep/medium_boundaries.h"
 
 namespace pcl {
@@ -123,7 +124,6 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
                 if (light.mesh < 0 || light.mesh >= static_cast<int>(scene.meshes.size()))
                     throw InputError(scene.path + ": light '" + light.name + "': area light names no mesh");
                 const TriangleMesh& mesh = scene.meshes[light.mesh];
-                Vec3 radiance = scene.materials[mesh.material].emission;
                 for (size_t t = 0; t < mesh.triangleCount(); ++t) {
                     Vec3 p0 = mesh.positions[mesh.indices[3 * t]];
                     Vec3 e1 = mesh.positions[mesh.indices[3 * t + 1]] - p0;
@@ -139,7 +139,10 @@ SceneBuffers buildSceneBuffers(const Scene& scene, const SceneGeometry& geometry
                     put(l.axis, c / (2.0f * area));
                     put(l.motion, mesh.motion);
                     l.area = area;
-                    put(l.power, radiance * (kPi * area));  // one-sided Lambertian emitter: Φ = π L A
+                    // One-sided Lambertian emitter: Φ = π L A; a textured one's L is the estimate
+                    // of its mean over the triangle (prep/emission_texture.h), which only
+                    // chooses lights: each photon carries π A L(x) / n of its own point.
+                    put(l.power, meanEmission(scene, mesh, uint32_t(t)) * (kPi * area));
                     b.lights.push_back(l);
                 }
                 break;

@@ -47,7 +47,8 @@ PclTexture textureDescriptor(const Texture& texture, uint32_t offset) {
 PclMaterialTextures materialTextureDescriptor(const Scene& scene, const Material& material,
                                               const std::vector<uint32_t>& offsets) {
     PclMaterialTextures d{};
-    const int slots[PCL_TEXTURE_SLOTS] = {material.rhoDTexture, material.rhoSTexture, material.exponentTexture};
+    const int slots[PCL_TEXTURE_SLOTS] = {material.rhoDTexture, material.rhoSTexture, material.exponentTexture,
+                                          material.emissionTexture};
     for (int k = 0; k < PCL_TEXTURE_SLOTS; ++k)
         if (slots[k] >= 0)
             d.slot[k] =

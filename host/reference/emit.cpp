@@ -10,6 +10,7 @@
 #include "reference/sampling.h"
 #include "shared/environment.h"
 #include "shared/rng.h"
+#include "shared/texture.h"
 
 namespace pcl {
 namespace {
@@ -88,7 +89,9 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
 
     Vec3 origin, direction;
     const Vec3 axis = vec(light.axis);
-    Vec3 skyScale(0.0f);  // the sky: π R² L_c(w) / p(w), the map's texel and density (shared/environment.h)
+    Vec3 skyScale(0.0f);    // the sky: π R² L_c(w) / p(w), the map's texel and density (shared/environment.h)
+    bool textured = false;  // a triangle light with an emission texture: each photon carries π A L(x) / n
+    Vec3 emitted(0.0f);     // then π A L(x)
     switch (light.type) {
         case PCL_LIGHT_ENVIRONMENT: {  // parallel from a disc of radius R facing −w, 2R back
             PclV3 w;
@@ -123,6 +126,18 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
             origin = vec(light.p) + vec(light.e1) * b1 + vec(light.e2) * (1.0f - b0 - b1) + vec(light.motion) * time +
                      axis * params.rayEpsilon;
             direction = sampleCosineHemisphere(axis, s1, s2);  // Malley: one-sided Lambertian
+            const uint32_t mat = buffers.primInfo[light.prim].material;
+            const TextureBuffers& tex = buffers.textures;
+            if (mat < tex.materialTextures.size() && tex.materialTextures[mat].slot[PCL_TEXTURE_EMISSION].width != 0) {
+                // L(x) at the barycentrics (b1, b2) of the point: shared/texture.h's lookup.
+                textured = true;
+                float le[3];
+                texture_emission_at(tex.materialTextures.data(), tex.texels.data(), tex.triangleUvs.data(), mat,
+                                    light.prim, params.triangleCount, b1, 1.0f - b0 - b1,
+                                    buffers.materials[mat].emission, le);
+                const float scale = kPi * light.area;
+                emitted = Vec3(scale * le[0], scale * le[1], scale * le[2]);
+            }
             break;
         }
         default: {  // directional: parallel rays from a disc covering the scene
@@ -150,7 +165,7 @@ PclPhotonRay emitPhotonReference(const SceneBuffers& buffers, const std::vector<
     r.dy = direction.y;
     r.dz = direction.z;
     r.light = li;
-    const Vec3 power = light.type == PCL_LIGHT_ENVIRONMENT ? skyScale : vec(light.power);
+    const Vec3 power = light.type == PCL_LIGHT_ENVIRONMENT ? skyScale : (textured ? emitted : vec(light.power));
     r.power[0] = power.x * f / n;
     r.power[1] = power.y * f / n;
     r.power[2] = power.z * f / n;

@@ -72,7 +72,9 @@ Vec3 singleScatter(const SceneGeometry& geometry, const SceneBuffers& buffers, c
     rng_block(seed, pixel, k, base, PCL_RNG_STREAM_EYE_MEDIUM, w);
     const PclLight* chosen = nullptr;
     Vec3 q;
-    if (!lightAreaPoint(buffers, table, params.lightCount, tau, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), chosen, q))
+    float bu, bv;
+    if (!lightAreaPoint(buffers, table, params.lightCount, tau, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), chosen, q,
+                        bu, bv))
         return Ls;
     const PclLight& L = *chosen;
     float t, pdf;
@@ -88,7 +90,7 @@ Vec3 singleScatter(const SceneGeometry& geometry, const SceneBuffers& buffers, c
     const Vec3 end = q + eyeVec(L.axis) * params.rayEpsilon;
     const Vec3 tr = eyeShadowTransmittance(geometry, buffers, true, medium, x, end - x, 1.0f, tau);
     if (!(maxComponent(tr) > 0.0f)) return Ls;
-    const Vec3 le = eyeVec(buffers.materials[buffers.primInfo[L.prim].material].emission);
+    const Vec3 le = lightEmissionAt(buffers, geometry.triangleCount(), L, bu, bv);
     const float f = henyeyGreenstein(dot(d, wi), m.g) / (pdfL * pdf);
     return Ls + eyeMediumTransmittance(m, t) * sigmaS * le * tr * Vec3(f);
 }

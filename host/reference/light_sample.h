@@ -13,6 +13,7 @@
 #include "reference/eye_medium.h"
 #include "reference/eye_scatter.h"
 #include "reference/sampling.h"
+#include "shared/texture.h"
 
 namespace pcl {
 
@@ -61,10 +62,24 @@ inline float lightDelta(const SceneGeometry& geometry, const SceneBuffers& buffe
     return scale * cosS / d2;
 }
 
+// The radiance triangle light L emits at barycentrics (bu, bv): its material's emission times
+// its emission texel there (shared/texture.h's lookup on the same buffers).
+inline Vec3 lightEmissionAt(const SceneBuffers& buffers, uint32_t triangleCount, const PclLight& L, float bu,
+                            float bv) {
+    const uint32_t mat = buffers.primInfo[L.prim].material;
+    const PclMaterial& E = buffers.materials[mat];
+    if (mat >= buffers.textures.materialTextures.size()) return eyeVec(E.emission);  // made without textures
+    float le[3];
+    texture_emission_at(buffers.textures.materialTextures.data(), buffers.textures.texels.data(),
+                        buffers.textures.triangleUvs.data(), mat, L.prim, triangleCount, bu, bv, E.emission, le);
+    return Vec3(le[0], le[1], le[2]);
+}
+
 // Triangle light choice and point: u0 chooses the light (the table's cdf), (u1, u2) a point q
-// uniform in its area at shutter time tau; false when the entry chosen is not a triangle light.
+// uniform in its area at shutter time tau, at barycentrics (bu, bv) (q = p0 + bu e1 + bv e2);
+// false when the entry chosen is not a triangle light.
 inline bool lightAreaPoint(const SceneBuffers& buffers, const AreaLightTable& table, uint32_t lightCount, float tau,
-                           float u0, float u1, float u2, const PclLight*& chosen, Vec3& q) {
+                           float u0, float u1, float u2, const PclLight*& chosen, Vec3& q, float& bu, float& bv) {
     // The first light whose cumulative probability exceeds u0.
     const size_t l =
         std::min<size_t>(std::upper_bound(table.cdf.begin(), table.cdf.end(), u0) - table.cdf.begin(), lightCount - 1);
@@ -75,18 +90,22 @@ inline bool lightAreaPoint(const SceneBuffers& buffers, const AreaLightTable& ta
     const float b2 = 1.0f - b0 - b1;
     q = eyeVec(L.p) + eyeVec(L.e1) * b1 + eyeVec(L.e2) * b2 + eyeVec(L.motion) * tau;
     chosen = &L;
+    bu = b1;
+    bv = b2;
     return true;
 }
 
 // One triangle-light sample (lightAreaPoint; nf, sf as for lightDelta). On success wi, the
-// solid-angle density pdfL, cosθ to sf at p and the light's radiance times the shadow ray's transmittance, le.
+// solid-angle density pdfL, cosθ to sf at p and the light's radiance at the point (its emission
+// texture's, if any) times the shadow ray's transmittance, le.
 inline bool lightAreaSample(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
                             ShadowMedium sm, uint32_t lightCount, float areaPowerTotal, Vec3 p, Vec3 nf, Vec3 sf,
                             Vec3 o, float eps, float tau, float u0, float u1, float u2, Vec3& wi, float& pdfL,
                             float& cosS, Vec3& le) {
     const PclLight* chosen = nullptr;
     Vec3 q;
-    if (!lightAreaPoint(buffers, table, lightCount, tau, u0, u1, u2, chosen, q)) return false;
+    float bu, bv;
+    if (!lightAreaPoint(buffers, table, lightCount, tau, u0, u1, u2, chosen, q, bu, bv)) return false;
     const PclLight& L = *chosen;
     const Vec3 toL = q - p;
     const float d2 = dot(toL, toL);
@@ -100,7 +119,7 @@ inline bool lightAreaSample(const SceneGeometry& geometry, const SceneBuffers& b
     const Vec3 end = q + eyeVec(L.axis) * eps;
     const Vec3 tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, end - o, 1.0f, tau);
     if (!(maxComponent(tr) > 0.0f)) return false;
-    le = eyeVec(buffers.materials[buffers.primInfo[L.prim].material].emission) * tr;
+    le = lightEmissionAt(buffers, geometry.triangleCount(), L, bu, bv) * tr;
     return true;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "prep/emission_texture.h"
 #include "reference/sampling.h"
 
 namespace pcl {
@@ -21,7 +22,7 @@ LightSampler::LightSampler(const Scene& scene, const SceneGeometry& geometry) : 
             if (!(area > 0.0f)) continue;
             emitterOfPrim_[prim] = static_cast<int32_t>(emitters_.size());
             emitters_.push_back({Kind::Triangle, m, t, area});
-            power.push_back(kPi * area * std::max(luminance(mat.emission), 1e-6f));
+            power.push_back(kPi * area * std::max(luminance(meanEmission(scene, mesh, t)), 1e-6f));
         }
     }
     for (uint32_t s = 0; s < scene.spheres.size(); ++s, ++prim) {
@@ -99,7 +100,6 @@ bool LightSampler::sampleLiFrom(size_t index, Vec3 p, float time, float u1, floa
     out = LightSample{};
     out.emitter = index;
     if (e.kind == Kind::Triangle || e.kind == Kind::Sphere) {
-        const Material* mat;
         if (e.kind == Kind::Triangle) {
             const TriangleMesh& mesh = scene_.meshes[e.object];
             TriangleVertices v = triangleAt(mesh, e.index, time);
@@ -107,12 +107,12 @@ bool LightSampler::sampleLiFrom(size_t index, Vec3 p, float time, float u1, floa
             sampleUniformTriangle(u1, u2, b0, b1);
             out.point = v.p0 * b0 + v.p1 * b1 + v.p2 * (1.0f - b0 - b1);
             out.normal = normalize(cross(v.p1 - v.p0, v.p2 - v.p0));
-            mat = &scene_.materials[mesh.material];
+            out.Li = emissionAt(scene_, mesh, e.index, b1, 1.0f - b0 - b1);  // its emission texture's, if any
         } else {
             const Sphere& sphere = scene_.spheres[e.object];
             out.normal = sampleUniformSphere(u1, u2);
             out.point = sphere.centre + sphere.motion * time + out.normal * sphere.radius;
-            mat = &scene_.materials[sphere.material];
+            out.Li = scene_.materials[sphere.material].emission;
         }
         Vec3 d = out.point - p;
         float dist2 = dot(d, d);
@@ -120,7 +120,6 @@ bool LightSampler::sampleLiFrom(size_t index, Vec3 p, float time, float u1, floa
         out.wi = d / std::sqrt(dist2);
         float cosLight = -dot(out.normal, out.wi);
         if (cosLight <= 0.0f) return false;  // the back of a one-sided emitter
-        out.Li = mat->emission;
         // Area density converted to solid angle: p_ω = p_A r² / cos θ_light (pbrt-v4 eq. 4.9).
         out.pdf = choice / e.area * dist2 / cosLight;
         return true;

@@ -3,7 +3,8 @@
 // spot and directional lights are delta lights; the sky (scene.environment) is one more emitter,
 // sampled by its map (prep/environment_map.h). One light is chosen per sample with probability
 // proportional to an estimate of its power (any positive choice stays unbiased; power keeps
-// the variance low). Emission is one-sided: radiance leaves the geometric-normal side only.
+// the variance low): a triangle with an emission texture by π A times the estimate of its mean
+// radiance (prep/emission_texture.h), its point then uniform with the texture's radiance there. Emission is one-sided: radiance leaves the geometric-normal side only.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -59,9 +60,9 @@ public:
         return environmentEmitter_ >= 0 ? probability_[size_t(environmentEmitter_)] * environment_.pdf(w) : 0.0f;
     }
 
-    // Radiance a surface point emits toward w (one-sided).
+    // Radiance a surface point emits toward w (one-sided; its emission texture's there, if any).
     static Vec3 emitted(const SurfacePoint& s, Vec3 w) {
-        return (s.material->emits() && dot(s.ng, w) > 0.0f) ? s.material->emission : Vec3(0.0f);
+        return (s.material->emits() && dot(s.ng, w) > 0.0f) ? s.emission : Vec3(0.0f);
     }
 
 private:

@@ -73,10 +73,11 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
         s.rhoD = s.material->rhoD;
         s.rhoS = s.material->rhoS;
         s.exponent = s.material->phongExponent;
+        s.emission = s.material->emission;
         if (s.material->textured()) {  // the kernels' lookup and mapping (kernels/shared/texture.h)
             const Material& m = *s.material;
             const PclMaterialTextures t = materialTextureDescriptor(scene, m, {});
-            const int slots[PCL_TEXTURE_SLOTS] = {m.rhoDTexture, m.rhoSTexture, m.exponentTexture};
+            const int slots[PCL_TEXTURE_SLOTS] = {m.rhoDTexture, m.rhoSTexture, m.exponentTexture, m.emissionTexture};
             PclTexels x{};
             for (int k = 0; k < PCL_TEXTURE_SLOTS; ++k) {
                 if (slots[k] < 0) continue;
@@ -92,11 +93,13 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
                 local.rhoS[c] = s.rhoS[c];
             }
             local.exponent = s.exponent;
+            for (int c = 0; c < 3; ++c) local.emission[c] = s.emission[c];
             local.specular = m.specular == SpecularKind::Glossy ? PCL_SPECULAR_GLOSSY : PCL_SPECULAR_NONE;
             texture_material(&t, &x, &local);
             s.rhoD = Vec3(local.rhoD[0], local.rhoD[1], local.rhoD[2]);
             s.rhoS = Vec3(local.rhoS[0], local.rhoS[1], local.rhoS[2]);
             s.exponent = local.exponent;
+            s.emission = Vec3(local.emission[0], local.emission[1], local.emission[2]);
         }
     } else {
         const Sphere& sphere = scene.spheres[ref.object];
@@ -109,6 +112,7 @@ SurfacePoint surfaceAt(const Scene& scene, const SceneGeometry& geometry, const 
         s.rhoD = s.material->rhoD;
         s.rhoS = s.material->rhoS;
         s.exponent = s.material->phongExponent;
+        s.emission = s.material->emission;
     }
     return s;
 }

@@ -17,6 +17,7 @@ struct SurfacePoint {
     // The material's quantities here: its constants with its textures at the hit (if any).
     Vec3 rhoD, rhoS;
     float exponent = 0.0f;  // glossy: the Phong exponent
+    Vec3 emission{0.0f};    // emitted radiance (one-sided, the ng side): the constant × its emission texture
     uint32_t prim = PCL_NO_HIT;
     float time = 0.0f;
 };

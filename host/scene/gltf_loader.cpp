@@ -210,9 +210,11 @@ public:
         materialIndex_.assign(model_.materials.size(), -1);
         walkNodes();
         if (!ignoredTextures_.empty())
-            warnInput(file_, "textures ignored: " + ignoredTextures_ +
-                                 " (only baseColorTexture, metallicRoughnessTexture and normalTexture from image files "
-                                 "are read; materials use their factors)");
+            warnInput(file_,
+                      "textures ignored: " + ignoredTextures_ +
+                          " (only baseColorTexture, metallicRoughnessTexture, normalTexture and emissiveTexture from "
+                          "image files "
+                          "are read; materials use their factors)");
         return result_;
     }
 
@@ -651,13 +653,21 @@ private:
     // runs per texel (kernels/shared/texture.h, texture_metallic_roughness): base colour =
     // factor × baseColorTexture, metallic = factor × B, roughness = factor × G, and the material
     // is glossy unless its factors make it a mirror (a texel is never rougher than the factor, so
-    // a mirror stays one everywhere). The other texture kinds are noted as ignored.
+    // a mirror stays one everywhere). An emissiveTexture multiplies the emission (emissiveFactor ×
+    // strength). The other texture kinds are noted as ignored.
     void mapTextures(size_t gltfIndex, const tinygltf::Material& gm, Material& m) {
         if (gltfIndex >= textures_.materials.size() || !textures_.materials[gltfIndex].is_object()) return;
         const json& g = textures_.materials[gltfIndex];
         const std::string field = at("materials", gltfIndex);
-        for (const char* other : {"occlusionTexture", "emissiveTexture"})
-            if (g.contains(other)) noteIgnored(other);
+        if (g.contains("occlusionTexture")) noteIgnored("occlusionTexture");
+        if (auto emissive = g.find("emissiveTexture"); emissive != g.end()) {
+            // glTF 2.0 §3.9.5: emitted = emissiveFactor × the texture (sRGB), here also × the
+            // emissive strength (m.emission holds the product). With a zero factor it emits nothing.
+            if (m.emits())
+                m.emissionTexture =
+                    textureFor(*emissive, field + ".emissiveTexture", "emissiveTexture", TextureEncoding::Srgb);
+            else noteIgnored("emissiveTexture of a material with emissiveFactor 0");
+        }
         if (auto normal = g.find("normalTexture"); normal != g.end()) {
             // Linear texels (glTF 2.0 §3.9.3); scale multiplies the decoded x and y.
             const std::string nf = field + ".normalTexture";

@@ -224,7 +224,13 @@ private:
             }
         }
         if (auto* v = optional(value, "normal_map")) readNormalMap(*v, keyPath(path, "normal_map"), m);
-        if (auto* v = optional(value, "emission")) m.emission = radiometric(*v, keyPath(path, "emission"));
+        if (auto* v = optional(value, "emission")) {
+            if (v->is_object()) {
+                m.emissionTexture = readEmissionTexture(*v, keyPath(path, "emission"), m.emission);
+            } else {
+                m.emission = radiometric(*v, keyPath(path, "emission"));
+            }
+        }
         if (auto* s = optional(value, "specular")) readSpecular(*s, keyPath(path, "specular"), m);
         Vec3 sum = m.rhoD + m.rhoS;
         if (maxComponent(sum) > 1.0f + 1e-6f) {
@@ -242,6 +248,15 @@ private:
         const int t = readTexture(value, path, "factor", TextureEncoding::Auto);
         factor = Vec3(1.0f);
         if (auto* f = optional(value, "factor")) factor = reflectance(*f, keyPath(path, "factor"));
+        return t;
+    }
+
+    // {"texture": "sign.png", "factor": [r,g,b], ...the texture's keys}: emitted radiance =
+    // factor (W m^-2 sr^-1, ≥ 0, default 1) × the texture (sRGB for 8/16-bit files by default).
+    int readEmissionTexture(const json& value, const std::string& path, Vec3& factor) {
+        const int t = readTexture(value, path, "factor", TextureEncoding::Auto);
+        factor = Vec3(1.0f);
+        if (auto* f = optional(value, "factor")) factor = radiometric(*f, keyPath(path, "factor"));
         return t;
     }
 

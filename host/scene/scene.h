@@ -31,6 +31,8 @@ struct Material {
     //   rhoDTexture      ρd at a point is rhoD × the texture there (rhoD: the texture's factor)
     //   rhoSTexture      ρs = rhoS × the texture (mirror, glossy)
     //   exponentTexture  glossy: exponent = lo + (hi − lo) × the texture's R, [lo, hi] = exponentRange
+    //   emissionTexture  emitted radiance = emission × the texture (either mapping; glTF
+    //                    emissiveTexture, its factor emissiveFactor × emissive strength)
     // With metallicRoughness (glTF with a metallicRoughnessTexture), rhoDTexture is the base
     // colour and exponentTexture the metallic (B) and roughness (G) texture; ρd, ρs and the
     // exponent come per texel from them and the factors below (scenes/README.md, "Materials").
@@ -42,6 +44,7 @@ struct Material {
     float normalScale = 1.0f;
     int rhoSTexture = -1;
     int exponentTexture = -1;
+    int emissionTexture = -1;
     float exponentRange[2] = {0.0f, 0.0f};
     struct MetallicRoughness {
         bool active = false;
@@ -50,7 +53,9 @@ struct Material {
         float f0 = 0.04f;                         // the dielectric coat's F0 = ((n − 1)/(n + 1))²
     } metallicRoughness;
     bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
-    bool textured() const { return rhoDTexture >= 0 || rhoSTexture >= 0 || exponentTexture >= 0; }
+    bool textured() const {
+        return rhoDTexture >= 0 || rhoSTexture >= 0 || exponentTexture >= 0 || emissionTexture >= 0;
+    }
 };
 
 // A homogeneous participating medium (pbrt-v4 §11.1): absorption σa and scattering σs per

@@ -273,8 +273,10 @@ void checkMedia(const Scene& s) {
 void checkTextures(const Scene& s) {
     for (size_t i = 0; i < s.materials.size(); ++i) {
         const Material& m = s.materials[i];
-        const std::pair<int, const char*> slots[] = {
-            {m.rhoDTexture, "rho_d"}, {m.rhoSTexture, "rho_s"}, {m.exponentTexture, "exponent"}};
+        const std::pair<int, const char*> slots[] = {{m.rhoDTexture, "rho_d"},
+                                                     {m.rhoSTexture, "rho_s"},
+                                                     {m.exponentTexture, "exponent"},
+                                                     {m.emissionTexture, "emission"}};
         for (const auto& [t, name] : slots)
             if (t >= int(s.textures.size()) || t < -1)
                 failInput(s.path, at("materials", i) + " (\"" + m.name + "\")." + name,
@@ -303,7 +305,7 @@ void checkTextures(const Scene& s) {
                       std::to_string(m.tangents.size() / 4));
         if (m.material < 0 || size_t(m.material) >= s.materials.size()) continue;
         const Material& mat = s.materials[size_t(m.material)];
-        for (int t : {mat.rhoDTexture, mat.rhoSTexture, mat.exponentTexture, mat.normalTexture}) {
+        for (int t : {mat.rhoDTexture, mat.rhoSTexture, mat.exponentTexture, mat.emissionTexture, mat.normalTexture}) {
             if (t < 0) continue;
             const int set = s.textures[size_t(t)].texCoord;
             if (m.uv[set].empty())

@@ -15,6 +15,42 @@
 #include "eye.h"
 #include "eye_medium.h"
 
+/* shared/texture.h's lookup, declared here and defined there: the kernels include texture.h
+ * after this header, so its `FP_CONTRACT OFF` pragma leaves the functions above and here
+ * compiled as they were before emission textures (bit-identical images). */
+inline void texture_emission_at(__global const PclMaterialTextures* materialTextures, __global const float* texels,
+                                __global const PclTriangleUv* triangleUvs, uint material, uint prim, uint triangleCount,
+                                float bu, float bv, const float emission[4], float le[3]);
+
+/* What a triangle light's radiance at a point needs beyond its material's constant: the
+ * emission textures (shared/texture.h; placeholders, never read, without PCL_TEXTURED). */
+typedef struct LightTextures {
+    __global const PclMaterialTextures* materialTextures;
+    __global const float* texels;
+    __global const PclTriangleUv* triangleUvs;
+    uint triangleCount;
+} LightTextures;
+
+inline LightTextures light_textures(__global const PclMaterialTextures* materialTextures, __global const float* texels,
+                                    __global const PclTriangleUv* triangleUvs, uint triangleCount) {
+    LightTextures t;
+    t.materialTextures = materialTextures;
+    t.texels = texels;
+    t.triangleUvs = triangleUvs;
+    t.triangleCount = triangleCount;
+    return t;
+}
+
+/* The radiance triangle light L emits at barycentrics (bu, bv): its material's emission times
+ * the emission texel there (texture_emission_at). */
+inline void light_emission_at(const LightTextures lt, __global const PclPrimInfo* primInfo,
+                              __global const PclMaterial* materials, const PclLight L, float bu, float bv, float le[3]) {
+    const uint mat = primInfo[L.prim].material;
+    const PclMaterial E = materials[mat];
+    texture_emission_at(lt.materialTextures, lt.texels, lt.triangleUvs, mat, L.prim, lt.triangleCount, bu, bv,
+                        E.emission, le);
+}
+
 /* Unoccluded segment from o (already lifted) to o + dir·t, t in (0, tmax). */
 inline bool light_visible(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                           __global const PclSphere* spheres, PclV3 o, PclV3 dir, float tmax, float tau) {
@@ -82,10 +118,11 @@ inline float light_delta(__global const PclBvhNode* nodes, __global const PclTri
 }
 
 /* Triangle light choice and point: u0 chooses the light (the first l with u0 < areaCdf[l]),
- * (u1, u2) a point *q uniform in its area (at shutter time tau); false when the entry chosen is
- * not a triangle light. */
+ * (u1, u2) a point *q uniform in its area (at shutter time tau), at barycentrics (*bu, *bv)
+ * (q = p0 + bu e1 + bv e2); false when the entry chosen is not a triangle light. */
 inline bool light_area_point(__global const PclLight* lights, __global const float* areaCdf, uint lightCount,
-                             float tau, float u0, float u1, float u2, PclLight* chosen, PclV3* q) {
+                             float tau, float u0, float u1, float u2, PclLight* chosen, PclV3* q, float* bu,
+                             float* bv) {
     uint l = 0u;
     while (l + 1u < lightCount && !(u0 < areaCdf[l])) ++l;
     const PclLight L = lights[l];
@@ -97,23 +134,27 @@ inline bool light_area_point(__global const PclLight* lights, __global const flo
                      L.p[1] + L.e1[1] * b1 + L.e2[1] * b2 + L.motion[1] * tau,
                      L.p[2] + L.e1[2] * b1 + L.e2[2] * b2 + L.motion[2] * tau);
     *chosen = L;
+    *bu = b1;
+    *bv = b2;
     return true;
 }
 
 /* One triangle-light sample for p (light_area_point; facing normals nf and sf as for
  * light_delta): on success *wi, the solid-angle density *pdfL, cosθ to sf at p (*cosS) and the
- * light's radiance times the shadow ray's transmittance le[3]
+ * light's radiance at the point (its emission texture's, if any) times the shadow ray's
+ * transmittance le[3]
  * (the ray starts in `medium`); false when the sample is below the surface, on the light's back
  * or occluded. */
 inline bool light_area_sample(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                               __global const PclSphere* spheres, const EyeMedia em, int medium,
                               __global const PclPrimInfo* primInfo, __global const PclMaterial* materials,
-                              __global const PclLight* lights, __global const float* areaCdf, uint lightCount,
+                              const LightTextures lt, __global const PclLight* lights, __global const float* areaCdf, uint lightCount,
                               float areaPowerTotal, PclV3 p, PclV3 nf, PclV3 sf, PclV3 o, float eps, float tau, float u0,
                               float u1, float u2, PclV3* wi, float* pdfL, float* cosS, float le[3]) {
     PclLight L;
     PclV3 q;
-    if (!light_area_point(lights, areaCdf, lightCount, tau, u0, u1, u2, &L, &q)) return false;
+    float bu, bv;
+    if (!light_area_point(lights, areaCdf, lightCount, tau, u0, u1, u2, &L, &q, &bu, &bv)) return false;
     const PclV3 toL = sampling_v3(q.x - p.x, q.y - p.y, q.z - p.z);
     const float d2 = sampling_dot(toL, toL);
     if (!(d2 > 0.0f)) return false;
@@ -127,8 +168,9 @@ inline bool light_area_sample(__global const PclBvhNode* nodes, __global const P
     const PclV3 seg = sampling_v3(end.x - o.x, end.y - o.y, end.z - o.z);
     float tr[3];
     if (!light_shadow(nodes, packets, spheres, em, medium, o, seg, 1.0f, tau, tr)) return false;
-    const PclMaterial E = materials[primInfo[L.prim].material];
-    for (int c = 0; c < 3; ++c) le[c] = E.emission[c] * tr[c];
+    float Le[3];
+    light_emission_at(lt, primInfo, materials, L, bu, bv, Le);
+    for (int c = 0; c < 3; ++c) le[c] = Le[c] * tr[c];
     return true;
 }
 

@@ -8,6 +8,7 @@
  *   texture_rho_d, texture_rho_s, texture_exponent, texture_metallic_roughness
  *                         one quantity (or glTF's coupled three) from those texels
  *   texture_material_at   the lookup and every mapping: the material at a hit
+ *   texture_emission_at   the emitted radiance alone at a point of a triangle (light sampling)
  *
  * Coordinates: (0, 0) is the image's top-left corner, u runs right and v down (glTF's
  * convention); texel (i, j) covers [i, i+1)/W × [j, j+1)/H. Arithmetic is written left to right
@@ -182,9 +183,17 @@ PCL_INLINE void texture_metallic_roughness(const PclMaterialTextures* t, const P
         }
 }
 
+/* Emitted radiance = the material's constant × its emission texel (either mapping; glTF:
+ * emissiveFactor × strength × emissiveTexture), in place. */
+PCL_INLINE void texture_emission(const PclTexels* x, float emission[4]) {
+    if ((x->has & (1u << PCL_TEXTURE_EMISSION)) == 0u) return;
+    for (int c = 0; c < 3; ++c) emission[c] = emission[c] * x->value[PCL_TEXTURE_EMISSION][c];
+}
+
 /* The material M (its constants) at a point whose texels are x: every textured quantity. */
 PCL_INLINE void texture_material(const PclMaterialTextures* t, const PclTexels* x, PclMaterial* M) {
     if (x->has == 0u) return;
+    texture_emission(x, M->emission);
     if (t->mapping == PCL_TEXTURE_MAP_METALLIC_ROUGHNESS) {
         texture_metallic_roughness(t, x, M);
         return;
@@ -211,6 +220,28 @@ PCL_INLINE void texture_material_at(PCL_GLOBAL const PclMaterialTextures* materi
     if (x.has == 0u) return;
     const PclMaterialTextures t = materialTextures[material];
     texture_material(&t, &x, M);
+}
+
+/* The radiance triangle `prim` of material `material` emits at barycentrics (bu, bv), le[3]:
+ * emission[] (the material's constant) × its emission texel there; emission[] alone without an
+ * emission texture (or on the device without PCL_TEXTURED). Only the emission slot is read: the
+ * light samplers (emit, next-event estimation) need nothing else of the material. */
+PCL_INLINE void texture_emission_at(PCL_GLOBAL const PclMaterialTextures* materialTextures, PCL_GLOBAL const float* texels,
+                                    PCL_GLOBAL const PclTriangleUv* triangleUvs, pcl_u32 material, pcl_u32 prim,
+                                    pcl_u32 triangleCount, float bu, float bv, const float emission[4], float le[3]) {
+    for (int c = 0; c < 3; ++c) le[c] = emission[c];
+#if PCL_DEVICE && !defined(PCL_TEXTURED)
+    return;
+#endif
+    const PclTexture t = materialTextures[material].slot[PCL_TEXTURE_EMISSION];
+    if (t.width == 0u || prim >= triangleCount) return;
+    PCL_GLOBAL const float* s = triangleUvs[prim].uv[t.texCoord & 1u];
+    const float bw = 1.0f - bu - bv;
+    const float u = bw * s[0] + bu * s[2] + bv * s[4];
+    const float v = bw * s[1] + bu * s[3] + bv * s[5];
+    float texel[3];
+    texture_bilinear(t, texels, u, v, texel);
+    for (int c = 0; c < 3; ++c) le[c] = le[c] * texel[c];
 }
 
 #endif /* PCL_TEXTURE_H */

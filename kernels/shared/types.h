@@ -527,7 +527,8 @@ PCL_STATIC_ASSERT(sizeof(PclTexture) == 48, PclTexture_size);
 #define PCL_TEXTURE_RHO_D 0    /* ρd = rhoD × texel (glTF: the base colour) */
 #define PCL_TEXTURE_RHO_S 1    /* ρs = rhoS × texel */
 #define PCL_TEXTURE_EXPONENT 2 /* Phong: exponent = lo + (hi − lo) R; metallic-roughness: B metallic, G roughness */
-#define PCL_TEXTURE_SLOTS 3
+#define PCL_TEXTURE_EMISSION 3 /* emitted radiance = emission × texel (either mapping; glTF emissiveTexture) */
+#define PCL_TEXTURE_SLOTS 4
 
 #define PCL_TEXTURE_MAP_PHONG 0u              /* each slot scales its own quantity */
 #define PCL_TEXTURE_MAP_METALLIC_ROUGHNESS 1u /* glTF: ρd, ρs and the exponent from base colour, metallic, roughness */

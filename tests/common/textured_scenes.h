@@ -75,6 +75,23 @@ inline void addDirectionalLight(Scene& s, Vec3 direction, Vec3 irradiance) {
     s.lights.push_back(l);
 }
 
+// Mesh `mesh` (of an emissive material) as an area light: what validateScene does for a loaded
+// scene's emitters (the scenes here are built in code and prepared without it).
+inline void addAreaLightFor(Scene& s, int mesh) {
+    Light l;
+    l.type = LightType::Area;
+    l.name = "area " + std::to_string(mesh);
+    l.mesh = mesh;
+    s.lights.push_back(l);
+}
+
+// A textured emitter: a material emitting `factor` × the texture `texture` (rhoD 0).
+inline int addTexturedEmitter(Scene& s, int texture, Vec3 factor) {
+    const int m = addEmitter(s, Vec3(0.0f), factor);
+    s.materials[size_t(m)].emissionTexture = texture;
+    return m;
+}
+
 // A closed 2 × 2 × 2 room lit by a point light under the ceiling, seen from inside: a checkered
 // floor (repeat, the transform scales by 3 and turns by 0.3 rad), a gradient back wall (mirror
 // and clamp wrap, scaled by 2, read through coordinate set 1), the other walls plain; a mirror-and-diffuse block so some paths reach a
@@ -144,6 +161,23 @@ inline Scene specularTexturedRoom(int width = 48, int height = 36) {
     m.metallicRoughness.roughness = 0.8f;
     m.metallicRoughness.f0 = 0.04f;
     addTexturedQuad(s, Vec3(0.99f, 0.3f, -0.7f), Vec3(0, 0, 1.2f), Vec3(0, 1.2f, 0), metal);
+    return s;
+}
+
+// texturedRoom with a textured lamp: a 0.8 × 0.6 panel under the ceiling, facing down, emitting
+// (6, 5, 4) × the checker (repeat, the transform scales by 2: some triangles' texels are all
+// dark, none all black) beside the point light. Photons, direct light, the glossy chain's light
+// samples and the gather rays all meet its texture.
+inline Scene emissiveTexturedRoom(int width = 48, int height = 36) {
+    Scene s = specularTexturedRoom(width, height);
+    s.path = "(emissive textured room)";
+    TextureTransform t;
+    t.scale[0] = t.scale[1] = 2.0f;
+    const int checker = addTexture(s, checkerImage(8, 8, 2, Vec3(1.0f, 0.9f, 0.8f), Vec3(0.05f, 0.0f, 0.1f)),
+                                   TextureWrap::Repeat, TextureWrap::Repeat, t);
+    const int lamp = addTexturedEmitter(s, checker, Vec3(6.0f, 5.0f, 4.0f));
+    const int panel = addTexturedQuad(s, Vec3(-0.4f, 1.98f, -0.7f), Vec3(0.8f, 0, 0), Vec3(0, 0, 0.6f), lamp);
+    addAreaLightFor(s, panel);
     return s;
 }
 
