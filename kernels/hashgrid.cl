@@ -29,6 +29,15 @@ __kernel void hashgrid_keys(const PclGridParams params, __global const PclPhoton
     values[i] = i;
 }
 
+/* hashgrid_keys without the values (the bucketed build below carries the index in its points). */
+__kernel void hashgrid_hashes(const PclGridParams params, __global const PclPhoton* photons, __global uint* keys) {
+    const uint i = (uint)get_global_id(0);
+    if (i >= params.photonCount) return;
+    const PclPhoton p = photons[i];
+    keys[i] = hash_grid_hash(hash_grid_coord(p.x, params.ox, params.invCellSize), hash_grid_coord(p.y, params.oy, params.invCellSize),
+                        hash_grid_coord(p.z, params.oz, params.invCellSize), params.tableSize);
+}
+
 /* One pass over the sorted order: the ranges and the points together (one launch, keys and
  * values read once). */
 __kernel void hashgrid_cells(__global const uint* keys, __global const uint* values, uint n,
@@ -57,7 +66,7 @@ __kernel void hashgrid_cells(__global const uint* keys, __global const uint* val
  * function of the input alone (integer counts, no atomics). One work-item per chunk or bucket: a
  * GPU can run these kernels, but keeps the radix-sort build, whose work-groups suit it.
  *
- * hashgrid_bucket_count    in:  keys[n] (hashgrid_keys' unsorted hashes)
+ * hashgrid_bucket_count    in:  keys[n] (hashgrid_hashes: photon i's hash at i)
  *                          out: counts[b * chunks + c] = photons of chunk c in bucket b
  * hashgrid_bucket_scan     counts, exclusively scanned in place in that bucket-major order
  * hashgrid_bucket_scatter  in:  keys, photons, counts (scanned)

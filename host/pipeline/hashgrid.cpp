@@ -57,7 +57,7 @@ HashGridBucketShape hashGridBucketShape(size_t n, uint32_t tableSize, size_t com
 
 namespace {
 
-// hashgrid_keys' unsorted hashes in g.keys, then the counting sort (kernels/hashgrid.cl, "The
+// hashgrid_hashes' unsorted hashes in g.keys, then the counting sort (kernels/hashgrid.cl, "The
 // bucketed build") into g.keys, g.order, g.points and the tables.
 void buildBucketed(Device& device, const cl::Buffer& photons, DeviceHashGrid& g) {
     const size_t n = g.count;
@@ -117,15 +117,19 @@ DeviceHashGrid buildHashGrid(Device& device, const cl::Buffer& photons, size_t c
         return g;
     }
     const cl::NDRange local(kPhotonGroup);
+    if (build == HashGridBuild::Bucketed) {
+        auto hashes = device.kernel<PclGridParams, cl::Buffer, cl::Buffer>("hashgrid", "hashgrid_hashes");
+        cl::Event e = device.launchLocal("hashgrid", hashes, photonGlobalRange(count), local, params, photons, g.keys);
+        e.wait();
+        g.keySeconds = Device::elapsedSeconds(e);
+        buildBucketed(device, photons, g);
+        return g;
+    }
     auto keys = device.kernel<PclGridParams, cl::Buffer, cl::Buffer, cl::Buffer>("hashgrid", "hashgrid_keys");
     cl::Event e =
         device.launchLocal("hashgrid", keys, photonGlobalRange(count), local, params, photons, g.keys, g.order);
     e.wait();
     g.keySeconds = Device::elapsedSeconds(e);
-    if (build == HashGridBuild::Bucketed) {
-        buildBucketed(device, photons, g);
-        return g;
-    }
     // Stable radix sort of (hash, index): hashes are below tableSize, so only log2(tableSize)
     // bits need sorting (a 2^20 table: 5 passes of 4 bits, not 8).
     int bits = 1;
