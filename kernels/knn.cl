@@ -49,12 +49,13 @@
 #define PCL_KNN_CAP PCL_KNN_MAX_K
 #endif
 #define PCL_KNN_STACK 48
+
 #define PCL_GRID_COORD_LIMIT 1.0e9f
 
 /* A candidate as one 64-bit key: the bits of d² (≥ 0, so they order as the floats do) above
  * the photon index. (d², index) order is then one integer comparison. */
 typedef struct KnnHeap {
-    ulong key[PCL_KNN_CAP];
+    ulong key[PCL_KNN_CAP + 7]; /* + 7: knn_write pads a short heap to whole ulong8 blocks */
     uint n, k;
     float maxRadius2;
 } KnnHeap;
@@ -105,10 +106,37 @@ inline void knn_init(KnnHeap* h, const PclKnnQuery q) {
     h->maxRadius2 = q.maxRadius2;
 }
 
-/* Heap sort in place (ascending), then the query's outputs. The sorted keys depend only on the
- * set found (every key is distinct), not on the heap's arrangement. */
+/* The query's outputs in ascending key order. The sorted keys depend only on the set found
+ * (every key is distinct), not on the heap's arrangement. Up to PCL_KNN_RANK_MAX keys, each
+ * goes straight to its rank, the number of keys below it, counted eight at a time with ulong8
+ * compares (branch-free, where a heap sort's sift-downs branch unpredictably: knn_write fell
+ * from 11 % of knn_bench's box/k50 samples to 5.5 %); beyond, a heap sort in place. */
+#define PCL_KNN_RANK_MAX 64u
 inline void knn_write(KnnHeap* h, uint q, uint stride, __global uint* counts, __global uint* indices,
                       __global float* dist2, __global float* radius2) {
+    const size_t base = (size_t)q * stride;
+    if (h->n <= PCL_KNN_RANK_MAX) {
+        const uint n = h->n, blocks = (n + 7u) / 8u;
+        for (uint j = n; j < 8u * blocks; ++j) h->key[j] = ULONG_MAX; /* above every key: never counted */
+        for (uint i = 0u; i < n; ++i) {
+            const ulong key = h->key[i];
+            long8 below = (long8)(0);
+            for (uint b = 0u; b < blocks; ++b) below += vload8(b, h->key) < (ulong8)(key); /* −1 per key below */
+            const long4 b4 = below.lo + below.hi;
+            const long2 b2 = b4.lo + b4.hi;
+            const uint rank = (uint)(-(b2.x + b2.y));
+            indices[base + rank] = knn_key_index(key);
+            dist2[base + rank] = knn_key_d2(key);
+            if (rank + 1u == n) radius2[q] = knn_key_d2(key);
+        }
+        for (uint j = n; j < stride; ++j) {
+            indices[base + j] = PCL_NO_HIT;
+            dist2[base + j] = 0.0f;
+        }
+        counts[q] = n;
+        if (n == 0u) radius2[q] = 0.0f;
+        return;
+    }
     if (h->n < h->k) knn_heapify(h); /* fewer than k found: still in arrival order */
     for (uint end = h->n; end > 1u; --end) {
         const ulong top = h->key[0];
@@ -116,7 +144,6 @@ inline void knn_write(KnnHeap* h, uint q, uint stride, __global uint* counts, __
         h->key[end - 1u] = top;
         knn_sift_down(h, 0u, end - 1u);
     }
-    const size_t base = (size_t)q * stride;
     for (uint j = 0u; j < stride; ++j) {
         indices[base + j] = j < h->n ? knn_key_index(h->key[j]) : PCL_NO_HIT;
         dist2[base + j] = j < h->n ? knn_key_d2(h->key[j]) : 0.0f;
@@ -330,20 +357,32 @@ __kernel void knn_hashgrid(const PclGridParams g, __global const float4* points,
                     cellD2[cells] = d2;
                     ++cells;
                 }
+        /* Every cell's range read before any is scanned: the table reads are independent of
+         * each other and of the heap, so their cache misses overlap instead of each stalling
+         * between two scans (+8 % queries per CPU-second, knn_bench box/k50, 5 interleaved runs;
+         * prefetch() of each run's first points as well gained nothing more). */
+        uint cellFirst[27], cellLast[27];
+        for (uint c = 0u; c < cells; ++c) {
+            cellFirst[c] = cellStart[cellHash[c]];
+            cellLast[c] = cellEnd[cellHash[c]];
+        }
         for (uint visited = 0u; visited < cells; ++visited) {
             uint best = visited;
             for (uint c = visited + 1u; c < cells; ++c)
                 if (cellD2[c] < cellD2[best]) best = c;
             const uint cell = cellHash[best];
             const float boxD2 = cellD2[best];
+            const uint first = cellFirst[best], last = cellLast[best];
             cellHash[best] = cellHash[visited];
             cellD2[best] = cellD2[visited];
+            cellFirst[best] = cellFirst[visited];
+            cellLast[best] = cellLast[visited];
             if (boxD2 > knn_bound(&h)) break;
             bool dup = false;
             for (uint c = 0u; c < visited; ++c) dup = dup || cellHash[c] == cell;
             cellHash[visited] = cell;  /* visited cells keep their hash for the duplicate test */
             if (dup) continue;
-            knn_offer_run(&h, points, cellStart[cell], cellEnd[cell], q.x, q.y, q.z);
+            knn_offer_run(&h, points, first, last, q.x, q.y, q.z);
         }
     }
     knn_write(&h, qi, stride, counts, indices, dist2, radius2);

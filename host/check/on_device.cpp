@@ -183,15 +183,17 @@ KdTree buildKdTreeOnDevice(Device& device, const std::vector<PclPhoton>& photons
 
 // ---- hashgrid -----------------------------------------------------------------------------------
 
-HashGridTables hashGridOnDevice(Device& device, const std::vector<PclPhoton>& photons, float maxRadius) {
+HashGridTables hashGridOnDevice(Device& device, const std::vector<PclPhoton>& photons, float maxRadius,
+                                HashGridBuild build) {
     HashGridTables t;
     t.params = hashGridParams(photons, maxRadius);
     cl::Buffer buf = device.upload(photons, CL_MEM_READ_ONLY, "hash grid: photons");
-    DeviceHashGrid g = buildHashGrid(device, buf, photons.size(), t.params);
+    DeviceHashGrid g = buildHashGrid(device, buf, photons.size(), t.params, build);
     t.keys = device.download<uint32_t>(g.keys, g.count);
     t.order = device.download<uint32_t>(g.order, g.count);
     t.cellStart = device.download<uint32_t>(g.cellStart, t.params.tableSize);
     t.cellEnd = device.download<uint32_t>(g.cellEnd, t.params.tableSize);
+    t.points = device.download<cl_float4>(g.points, g.count);
     return t;
 }
 

@@ -97,9 +97,11 @@ struct HashGridTables {
     std::vector<uint32_t> keys;                // hashes in sorted order
     std::vector<uint32_t> order;               // photon indices sorted by (hash, index)
     std::vector<uint32_t> cellStart, cellEnd;  // per hash; 0, 0 where empty
+    std::vector<cl_float4> points;             // (x, y, z, photon index bits) in sorted order
 };
 
-HashGridTables hashGridOnDevice(Device& device, const std::vector<PclPhoton>& photons, float maxRadius);
+HashGridTables hashGridOnDevice(Device& device, const std::vector<PclPhoton>& photons, float maxRadius,
+                                HashGridBuild build = HashGridBuild::ForDevice);
 
 // ---- knn (pipeline/knn.h) ------------------------------------------------------------------
 //

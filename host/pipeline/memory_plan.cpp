@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "device/work_group.h"
 #include "pipeline/deposit.h"
+#include "pipeline/hashgrid.h"
 #include "pipeline/kdtree.h"
 #include "pipeline/knn.h"
 #include "pipeline/sort.h"
@@ -201,7 +202,15 @@ private:
         add(phase, "hash grid: cell starts", table, sizeof(uint32_t), 0, 0, n);
         add(phase, "hash grid: cell ends", table, sizeof(uint32_t), 0, 0, n);
         add(phase, "hash grid: points", n, 4 * sizeof(float), 0, 0, n);
-        sortWorkspace(phase, n, 32, n);
+        if (n == 0) return;
+        if (hashGridBuildFor(lim.type) == HashGridBuild::Sorted) {
+            sortWorkspace(phase, n, 32, n);
+            return;
+        }
+        const HashGridBucketShape b = hashGridBucketShape(n, uint32_t(table), lim.computeUnits);
+        add(phase, "hash grid: bucket counts", b.buckets * b.chunks, sizeof(uint32_t), 0, 0, n);
+        add(phase, "hash grid: bucket keys", n, sizeof(uint32_t), 0, 0, n);
+        add(phase, "hash grid: bucket points", n, 4 * sizeof(float), 0, 0, n);
     }
 
     // buildVolumeMap (the photons and their radii², their hash grid of cell size r, the packed
@@ -249,6 +258,7 @@ MemoryLimits memoryLimits(const DeviceInfo& info) {
     l.maxAlloc = info.maxAlloc;
     l.globalMem = info.globalMem;
     l.type = info.type;
+    l.computeUnits = info.computeUnits;
     l.device = info.name;
     l.maxAllocSource = describeMaxAlloc(info);
     l.capped = info.bufferCap && info.bufferCap <= info.driverMaxAlloc;

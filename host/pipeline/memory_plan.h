@@ -32,7 +32,8 @@ namespace pcl {
 struct MemoryLimits {
     size_t maxAlloc = 0;                       // the largest single buffer (the cap when lower)
     size_t globalMem = 0;                      // bytes of global memory
-    cl_device_type type = CL_DEVICE_TYPE_CPU;  // decides the photon batch, sort and kd-tree shapes
+    cl_device_type type = CL_DEVICE_TYPE_CPU;  // decides the photon batch, sort, kd-tree and hash-grid shapes
+    size_t computeUnits = 1;                   // the hash grid's bucketed build sizes its chunk counts by it
     std::string device;                        // its name, for the table
     std::string maxAllocSource;                // describeMaxAlloc(): "64.0 MiB (cap from --max-buffer-mib)"
     bool capped = false;                       // maxAlloc comes from --max-buffer-mib

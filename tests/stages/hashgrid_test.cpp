@@ -5,6 +5,7 @@
 // a sort or a range cannot pass unseen.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -53,21 +54,41 @@ void expectWellFormed(const std::vector<PclPhoton>& map, const ReferenceHashGrid
     EXPECT_EQ(covered, map.size());
 }
 
+// The points follow the order: photon order[i]'s position, its index in w's bits.
+void expectPointsInOrder(const std::vector<PclPhoton>& map, const HashGridTables& dev) {
+    ASSERT_EQ(dev.points.size(), dev.order.size());
+    for (size_t i = 0; i < dev.order.size(); ++i) {
+        const PclPhoton& p = map[dev.order[i]];
+        const cl_float4& q = dev.points[i];
+        uint32_t w;
+        std::memcpy(&w, &q.s[3], sizeof w);
+        ASSERT_TRUE(q.s[0] == p.x && q.s[1] == p.y && q.s[2] == p.z && w == dev.order[i]) << "point " << i;
+    }
+}
+
+// Both builds (pipeline/hashgrid.h: Sorted, GPUs' and Bucketed, CPUs'), whatever the device.
+const HashGridBuild kBuilds[] = {HashGridBuild::Sorted, HashGridBuild::Bucketed};
+const char* buildName(HashGridBuild b) { return b == HashGridBuild::Sorted ? "sorted" : "bucketed"; }
+
 void expectSameGrid(const std::vector<PclPhoton>& map, float radius) {
     const ReferenceHashGrid twin = referenceHashGrid(map, radius);
     expectWellFormed(map, twin);
-    const HashGridTables dev = hashGridOnDevice(test::testDevice(), map, radius);
-    EXPECT_EQ(dev.params.ox, twin.params.ox);
-    EXPECT_EQ(dev.params.oy, twin.params.oy);
-    EXPECT_EQ(dev.params.oz, twin.params.oz);
-    EXPECT_EQ(dev.params.cellSize, twin.params.cellSize);
-    EXPECT_EQ(dev.params.invCellSize, twin.params.invCellSize);
-    EXPECT_EQ(dev.params.tableSize, twin.params.tableSize);
-    EXPECT_EQ(dev.params.photonCount, twin.params.photonCount);
-    EXPECT_TRUE(dev.keys == twin.keys) << "sorted hashes differ";
-    EXPECT_TRUE(dev.order == twin.order) << "photon order differs";
-    EXPECT_TRUE(dev.cellStart == twin.cellStart) << "cellStart differs";
-    EXPECT_TRUE(dev.cellEnd == twin.cellEnd) << "cellEnd differs";
+    for (HashGridBuild build : kBuilds) {
+        SCOPED_TRACE(buildName(build));
+        const HashGridTables dev = hashGridOnDevice(test::testDevice(), map, radius, build);
+        EXPECT_EQ(dev.params.ox, twin.params.ox);
+        EXPECT_EQ(dev.params.oy, twin.params.oy);
+        EXPECT_EQ(dev.params.oz, twin.params.oz);
+        EXPECT_EQ(dev.params.cellSize, twin.params.cellSize);
+        EXPECT_EQ(dev.params.invCellSize, twin.params.invCellSize);
+        EXPECT_EQ(dev.params.tableSize, twin.params.tableSize);
+        EXPECT_EQ(dev.params.photonCount, twin.params.photonCount);
+        EXPECT_TRUE(dev.keys == twin.keys) << "sorted hashes differ";
+        EXPECT_TRUE(dev.order == twin.order) << "photon order differs";
+        EXPECT_TRUE(dev.cellStart == twin.cellStart) << "cellStart differs";
+        EXPECT_TRUE(dev.cellEnd == twin.cellEnd) << "cellEnd differs";
+        expectPointsInOrder(map, dev);
+    }
 }
 
 TEST(HashGrid, RandomMapsEqualTheTwin) {
@@ -97,12 +118,15 @@ TEST(HashGrid, MillionIdenticalPhotons) {
     const uint32_t h = twin.keys[0];
     EXPECT_EQ(twin.cellStart[h], 0u);
     EXPECT_EQ(twin.cellEnd[h], 1000000u);
-    const HashGridTables dev = hashGridOnDevice(test::testDevice(), m, 0.1f);
-    EXPECT_TRUE(dev.keys == twin.keys);
-    EXPECT_TRUE(dev.order == twin.order);  // identity: ties keep photon index order
-    EXPECT_TRUE(dev.cellStart == twin.cellStart);
-    EXPECT_TRUE(dev.cellEnd == twin.cellEnd);
-    for (uint32_t i = 0; i < dev.order.size(); i += 9973) ASSERT_EQ(dev.order[i], i);
+    for (HashGridBuild build : kBuilds) {
+        SCOPED_TRACE(buildName(build));
+        const HashGridTables dev = hashGridOnDevice(test::testDevice(), m, 0.1f, build);
+        EXPECT_TRUE(dev.keys == twin.keys);
+        EXPECT_TRUE(dev.order == twin.order);  // identity: ties keep photon index order
+        EXPECT_TRUE(dev.cellStart == twin.cellStart);
+        EXPECT_TRUE(dev.cellEnd == twin.cellEnd);
+        for (uint32_t i = 0; i < dev.order.size(); i += 9973) ASSERT_EQ(dev.order[i], i);
+    }
 }
 
 TEST(HashGrid, ClustersCollinearAndTinyMaps) {

@@ -218,7 +218,7 @@ TEST(MemoryPlan, PhotonPassWithMediaPlansTheVolumeBuffers) {
     EXPECT_EQ(volumeBuffers, 3u + 2u * 3u);  // scene: 3; per pass: slots, counts, map
 }
 
-// The volume estimate: the map's device copy, its hash grid (with the sort's workspace) and the
+// The volume estimate: the map's device copy, its hash grid (with its build's scratch) and the
 // radiance of one launch are planned to the byte as buildVolumeMap and estimateVolumeRadiance
 // allocate them (the segments, counts and media come from elsewhere: uploaded unobserved).
 TEST(MemoryPlan, VolumeEstimatePlansItsMapGridAndRadiance) {
