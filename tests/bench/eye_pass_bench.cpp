@@ -104,7 +104,11 @@ void BM_Device(benchmark::State& state, std::string name) {
     const PclEyeParams ep = eyeParams(cp, s.geometry, s.buffers, s.table);
     const PclDirectParams dp = directParams(ep, s.geometry, s.buffers, s.table, kLightSamples, kGatherRays);
     const PclGatherParams gp = gatherParams(dp, kGatherRays, kK, s.rMax * s.rMax);
-    PclEyeEstimateParams pe{uint32_t(n), kK, s.rMax * s.rMax, 8};
+    PclEyeEstimateParams pe{};
+    pe.sampleCount = uint32_t(n);
+    pe.k = kK;
+    pe.maxRadius2 = s.rMax * s.rMax;
+    pe.irradianceStride = 8;
     EstimateSettings es;
     es.rayEpsilon = s.buffers.rayEpsilon;
     auto globalSource = estimateIrradianceSource(*s.global, kK, es, s.deviceScene.get());
