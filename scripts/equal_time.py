@@ -98,19 +98,25 @@ def main():
                     if run.returncode != 0:
                         sys.exit("render failed (%d): %s\n%s" % (run.returncode, " ".join(cmd), run.stdout[-2000:]))
                     passes, spp = samples_of(run.stdout)
+                    # What `render` ran: the method auto's pilot chose, with the emitter samples' log line.
+                    picked = re.search(r"method auto: (.+?) \(pilot", run.stdout)
+                    emitter = re.search(r"emitter samples: (\S+) a pass in (\d+) pixels", run.stdout)
+                    ran = (picked.group(1) if picked else "") + (
+                        " + emitter %s in %s px" % emitter.groups() if emitter else "")
                     rmse, relmse, ratio, maxdiff = compare(args.photoncl, image, args.reference)
                     row = {"scene": os.path.basename(args.scene), "contender": name, "options": opts,
                            "budget_s": budget, "wall_s": round(wall, 2), "passes": passes, "samples_per_pixel": spp,
                            "rmse": rmse, "relmse": relmse, "mean_ratio": ratio, "max_diff": maxdiff,
-                           "reference_mse": refMse, "repeat": rep}
+                           "reference_mse": refMse, "repeat": rep, "ran": ran.strip()}
                     masked = ""
                     if args.skip_specular_pixels:
                         m = compare(args.photoncl, image, args.reference, ["--skip-specular-pixels", args.scene])
                         row.update({"rmse_masked": m[0], "relmse_masked": m[1], "mean_ratio_masked": m[2]})
                         masked = "  masked: RMSE %.5f  relMSE %.6f  mean %.4f" % tuple(m[:3])
                     rows.append(row)
-                    print("%-14s %5.0f s  wall %6.1f s  spp %5d  RMSE %.5f  relMSE %.6f  mean %.4f%s" %
-                          (name, budget, wall, spp, rmse, relmse, ratio, masked), file=sys.stderr)
+                    print("%-14s %5.0f s  wall %6.1f s  spp %5d  RMSE %.5f  relMSE %.6f  mean %.4f%s%s" %
+                          (name, budget, wall, spp, rmse, relmse, ratio, masked, "  [%s]" % ran if ran else ""),
+                          file=sys.stderr)
     tmpOut = args.output + ".tmp"
     with open(tmpOut, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))

@@ -24,7 +24,7 @@ const char* const kKeys[] = {"scene",        "output",       "method",      "sha
                              "strata",       "gatherRays",   "k",           "causticK",      "lightSamples",
                              "gatherImportance", "radius",   "alpha",       "maxRadius",     "filter",
                              "gatherSource", "visibility",   "device",      "maxBufferMib",  "structure", "threads",
-                             "caustics"};
+                             "caustics",     "emitterStrata"};
 // clang-format on
 
 std::string allowedKeys() {
@@ -132,6 +132,7 @@ BatchJob loadBatchJob(const std::string& path) {
     job.gatherSource = r.text("gatherSource", "precomputed", {"precomputed", "estimate"});
     job.structure = r.text("structure", "kd-tree", {"kd-tree", "hash-grid"});
     job.caustics = r.text("caustics", "", {"", "connect", "map"});
+    job.emitterStrata = r.find("emitterStrata") ? int(r.integer("emitterStrata", 0, 16, 0)) : -1;
     job.visibility = r.flag("visibility", false);
     job.device = r.text("device", "cpu");
     job.maxBufferMib = r.integer("maxBufferMib", 1, uint64_t(1) << 30, 0);

@@ -37,7 +37,8 @@ struct BatchJob {
              gatherImportance = 0;
     float radius = 0.0f, alpha = 2.0f / 3.0f, maxRadius = 0.0f;
     std::string filter = "cone", gatherSource = "precomputed", structure = "kd-tree";
-    std::string caustics;  // fg: "connect", "map"; empty: the render default
+    std::string caustics;    // fg: "connect", "map"; empty: the render default
+    int emitterStrata = -1;  // fg: the emitter samples' M (0: off); -1: the render default
     bool visibility = false;
     std::string device = "cpu";  // default for `batch run` (--device overrides)
     uint64_t maxBufferMib = 0;   // 0: no cap

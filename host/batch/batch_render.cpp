@@ -69,6 +69,7 @@ BatchScene loadBatchScene(const BatchJob& job) {
     q.gatherSource = job.gatherSource;
     q.structure = job.structure;
     q.caustics = job.caustics;
+    q.emitterStrata = job.emitterStrata;
     q.alpha = job.alpha;
     q.gatherImportance = job.gatherImportance;
     q.radius = job.radius;

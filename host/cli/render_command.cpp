@@ -233,6 +233,9 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
         std::fprintf(stderr, "photons: %llu global, %llu caustic emitted over %u passes\ntime by stage:\n%s",
                      static_cast<unsigned long long>(r.globalEmitted),
                      static_cast<unsigned long long>(r.causticEmitted), r.passes, r.times.table().c_str());
+    if (!o.quiet && r.emitterPixels)
+        std::fprintf(stderr, "emitter samples: %ux%u a pass in %u pixels (the rows' spans of emitter edges)\n",
+                     r.emitterStrata, r.emitterStrata, r.emitterPixels);
     if (o.profile) std::fprintf(stderr, "%s", kernelProfileTable(device->kernelProfile(), r.passes).c_str());
     if (r.nonFiniteSamples)
         std::fprintf(stderr, "warning: %llu non-finite eye samples were dropped\n",
@@ -400,6 +403,11 @@ Run addRenderCommand(CLI::App& app) {
                     "Media: the beam estimate's radii: fixed (one per pass) or photon (each photon's own, from "
                     "its k-th nearest volume photon)")
         ->check(CLI::IsMember({"fixed", "photon"}));
+    sub->add_option("--emitter-strata", o->request.emitterStrata,
+                    "fg: up to M×M samples per pixel and pass for the light eye paths collect before their diffuse "
+                    "hit (lamps seen directly, in mirrors or glossy floors), where a probe saw an emitter's edge; "
+                    "fewer when those pixels are many (0: off; default 16)")
+        ->check(CLI::Range(0, 16));
     sub->add_option("--caustics", o->request.caustics,
                     "fg: connect (each caustic photon joined to the camera, as a light tracer does: sharp caustics "
                     "where the eye sees them directly; the caustic map only through mirrors and glass; not in "
@@ -466,6 +474,7 @@ Run addRenderCommand(CLI::App& app) {
                                  "--volume-radii",
                                  "--gather-rays",
                                  "--caustics",
+                                 "--emitter-strata",
                                  "--light-samples",
                                  "--gather-source",
                                  "--gather-importance",

@@ -162,6 +162,16 @@ private:
         return e;
     }
     void connectCaustics(uint32_t pass, const std::vector<PclPhoton>& caustic, Film& passFilm);
+    void findEmitterSpans();
+    struct EmitterSpan {
+        int begin = 0, end = 0;  // pixels [begin, end) of a row; end 0: none
+    };
+    bool inEmitterSpan(int x, int y) const {
+        if (emitterSpans_.empty()) return false;
+        const EmitterSpan& s = emitterSpans_[size_t(y)];
+        return x >= s.begin && x < s.end;
+    }
+    void emitterSamples(uint32_t pass, Film& passFilm);
     void eyePass(uint32_t pass, const PassMapSpec& maps, Film& passFilm);
     ChunkParts shadeFinalGather(const PassMapSpec& maps, const PclEyeParams& ep, uint32_t count);
     ChunkParts shadeDirectVisualisation(const PassMapSpec& maps, uint32_t count);
@@ -185,7 +195,9 @@ private:
     const double area_;
     const AreaLightTable table_;
     const size_t chunk_;
-    ChunkResult chunkResult_;  // a chunk's records and parts, kept across chunks and passes
+    ChunkResult chunkResult_;                // a chunk's records and parts, kept across chunks and passes
+    std::vector<EmitterSpan> emitterSpans_;  // fg with emitterStrata: per row, the pixels whose collected
+                                             // light the emitter samples give (empty: none)
     EstimateSettings est_;
     double r0Squared_ = 0.0;
     // Media: the volume maps' first radius² (global, caustic), from pass 0's photons, and this
@@ -324,6 +336,17 @@ void PhotonRenderer::specifyMaps(const PassPhotons& photons, float radius2, Pass
     }
 }
 
+// The eye hits' k-nearest estimate (eye_estimate.cl) over `count` records; records with fewer than
+// minDepth specular bounces before their hit get none.
+PclEyeEstimateParams eyeEstimateParams(uint32_t count, uint32_t k, float radius2, uint32_t minDepth = 0) {
+    PclEyeEstimateParams p{};
+    p.sampleCount = count;
+    p.k = k;
+    p.maxRadius2 = radius2;
+    p.minDepth = minDepth;
+    return p;
+}
+
 // 3. fg at the diffuse eye hits: direct light by shadow rays (MIS with the gather rays for area
 // lights), the caustic map, and final gathering into the global map.
 ChunkParts PhotonRenderer::shadeFinalGather(const PassMapSpec& m, const PclEyeParams& ep, uint32_t count) {
@@ -344,7 +367,8 @@ ChunkParts PhotonRenderer::shadeFinalGather(const PassMapSpec& m, const PclEyePa
     parts.direct = true;
     if (m.caustic.reader != MapReader::None) {
         // With caustic connections the photons lit the directly seen hits already (connectCaustics).
-        PclEyeEstimateParams cq{count, s_.causticK, m.radius2, 0, s_.causticConnections ? 1u : 0u};
+        const PclEyeEstimateParams cq =
+            eyeEstimateParams(count, s_.causticK, m.radius2, s_.causticConnections ? 1u : 0u);
         timed(stages_, t.caustic, [&] { stages_.causticEstimate(cq); });
         parts.caustic = true;
     }
@@ -359,12 +383,12 @@ ChunkParts PhotonRenderer::shadeFinalGather(const PassMapSpec& m, const PclEyePa
 ChunkParts PhotonRenderer::shadeDirectVisualisation(const PassMapSpec& m, uint32_t count) {
     ChunkParts parts;
     if (m.caustic.reader != MapReader::None) {
-        PclEyeEstimateParams cq{count, s_.causticK, m.radius2, 0};
+        const PclEyeEstimateParams cq = eyeEstimateParams(count, s_.causticK, m.radius2);
         timed(stages_, result_.times.caustic, [&] { stages_.causticEstimate(cq); });
         parts.caustic = true;
     }
     if (m.global.reader != MapReader::None) {
-        PclEyeEstimateParams gq{count, s_.globalK, m.radius2, 0};
+        const PclEyeEstimateParams gq = eyeEstimateParams(count, s_.globalK, m.radius2);
         timed(stages_, result_.times.indirect, [&] { stages_.globalEstimate(gq); });
         parts.indirect = true;
     }
@@ -379,12 +403,12 @@ ChunkParts PhotonRenderer::shadeProgressive(const PassMapSpec& m, const PclEyePa
     timed(stages_, result_.times.direct, [&] { stages_.directLight(dp); });
     parts.direct = true;
     if (m.caustic.reader != MapReader::None) {
-        PclEyeEstimateParams cq{count, PCL_KNN_MAX_K, m.radius2, 0};
+        const PclEyeEstimateParams cq = eyeEstimateParams(count, PCL_KNN_MAX_K, m.radius2);
         timed(stages_, result_.times.caustic, [&] { stages_.causticEstimate(cq); });
         parts.caustic = true;
     }
     if (m.global.reader != MapReader::None) {
-        PclEyeEstimateParams gq{count, PCL_KNN_MAX_K, m.radius2, 0};
+        const PclEyeEstimateParams gq = eyeEstimateParams(count, PCL_KNN_MAX_K, m.radius2);
         timed(stages_, result_.times.indirect, [&] { stages_.globalEstimate(gq); });
         parts.indirect = true;
     }
@@ -408,6 +432,94 @@ void PhotonRenderer::connectCaustics(uint32_t pass, const std::vector<PclPhoton>
     }
 }
 
+// The seed of the emitter samples: apart from the eye pass's, so the two are independent.
+uint64_t emitterSeed(uint64_t seed, uint32_t pass) { return eyePassSeed(seed, pass) ^ 0xA5A5A5A5DEADBEEFull; }
+
+// fg's emitter spans, once per render from a probe of 4 × 4 samples per pixel (its own seed, no
+// pass index, so every batch shard finds the same spans): in each row, from the first to the last
+// pixel whose samples collect different light before their diffuse hit (an emitter's edge, seen
+// directly or through a specular or glossy chain).
+void PhotonRenderer::findEmitterSpans() {
+    constexpr uint32_t kProbeStrata = 4, kProbe = kProbeStrata * kProbeStrata;
+    const size_t pixels = size_t(width_) * height_, total = pixels * kProbe;
+    if (uint64_t(pixels) * s_.emitterStrata * s_.emitterStrata >= (uint64_t(1) << 32)) return;
+    std::vector<float> lo(pixels, INFINITY), hi(pixels, -INFINITY);
+    for (size_t first = 0; first < total; first += chunk_) {
+        const uint32_t count = static_cast<uint32_t>(std::min(chunk_, total - first));
+        PclCameraParams cp = cameraParams(scene_.camera, plan_, emitterSeed(s_.seed, 0xFFFFFFFFu), kProbeStrata);
+        cp.firstSample = static_cast<uint32_t>(first);
+        cp.sampleCount = count;
+        timed(stages_, result_.times.camera, [&] { stages_.cameraRays(cp); });
+        const PclEyeParams ep = eyeParams(cp, geometry_, buffers_, table_, eyeDepth_);
+        timed(stages_, result_.times.eyePaths, [&] { stages_.eyePaths(ep); });
+        stages_.readChunk(count, ChunkParts{}, chunkResult_);
+        for (uint32_t i = 0; i < count; ++i) {
+            const float* e = chunkResult_.hits[i].emitted;
+            const float v = e[0] + e[1] + e[2];
+            const size_t p = (first + i) / kProbe;
+            lo[p] = std::min(lo[p], v);
+            hi[p] = std::max(hi[p], v);
+        }
+    }
+    emitterSpans_.assign(size_t(height_), EmitterSpan{});
+    for (int y = 0; y < height_; ++y) {
+        EmitterSpan& span = emitterSpans_[size_t(y)];
+        for (int x = 0; x < width_; ++x) {
+            const size_t p = size_t(y) * width_ + x;
+            if (!(hi[p] > lo[p] + 1e-6f * std::abs(hi[p]))) continue;
+            if (span.end == 0) span.begin = x;
+            span.end = x + 1;
+        }
+        result_.emitterPixels += uint32_t(span.end - span.begin);
+    }
+    // M × M as fine as the cap allows while the spans' samples stay within a quarter of the pass's
+    // eye samples (they trace eye paths only, no light or gather rays); none when M would not
+    // exceed the pass's own n (the glossy floor of cornell-glossy holds 7 400 span pixels: 8 × 8).
+    uint32_t m = s_.emitterStrata;
+    while (m > s_.strata && uint64_t(result_.emitterPixels) * m * m * 4 > uint64_t(pixels) * s_.strata * s_.strata) --m;
+    result_.emitterStrata = m > s_.strata ? m : 0;
+    if (result_.emitterPixels == 0 || result_.emitterStrata == 0) {
+        emitterSpans_.clear();
+        result_.emitterPixels = 0;
+        result_.emitterStrata = 0;
+    }
+}
+
+// Each pass, M × M samples per pixel of the emitter spans for the light collected before the
+// diffuse hit (the eye pass leaves it out there), weighted as the pixel's n² samples would be.
+void PhotonRenderer::emitterSamples(uint32_t pass, Film& passFilm) {
+    const uint32_t m = result_.emitterStrata, mm = m * m;
+    const float scale = float(spp_) / float(mm);
+    const PclCameraParams camera = cameraParams(scene_.camera, plan_, emitterSeed(s_.seed, pass), m);
+    for (int y = 0; y < height_; ++y) {
+        const EmitterSpan span = emitterSpans_[size_t(y)];
+        if (span.end == 0) continue;
+        const size_t base = (size_t(y) * width_ + size_t(span.begin)) * mm;
+        const size_t total = size_t(span.end - span.begin) * mm;
+        for (size_t done = 0; done < total; done += chunk_) {
+            const uint32_t count = static_cast<uint32_t>(std::min(chunk_, total - done));
+            PclCameraParams cp = camera;
+            cp.firstSample = static_cast<uint32_t>(base + done);
+            cp.sampleCount = count;
+            timed(stages_, result_.times.camera, [&] { stages_.cameraRays(cp); });
+            const PclEyeParams ep = eyeParams(cp, geometry_, buffers_, table_, eyeDepth_);
+            timed(stages_, result_.times.eyePaths, [&] { stages_.eyePaths(ep); });
+            stages_.readChunk(count, ChunkParts{}, chunkResult_);
+            for (uint32_t i = 0; i < count; ++i) {
+                const float* e = chunkResult_.hits[i].emitted;
+                const Vec3 v(e[0] * scale, e[1] * scale, e[2] * scale);
+                if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
+                    ++result_.nonFiniteSamples;
+                    continue;
+                }
+                const int x = int((cp.firstSample + i) / mm % size_t(width_));
+                passFilm.splat(x, y, v);
+                if (s_.aovs) result_.aovs.emitted.splat(x, y, v);
+            }
+        }
+    }
+}
+
 // 4. Accumulate: sample s of the pass lies in pixel s / n²; its radiance is emitted + the parts.
 void PhotonRenderer::accumulate(size_t first, uint32_t count, ChunkParts parts, Film& passFilm) {
     auto t = Clock::now();
@@ -421,6 +533,7 @@ void PhotonRenderer::accumulate(size_t first, uint32_t count, ChunkParts parts, 
         int x = static_cast<int>(pixel % width_), y = static_cast<int>(pixel / width_);
         const PclEyeHit& h = eye[i];
         PclRadiance em{h.emitted[0], h.emitted[1], h.emitted[2], 0};
+        if (inEmitterSpan(x, y)) em = zero;  // emitterSamples gives it
         PclRadiance sum{em.r + direct[i].r + caustic[i].r + indirect[i].r + volume[i].r,
                         em.g + direct[i].g + caustic[i].g + indirect[i].g + volume[i].g,
                         em.b + direct[i].b + caustic[i].b + indirect[i].b + volume[i].b, 0};
@@ -513,6 +626,7 @@ PhotonRenderResult PhotonRenderer::run() {
         result_.firstRadius = static_cast<float>(std::sqrt(r0Squared_));
     }
     result_.summary = summary();
+    if (s_.method == RenderMethod::FinalGather && s_.emitterStrata > 0) findEmitterSpans();
 
     Film passFilm;
     const auto passesStart = Clock::now();
@@ -552,6 +666,7 @@ PhotonRenderResult PhotonRenderer::run() {
         if (s_.causticConnections && maps.spec.caustic.photons)
             timed(stages_, result_.times.caustic, [&] { connectCaustics(pass, *maps.spec.caustic.photons, passFilm); });
         eyePass(pass, maps.spec, passFilm);
+        if (!emitterSpans_.empty()) emitterSamples(pass, passFilm);
         // 5. The pass's sums, rounded once to fixed point, join the render's (exact: any
         // grouping of passes gives the same bits).
         {

@@ -67,6 +67,8 @@ struct PhotonRenderResult {
     uint64_t globalEmitted = 0, causticEmitted = 0, globalStored = 0, causticStored = 0;
     uint64_t samples = 0;                   // eye samples traced
     uint64_t nonFiniteSamples = 0;          // samples whose radiance was NaN/Inf: dropped (expected 0)
+    uint32_t emitterPixels = 0;             // fg: pixels given emitter samples (PhotonRenderSettings::emitterStrata)
+    uint32_t emitterStrata = 0;             // fg: their M × M a pass (at most the setting's)
     float firstRadius = 0, lastRadius = 0;  // progressive: r_0 and the last pass's radius (global map)
     size_t chunkSamples = 0;
     std::string summary;  // the settings as used, one line (for logs and metadata)

@@ -131,6 +131,8 @@ KnnStructure parseKnnStructure(const std::string& word) {
 void validateRenderSettings(const PhotonRenderSettings& s) {
     if (s.strata < 1 || s.strata > 16)
         throw InputError("render: strata must be 1..16, got " + std::to_string(s.strata));
+    if (s.emitterStrata > 16)
+        throw InputError("render: emitter strata must be 0..16, got " + std::to_string(s.emitterStrata));
     if (s.gatherRays < 1) throw InputError("render: gather rays must be at least 1");
     if (s.globalK < 1 || s.globalK > PCL_KNN_MAX_K || s.causticK < 1 || s.causticK > PCL_KNN_MAX_K)
         throw InputError("render: k must be 1.." + std::to_string(PCL_KNN_MAX_K));
@@ -233,6 +235,7 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
     if (q.strata && s.method != RenderMethod::PathTracing) s.strata = q.strata;
     if (q.gatherRays && s.method == RenderMethod::FinalGather) s.gatherRays = q.gatherRays;
     if (q.volumeK) s.volumeK = q.volumeK;
+    if (s.method == RenderMethod::FinalGather) s.emitterStrata = q.emitterStrata >= 0 ? uint32_t(q.emitterStrata) : 16u;
     if (!q.volumeRadii.empty()) {
         if (q.volumeRadii != "fixed" && q.volumeRadii != "photon")
             throw InputError("render: volume radii \"" + q.volumeRadii + "\", expected fixed or photon");
@@ -300,6 +303,10 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
              ? "Jensen's 50 photons per estimate; 20 per caustic estimate, made only at eye hits seen through "
                "mirrors and glass (many eye samples average its noise)"
              : "Jensen's 50 photons per estimate");
+    if (fg)
+        note("emitter strata " + std::to_string(s.emitterStrata), q.emitterStrata >= 0,
+             "up to 16x16 samples a pass for the light eye paths collect before their diffuse hit, where a probe "
+             "saw an emitter's edge: lamp edges dominated fg's RMSE and cost a path tracer nothing");
     if (fg && built.caustic)
         note(std::string("caustics ") + (s.causticConnections ? "connect" : "map"), !q.caustics.empty(),
              plan.timeSampling ? "the caustic map: the scene moves, and caustic photons hold no shutter time"
@@ -318,7 +325,7 @@ std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const R
     // A new setting must be added here or among the controls of PhotonRenderSettings that change
     // no pixel; this fails to compile until one of the two is done.
 #if defined(__x86_64__) && defined(__GLIBCXX__)
-    static_assert(sizeof(PhotonRenderSettings) == 168,
+    static_assert(sizeof(PhotonRenderSettings) == 176,
                   "PhotonRenderSettings changed: add the new setting to settingsFields (or say why it changes no "
                   "pixel), then update this size");
 #endif
@@ -350,6 +357,8 @@ std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const R
         add("alpha", exact(s.alpha));
         add("progressiveK0", exact(s.progressiveK0));
         add("radius", exact(s.initialRadius));
+        if (s.emitterStrata && s.method == RenderMethod::FinalGather)
+            add("emitterStrata", std::to_string(s.emitterStrata));  // only when on, as below
         if (s.causticConnections && s.method == RenderMethod::FinalGather && maps.caustic)
             add("causticConnections", "1");  // only when on, so other renders' settings stay as they were
         if (maps.volume) {  // only with media, so the other scenes' settings (and hashes) stay as they were

@@ -60,6 +60,13 @@ struct PhotonRenderSettings {
     // an eye sees directly come without the caustic map's blur; the map is then read only at eye
     // hits seen through mirrors and glass. Scenes whose geometry moves keep the map.
     bool causticConnections = false;
+    // fg: up to M × M eye samples per pixel and pass (M > 0) for the light eye paths collect
+    // before their diffuse hit (emitters seen directly or through specular and glossy chains), in
+    // each row's span of pixels where a probe of 4 × 4 samples saw that light differ (an emitter's
+    // edge); the span's n² eye samples then leave that light out. Lamp edges cost a path tracer
+    // nothing and dominated fg's RMSE. M shrinks until the spans' samples are at most a quarter of
+    // the pass's (PhotonRenderResult::emitterStrata). 0: off.
+    uint32_t emitterStrata = 0;
     GatherSource gatherSource = GatherSource::Precomputed;
     // fg: G > 0 importance-samples the gather rays from a G × G histogram of the incident flux of
     // the globalK photons nearest each eye hit (Jensen 1995; pipeline/final_gather.h), mixed with
@@ -122,6 +129,7 @@ struct RenderRequest {
     uint32_t volumeK = 0;     // 0: the default
     std::string volumeRadii;  // "fixed", "photon"; empty: the default
     std::string caustics;     // fg: "connect", "map"; empty: the default (connect unless the scene moves)
+    int emitterStrata = -1;   // fg: M of the emitter rows; -1: the default, 0: off
 };
 
 // One resolved setting, as `render` logs it: "gather rays 64  (default: <reason>)" or "(given)".

@@ -49,7 +49,8 @@ TEST_F(BatchJobTest, ReadsEveryFieldAndResolvesPathsAgainstTheJobFile) {
         loadBatchJob(write(R"({"scene": ")" + scene() + R"(", "output": "../out/x.exr", "method": "progressive",
         "passes": 12, "shards": 5, "seed": 7, "width": 40, "height": 30, "globalPhotons": 1000, "causticPhotons": 500,
         "strata": 2, "k": 20, "causticK": 30, "lightSamples": 4, "alpha": 0.5, "filter": "box",
-        "structure": "hash-grid", "visibility": true, "device": "cpu", "maxBufferMib": 64})"));
+        "structure": "hash-grid", "visibility": true, "device": "cpu", "maxBufferMib": 64, "caustics": "map",
+        "emitterStrata": 8})"));
     EXPECT_EQ(job.output, (dir / "out" / "x.exr").lexically_normal().string());
     EXPECT_EQ(job.method, "progressive");
     EXPECT_EQ(job.passes, 12u);
@@ -63,6 +64,8 @@ TEST_F(BatchJobTest, ReadsEveryFieldAndResolvesPathsAgainstTheJobFile) {
     EXPECT_EQ(job.structure, "hash-grid");
     EXPECT_TRUE(job.visibility);
     EXPECT_EQ(job.maxBufferMib, 64u);
+    EXPECT_EQ(job.caustics, "map");
+    EXPECT_EQ(job.emitterStrata, 8);
     EXPECT_EQ(shardPath(job, 3),
               (dir / "out" / "x.exr.shards" / "shard-0003-of-0005.pcls").lexically_normal().string());
     EXPECT_EQ(manifestPath(job), (dir / "out" / "x.manifest.json").lexically_normal().string());
@@ -81,7 +84,9 @@ TEST_F(BatchJobTest, LeftOutSettingsTakeTheRenderDefaults) {
     EXPECT_EQ(half.passes, defaultPasses(RenderMethod::FinalGather, 128, 128));
     BatchJob path =
         loadBatchJob(write(R"({"scene": ")" + scene() + R"(", "output": "x.exr", "shards": 4, "method": "path"})"));
-    EXPECT_EQ(path.passes, 64u);  // render --method path's 64 samples per pixel
+    EXPECT_EQ(path.passes, 64u);       // render --method path's 64 samples per pixel
+    EXPECT_EQ(job.emitterStrata, -1);  // render's default
+    EXPECT_EQ(job.caustics, "");
 }
 
 TEST_F(BatchJobTest, BadJobsNameTheKeyAndWhatWasExpected) {
@@ -100,6 +105,8 @@ TEST_F(BatchJobTest, BadJobsNameTheKeyAndWhatWasExpected) {
     EXPECT_NE(e.find("passes: expected an integer"), std::string::npos) << e;
     e = error(head + R"("shards": 2, "passes": 4, "visibility": 1})");
     EXPECT_NE(e.find("visibility: expected true or false"), std::string::npos) << e;
+    e = error(head + R"("shards": 2, "passes": 4, "emitterStrata": 17})");
+    EXPECT_NE(e.find("emitterStrata: expected an integer in [0, 16]"), std::string::npos) << e;
     e = error(head + R"("shards": 2, "passes": 4, "filter": "tent"})");
     EXPECT_NE(e.find("filter"), std::string::npos) << e;
     e = error(R"({"output": "x.exr", "shards": 2})");

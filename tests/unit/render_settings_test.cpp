@@ -88,6 +88,18 @@ TEST(RenderSettings, DefaultsPerMethodFollowThePlan) {
     EXPECT_EQ(fg.globalK, 50u);
     EXPECT_EQ(fg.causticK, 50u);
     EXPECT_EQ(fg.globalPhotons, box.globalPhotons);
+    // fg's emitter samples: up to 16x16 where a probe sees an emitter's edge; the other methods
+    // have none; a given 0 turns them off. The text records them only when on (so renders and
+    // shards without them keep their settings hash).
+    EXPECT_EQ(fg.emitterStrata, 16u);
+    EXPECT_EQ(resolve("fg", box, [](RenderRequest& q) { q.emitterStrata = 0; }).settings.emitterStrata, 0u);
+    EXPECT_EQ(resolve("fg", box, [](RenderRequest& q) { q.emitterStrata = 5; }).settings.emitterStrata, 5u);
+    EXPECT_NE(settingsText(fg, box, 64, 64, 1).find(";emitterStrata=16"), std::string::npos);
+    EXPECT_EQ(settingsText(resolve("fg", box, [](RenderRequest& q) { q.emitterStrata = 0; }).settings, box, 64, 64, 1)
+                  .find("emitterStrata"),
+              std::string::npos);
+    EXPECT_EQ(resolve("direct", box).settings.emitterStrata, 0u);
+    EXPECT_EQ(resolve("progressive", box).settings.emitterStrata, 0u);
     EXPECT_EQ(fg.passes, defaultPasses(RenderMethod::FinalGather, 256, 256));
     EXPECT_EQ(fg.passes, 10u);
     // A lens and a shutter: the eye samples sample them too (motion-dof has caustics: 4x4 of 4).
@@ -199,6 +211,7 @@ TEST(RenderSettings, ValidationRefusesOutOfRangeSettings) {
     };
     bad([](PhotonRenderSettings& s) { s.strata = 0; });
     bad([](PhotonRenderSettings& s) { s.strata = 17; });
+    bad([](PhotonRenderSettings& s) { s.emitterStrata = 17; });
     bad([](PhotonRenderSettings& s) { s.gatherRays = 0; });
     bad([](PhotonRenderSettings& s) { s.globalK = PCL_KNN_MAX_K + 1; });
     bad([](PhotonRenderSettings& s) { s.causticK = 0; });
@@ -221,7 +234,8 @@ TEST(RenderSettings, TextIsTheBatchShardFormat) {
                                         q.gatherRays = 64;
                                         q.lightSamples = 16;
                                         q.causticK = 50;
-                                        q.caustics = "map";  // the only kind then
+                                        q.caustics = "map";   // the only kind then
+                                        q.emitterStrata = 0;  // none then
                                     }).settings;
     EXPECT_EQ(settingsText(fg, spheres, 64, 48, 7),
               "method=fg;width=64;height=48;passes=7;seed=0;strata=1;globalPhotons=200000;causticPhotons=100000;"
