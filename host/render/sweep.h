@@ -37,7 +37,7 @@ struct SweepOptions {
                                       // short curves; well under 2 minutes on 2 cores
     double maxSeconds = 60.0;         // a curve stops after its first point at or past this
     uint32_t seeds = 1;               // independent repeats per curve (≥ 2: bias² and variance rows)
-    uint64_t seed = 0;                // the first seed; the others are seed + 1 ...
+    uint64_t seed = 0;                // the first seed; the others are seed + 1000, + 2000 ...
     std::vector<std::string> curves;  // curve names to run (empty: all of the form); see sweepCurveNames
     int threads = 0;                  // path tracer threads (0: all cores)
     std::function<void(const std::string&)> progress;  // one line per point (stderr in the CLI)
