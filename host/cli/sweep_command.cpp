@@ -79,7 +79,10 @@ Run addSweepCommand(CLI::App& app) {
                     "bias² and variance")
         ->check(CLI::Range(1u, 64u))
         ->capture_default_str();
-    sub->add_option("--seed", o->sweep.seed, "The first seed (the others: + 1000, + 2000 ...; not 1 or 2 with a path curve: those made the references)")->capture_default_str();
+    sub->add_option(
+           "--seed", o->sweep.seed,
+           "The first seed (the others: + 1000, + 2000 ...; not 1 or 2 with a path curve: those made the references)")
+        ->capture_default_str();
     sub->add_option("--max-seconds", o->maxSeconds,
                     "A curve ends with its first point at or past this many render seconds (default 60; --quick 2)")
         ->check(CLI::PositiveNumber);
