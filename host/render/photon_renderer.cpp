@@ -163,6 +163,7 @@ private:
     }
     void connectCaustics(uint32_t pass, const std::vector<PclPhoton>& caustic, Film& passFilm);
     void findEmitterSpans();
+    void emitterEyePaths(const PclCameraParams& camera, size_t first, uint32_t count);
     struct EmitterSpan {
         int begin = 0, end = 0;  // pixels [begin, end) of a row; end 0: none
     };
@@ -435,6 +436,18 @@ void PhotonRenderer::connectCaustics(uint32_t pass, const std::vector<PclPhoton>
 // The seed of the emitter samples: apart from the eye pass's, so the two are independent.
 uint64_t emitterSeed(uint64_t seed, uint32_t pass) { return eyePassSeed(seed, pass) ^ 0xA5A5A5A5DEADBEEFull; }
 
+// Eye paths alone (camera rays, then the chains to the first diffuse hit) for samples [first,
+// first + count) of `camera`, read back into chunkResult_.hits: what the emitter probe and samples need.
+void PhotonRenderer::emitterEyePaths(const PclCameraParams& camera, size_t first, uint32_t count) {
+    PclCameraParams cp = camera;
+    cp.firstSample = static_cast<uint32_t>(first);
+    cp.sampleCount = count;
+    timed(stages_, result_.times.camera, [&] { stages_.cameraRays(cp); });
+    const PclEyeParams ep = eyeParams(cp, geometry_, buffers_, table_, eyeDepth_);
+    timed(stages_, result_.times.eyePaths, [&] { stages_.eyePaths(ep); });
+    stages_.readChunk(count, ChunkParts{}, chunkResult_);
+}
+
 // fg's emitter spans, once per render from a probe of 4 × 4 samples per pixel (its own seed, no
 // pass index, so every batch shard finds the same spans): in each row, from the first to the last
 // pixel whose samples collect different light before their diffuse hit (an emitter's edge, seen
@@ -444,15 +457,10 @@ void PhotonRenderer::findEmitterSpans() {
     const size_t pixels = size_t(width_) * height_, total = pixels * kProbe;
     if (uint64_t(pixels) * s_.emitterStrata * s_.emitterStrata >= (uint64_t(1) << 32)) return;
     std::vector<float> lo(pixels, INFINITY), hi(pixels, -INFINITY);
+    const PclCameraParams probe = cameraParams(scene_.camera, plan_, emitterSeed(s_.seed, 0xFFFFFFFFu), kProbeStrata);
     for (size_t first = 0; first < total; first += chunk_) {
         const uint32_t count = static_cast<uint32_t>(std::min(chunk_, total - first));
-        PclCameraParams cp = cameraParams(scene_.camera, plan_, emitterSeed(s_.seed, 0xFFFFFFFFu), kProbeStrata);
-        cp.firstSample = static_cast<uint32_t>(first);
-        cp.sampleCount = count;
-        timed(stages_, result_.times.camera, [&] { stages_.cameraRays(cp); });
-        const PclEyeParams ep = eyeParams(cp, geometry_, buffers_, table_, eyeDepth_);
-        timed(stages_, result_.times.eyePaths, [&] { stages_.eyePaths(ep); });
-        stages_.readChunk(count, ChunkParts{}, chunkResult_);
+        emitterEyePaths(probe, first, count);
         for (uint32_t i = 0; i < count; ++i) {
             const float* e = chunkResult_.hits[i].emitted;
             const float v = e[0] + e[1] + e[2];
@@ -498,13 +506,7 @@ void PhotonRenderer::emitterSamples(uint32_t pass, Film& passFilm) {
         const size_t total = size_t(span.end - span.begin) * mm;
         for (size_t done = 0; done < total; done += chunk_) {
             const uint32_t count = static_cast<uint32_t>(std::min(chunk_, total - done));
-            PclCameraParams cp = camera;
-            cp.firstSample = static_cast<uint32_t>(base + done);
-            cp.sampleCount = count;
-            timed(stages_, result_.times.camera, [&] { stages_.cameraRays(cp); });
-            const PclEyeParams ep = eyeParams(cp, geometry_, buffers_, table_, eyeDepth_);
-            timed(stages_, result_.times.eyePaths, [&] { stages_.eyePaths(ep); });
-            stages_.readChunk(count, ChunkParts{}, chunkResult_);
+            emitterEyePaths(camera, base + done, count);
             for (uint32_t i = 0; i < count; ++i) {
                 const float* e = chunkResult_.hits[i].emitted;
                 const Vec3 v(e[0] * scale, e[1] * scale, e[2] * scale);
@@ -512,7 +514,7 @@ void PhotonRenderer::emitterSamples(uint32_t pass, Film& passFilm) {
                     ++result_.nonFiniteSamples;
                     continue;
                 }
-                const int x = int((cp.firstSample + i) / mm % size_t(width_));
+                const int x = int((base + done + i) / mm % size_t(width_));
                 passFilm.splat(x, y, v);
                 if (s_.aovs) result_.aovs.emitted.splat(x, y, v);
             }

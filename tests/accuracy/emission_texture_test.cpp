@@ -49,49 +49,8 @@ Scene emissiveQuadScene() {
     return s;
 }
 
-bool inside(const Camera& cam, int x, int y, float loU, float hiU, float loV, float hiV) {
-    for (float fx : {0.0f, 1.0f})
-        for (float fy : {0.0f, 1.0f}) {
-            float u, v;
-            quadUvAt(cam, x, y, fx, fy, u, v);
-            if (!(u >= loU && u <= hiU && v >= loV && v <= hiV)) return false;
-        }
-    return true;
-}
-
-struct PixelError {
-    double worstOutside = 0.0;  // relative distance outside the footprint's range of L
-    double meanRatio = 0.0;     // mean of pixel / L(pixel centre) over pixels and channels
-    int compared = 0;
-};
-
-PixelError compareGradient(const Scene& scene, const Image& img) {
-    PixelError e;
-    for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) {
-            if (!inside(scene.camera, x, y, 0.1f, 0.9f, 0.125f, 0.875f)) continue;
-            Vec3 lo(1e30f), hi(-1e30f);
-            for (float fx : {0.0f, 1.0f})
-                for (float fy : {0.0f, 1.0f}) {
-                    float u, v;
-                    quadUvAt(scene.camera, x, y, fx, fy, u, v);
-                    const Vec3 L = gradientAt(5, 4, u, v) * kFactor;
-                    lo = vmin(lo, L);
-                    hi = vmax(hi, L);
-                }
-            float u, v;
-            quadUvAt(scene.camera, x, y, 0.5f, 0.5f, u, v);
-            const Vec3 centre = gradientAt(5, 4, u, v) * kFactor;
-            const Vec3 got = img.at(x, y);
-            for (int c = 0; c < 3; ++c) {
-                const double outside = std::max({0.0, double(lo[c]) - got[c], double(got[c]) - hi[c]});
-                e.worstOutside = std::max(e.worstOutside, outside / centre[c]);
-                e.meanRatio += double(got[c]) / centre[c];
-            }
-            ++e.compared;
-        }
-    e.meanRatio /= std::max(1, 3 * e.compared);
-    return e;
+GradientPixelError compareGradient(const Scene& scene, const Image& img) {
+    return compareQuadGradient(scene.camera, img, kFactor);
 }
 
 // ---- 2: the half-lit floor -------------------------------------------------------------------
@@ -190,7 +149,7 @@ TEST(EmissionTexture, CameraSeesFactorTimesTexturePerPixel) {
     for (RenderMethod m : {RenderMethod::FinalGather, RenderMethod::DirectVisualisation, RenderMethod::Progressive,
                            RenderMethod::PathTracing}) {
         const Image img = test::renderImage(*p, m, s, 8, 3, "emissive quad");
-        const PixelError e = compareGradient(p->scene, img);
+        const GradientPixelError e = compareGradient(p->scene, img);
         std::printf("[figure] emissive textured quad %s: %d pixels, worst outside the footprint's range %.2e, mean "
                     "pixel/L(centre) %.6f\n",
                     renderMethodName(m), e.compared, e.worstOutside, e.meanRatio);

@@ -44,54 +44,8 @@ Scene quadScene(Image texture) {
     return s;
 }
 
-// Whether the pixel's footprint lies in [lo, hi]² of uv.
-bool inside(const Camera& cam, int x, int y, float loU, float hiU, float loV, float hiV) {
-    for (float fx : {0.0f, 1.0f})
-        for (float fy : {0.0f, 1.0f}) {
-            float u, v;
-            quadUvAt(cam, x, y, fx, fy, u, v);
-            if (!(u >= loU && u <= hiU && v >= loV && v <= hiV)) return false;
-        }
-    return true;
-}
-
-struct PixelError {
-    double worstOutside = 0.0;  // relative distance outside the footprint's range of L
-    double meanRatio = 0.0;     // mean of pixel / L(pixel centre) over pixels and channels
-    int compared = 0;
-};
-
-// A box-filtered pixel is a convex combination of L at its samples, which lie in its footprint;
-// L is affine there, so the pixel lies between L's values at the footprint's corners, and its
-// mean over many pixels is L at the centres (the jitter averages out).
-PixelError compareGradient(const Scene& scene, const Image& img) {
-    PixelError e;
-    for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) {
-            // The exact region of a 5 × 4 gradient: between the outer texel centres.
-            if (!inside(scene.camera, x, y, 0.1f, 0.9f, 0.125f, 0.875f)) continue;
-            Vec3 lo(1e30f), hi(-1e30f);
-            for (float fx : {0.0f, 1.0f})
-                for (float fy : {0.0f, 1.0f}) {
-                    float u, v;
-                    quadUvAt(scene.camera, x, y, fx, fy, u, v);
-                    const Vec3 L = gradientAt(5, 4, u, v) * kFactor * kIrradiance / Vec3(kPi);
-                    lo = vmin(lo, L);
-                    hi = vmax(hi, L);
-                }
-            float u, v;
-            quadUvAt(scene.camera, x, y, 0.5f, 0.5f, u, v);
-            const Vec3 centre = gradientAt(5, 4, u, v) * kFactor * kIrradiance / Vec3(kPi);
-            const Vec3 got = img.at(x, y);
-            for (int c = 0; c < 3; ++c) {
-                const double outside = std::max({0.0, double(lo[c]) - got[c], double(got[c]) - hi[c]});
-                e.worstOutside = std::max(e.worstOutside, outside / centre[c]);
-                e.meanRatio += double(got[c]) / centre[c];
-            }
-            ++e.compared;
-        }
-    e.meanRatio /= std::max(1, 3 * e.compared);
-    return e;
+GradientPixelError compareGradient(const Scene& scene, const Image& img) {
+    return compareQuadGradient(scene.camera, img, kFactor * kIrradiance / Vec3(kPi));
 }
 
 }  // namespace
@@ -106,9 +60,9 @@ TEST(TexturedQuad, DirectLightPerPixelMatchesTextureTimesRhoOverPiTimesE) {
     s.causticPhotons = 2000;
     s.seed = 3;
     const Image fg = test::renderImage(*p, RenderMethod::FinalGather, s, 0, 0, "textured quad");
-    const PixelError efg = compareGradient(p->scene, fg);
+    const GradientPixelError efg = compareGradient(p->scene, fg);
     const Image path = test::renderImage(*p, RenderMethod::PathTracing, s, 8, 3, "textured quad");
-    const PixelError ept = compareGradient(p->scene, path);
+    const GradientPixelError ept = compareGradient(p->scene, path);
     for (const auto& [what, e] : {std::make_pair("fg (device)", efg), std::make_pair("path (twin lookup)", ept)}) {
         std::printf("[figure] textured quad %s: %d pixels, worst outside the footprint's range %.2e, mean "
                     "pixel/L(centre) %.6f\n",
@@ -138,7 +92,7 @@ TEST(TexturedQuad, PhotonMapPreviewKeepsTheTextureSharp) {
                 for (int j = 1; j < 3; ++j) {
                     const float lo = (2.0f * float(i) + 0.5f) / 8.0f, hi = (2.0f * float(i) + 1.5f) / 8.0f;
                     const float loV = (2.0f * float(j) + 0.5f) / 8.0f, hiV = (2.0f * float(j) + 1.5f) / 8.0f;
-                    if (!inside(p->scene.camera, x, y, lo, hi, loV, hiV)) continue;
+                    if (!quadFootprintInside(p->scene.camera, x, y, lo, hi, loV, hiV)) continue;
                     const bool light = (i + j) % 2 == 0;
                     const float rho = (light ? 0.9f : 0.1f) * kFactor.x;
                     sum[light] += double(img.at(x, y).x) / (rho / kPi);

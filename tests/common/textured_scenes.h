@@ -1,6 +1,7 @@
 // Textures and textured scenes built in code for the texture tests (unit, stages, accuracy).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/test_scenes.h"
@@ -65,6 +66,57 @@ inline void quadUvAt(const Camera& cam, int x, int y, float fx, float fy, float&
     const Vec3 p = cam.position + d * (-cam.position.y / d.y);
     u = (p.x + 1.0f) / 2.0f;
     v = (1.0f - p.z) / 2.0f;
+}
+
+// Whether pixel (x, y)'s footprint lies in [loU, hiU] × [loV, hiV] of the quad's coordinates.
+inline bool quadFootprintInside(const Camera& cam, int x, int y, float loU, float hiU, float loV, float hiV) {
+    for (float fx : {0.0f, 1.0f})
+        for (float fy : {0.0f, 1.0f}) {
+            float u, v;
+            quadUvAt(cam, x, y, fx, fy, u, v);
+            if (!(u >= loU && u <= hiU && v >= loV && v <= hiV)) return false;
+        }
+    return true;
+}
+
+struct GradientPixelError {
+    double worstOutside = 0.0;  // relative distance outside the footprint's range of L
+    double meanRatio = 0.0;     // mean of pixel / L(pixel centre) over pixels and channels
+    int compared = 0;
+};
+
+// An image of addQuadSeenFromAbove's quad whose radiance is `scale` × the 5 × 4 gradient, per
+// pixel against the closed form. A box-filtered pixel is a convex combination of L at its
+// samples, which lie in its footprint; L is affine there, so the pixel lies between L's values at
+// the footprint's corners, and its mean over many pixels is L at the centres (the jitter averages
+// out). Only pixels inside the exact region of the gradient (between the outer texel centres).
+inline GradientPixelError compareQuadGradient(const Camera& cam, const Image& img, Vec3 scale) {
+    GradientPixelError e;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            if (!quadFootprintInside(cam, x, y, 0.1f, 0.9f, 0.125f, 0.875f)) continue;
+            Vec3 lo(1e30f), hi(-1e30f);
+            for (float fx : {0.0f, 1.0f})
+                for (float fy : {0.0f, 1.0f}) {
+                    float u, v;
+                    quadUvAt(cam, x, y, fx, fy, u, v);
+                    const Vec3 L = gradientAt(5, 4, u, v) * scale;
+                    lo = vmin(lo, L);
+                    hi = vmax(hi, L);
+                }
+            float u, v;
+            quadUvAt(cam, x, y, 0.5f, 0.5f, u, v);
+            const Vec3 centre = gradientAt(5, 4, u, v) * scale;
+            const Vec3 got = img.at(x, y);
+            for (int c = 0; c < 3; ++c) {
+                const double outside = std::max({0.0, double(lo[c]) - got[c], double(got[c]) - hi[c]});
+                e.worstOutside = std::max(e.worstOutside, outside / centre[c]);
+                e.meanRatio += double(got[c]) / centre[c];
+            }
+            ++e.compared;
+        }
+    e.meanRatio /= std::max(1, 3 * e.compared);
+    return e;
 }
 
 inline void addDirectionalLight(Scene& s, Vec3 direction, Vec3 irradiance) {
