@@ -36,6 +36,7 @@ cp "$photoncl" "$bin"
 for name in "${scenes[@]}"; do
     scene="$root/scenes/$name.json"
     [ -f "$scene" ] || scene="$root/scenes/$name.gltf"
+    [ -f "$scene" ] || scene="$root/scenes/$name/$name.json"
     [ -f "$scene" ] || { echo "equal_time_all.sh: no scene file for $name" >&2; exit 2; }
     echo "== $name" >&2
     # shellcheck disable=SC2086

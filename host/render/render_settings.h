@@ -129,7 +129,7 @@ struct RenderRequest {
     uint32_t volumeK = 0;     // 0: the default
     std::string volumeRadii;  // "fixed", "photon"; empty: the default
     std::string caustics;     // fg: "connect", "map"; empty: the default (connect unless the scene moves)
-    int emitterStrata = -1;   // fg: M of the emitter rows; -1: the default, 0: off
+    int emitterStrata = -1;   // fg: the emitter samples' M (PhotonRenderSettings); -1: the default, 0: off
 };
 
 // One resolved setting, as `render` logs it: "gather rays 64  (default: <reason>)" or "(given)".
