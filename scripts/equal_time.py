@@ -13,10 +13,10 @@ first (`photoncl compare --skip-specular-pixels`: there references made by path 
 lack the L S...S E light of delta lights), in the *_masked columns.
 
 Seeds: the contenders render with --seed 1001 (+ repeat) by default. The references were path
-traced with seeds 1-4 (tests/data/references-256.md), and the path tracer's sample i of seed s is
+traced with seeds 1-12 (tests/data/references-256.md), and the path tracer's sample i of seed s is
 the same in every render, so a path-traced contender with one of those seeds shares its samples
 with the reference and reads far too good (cornell-glossy, 512 spp: RMSE 0.0143 with seed 1 against
-0.0205 with seed 1001). Seeds 1-4 are refused.
+0.0205 with seed 1001). Seeds 1-12 are refused.
 
 Usage:
   scripts/equal_time.py SCENE --reference REF.exr [--width 256] [--budgets 10 30]
@@ -70,14 +70,14 @@ def main():
     ap.add_argument("--contender", action="append", default=[], help="NAME='render options'")
     ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--seed", type=int, default=1001,
-                    help="first seed (+ repeat); not 1-4, the references' own seeds")
+                    help="first seed (+ repeat); not 1-12, the references' own seeds")
     ap.add_argument("--skip-specular-pixels", action="store_true",
                     help="also compare without the pixels that see mirrors or glass first (*_masked columns)")
     ap.add_argument("-o", "--output", default="equal-time.csv")
     args = ap.parse_args()
 
-    if any(1 <= args.seed + rep <= 4 for rep in range(args.repeats)):
-        sys.exit("--seed %d: seeds 1-4 made the references (tests/data/references-256.md); a path-traced "
+    if any(1 <= args.seed + rep <= 12 for rep in range(args.repeats)):
+        sys.exit("--seed %d: seeds 1-12 made the references (tests/data/references-256.md); a path-traced "
                  "contender would share their samples" % args.seed)
     contenders = DEFAULT_CONTENDERS
     if args.contender:
