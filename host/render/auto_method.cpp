@@ -6,7 +6,9 @@
 #include <vector>
 
 #include "core/clock.h"
+#include "core/math.h"
 #include "image/metrics.h"
+#include "prep/photon_allocation.h"
 #include "render/path_render.h"
 #include "render/photon_renderer.h"
 
@@ -18,6 +20,12 @@ constexpr int kPilotMinWidth = 64;      // … and at least this wide (the whole
 constexpr uint32_t kPilotSamples = 16;  // path tracer samples per pixel per pilot render
 constexpr int kPathPilotRenders = 6;    // the path tracer's pilot renders: its fireflies need more than
                                         // two for a steady variance (fg's passes are dearer: two)
+
+// dst += 0.5 src (dst empty: 0.5 src).
+void accumulateHalf(Image& dst, const Image& src) {
+    if (dst.rgb.empty()) dst = Image(src.width, src.height);
+    for (size_t i = 0; i < src.rgb.size(); ++i) dst.rgb[i] += 0.5f * src.rgb[i];
+}
 
 // The relative variance of one render from K ≥ 2 independent ones: per pixel and channel the
 // sample variance over the K over (mean² + ε) (relMSE's ε), averaged.
@@ -34,7 +42,61 @@ double renderVariance(const std::vector<Image>& runs) {
     return sum / double(n);
 }
 
+// ∫ L² dω / ∫ L dω over the sky, per channel: the radiance a sample that finds the sky at random
+// (in proportion to solid angle) is worth, weighted by how much light it brings.
+Vec3 skyRadianceByItsLight(const Environment& env) {
+    if (env.image.rgb.empty()) return env.scale;
+    const int W = env.image.width, H = env.image.height;
+    double l1[3] = {0, 0, 0}, l2[3] = {0, 0, 0};
+    for (int y = 0; y < H; ++y) {
+        const double omega =
+            2.0 * kPiD / W * (std::cos(kPiD * y / double(H)) - std::cos(kPiD * (y + 1) / double(H)));
+        for (int x = 0; x < W; ++x) {
+            const Vec3 t = env.image.at(x, y);
+            const double L[3] = {double(t.x) * env.scale.x, double(t.y) * env.scale.y, double(t.z) * env.scale.z};
+            for (int c = 0; c < 3; ++c) {
+                l1[c] += L[c] * omega;
+                l2[c] += L[c] * L[c] * omega;
+            }
+        }
+    }
+    auto ratio = [](double a, double b) { return b > 0 ? float(a / b) : 0.0f; };
+    return {ratio(l2[0], l1[0]), ratio(l2[1], l1[1]), ratio(l2[2], l1[2])};
+}
+
 }  // namespace
+
+Vec3 causticEmitterRadiance(const Scene& scene, const SceneBuffers& buffers) {
+    double weightSum = 0.0, radiance[3] = {0, 0, 0};
+    for (const PclLight& light : buffers.lights) {
+        const double w = scalarPower(light) * double(emitFraction(light));
+        if (!(w > 0)) continue;
+        weightSum += w;
+        Vec3 L(0.0f);
+        if (light.type == PCL_LIGHT_TRIANGLE && light.area > 0) {
+            const float k = 1.0f / (kPi * light.area);
+            L = {light.power[0] * k, light.power[1] * k, light.power[2] * k};
+        } else if (light.type == PCL_LIGHT_ENVIRONMENT) {
+            L = skyRadianceByItsLight(scene.environment);
+        }
+        radiance[0] += w * L.x;
+        radiance[1] += w * L.y;
+        radiance[2] += w * L.z;
+    }
+    if (!(weightSum > 0)) return Vec3(0.0f);
+    return {float(radiance[0] / weightSum), float(radiance[1] / weightSum), float(radiance[2] / weightSum)};
+}
+
+double causticFireflyVariance(const Image& caustic, const Image& albedo, const Image& mean, Vec3 emitterRadiance) {
+    const float Le[3] = {emitterRadiance.x, emitterRadiance.y, emitterRadiance.z};
+    const size_t n = mean.rgb.size();
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        const double m = mean.rgb[i];
+        sum += std::max(0.0f, caustic.rgb[i]) * std::max(0.0f, albedo.rgb[i]) * Le[i % 3] / (m * m + kRelMseEpsilon);
+    }
+    return n ? sum / double(n) : 0.0;
+}
 
 std::string AutoMethodChoice::log() const {
     char head[96];
@@ -47,6 +109,10 @@ std::string AutoMethodChoice::log() const {
                       c.name.c_str(), c.errorSeconds, c.unitSeconds,
                       c.request.method == "path" ? "sample per pixel" : "pass");
         out += item;
+        if (c.fireflyShare > 0) {
+            std::snprintf(item, sizeof item, " (%.0f %% of it caustic fireflies)", 100.0 * c.fireflyShare);
+            out += item;
+        }
     }
     return out + "; fg's bias is not counted)\n";
 }
@@ -86,13 +152,20 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
         wide.lightSamples = 2;
         c.candidates.push_back({"fg 6x6x2", wide});
     }
+    // fg's first candidate also measures the caustic light and the albedo that the path tracer's
+    // caustic fireflies are made of (causticFireflyVariance), when non-delta emitters send caustic photons.
+    const Vec3 fireflyRadiance = causticEmitterRadiance(scene, prepared.buffers);
+    const bool measureFireflies = fireflyRadiance.x > 0 || fireflyRadiance.y > 0 || fireflyRadiance.z > 0;
+    Image fgMean, fgCaustic, fgAlbedo;
     for (AutoCandidate& candidate : c.candidates) {
+        const bool first = &candidate == &c.candidates.front();
         RenderRequest one = candidate.request;
         one.seconds = 0.0;
         one.passes = 1;
         PhotonRenderSettings s = resolveRenderSettings(one, prepared.plan, width, height).settings;
         s.photonBatch =
             planRenderMemory(device.info(), prepared.geometry, prepared.buffers, s, prepared.plan).photonBatch;
+        s.aovs = first && measureFireflies;
         std::vector<Image> img;
         double fixed = 0, scaled = 0;
         for (int i = 0; i < 2; ++i) {
@@ -100,6 +173,11 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
             const PhotonRenderResult r =
                 renderPhotonMapped(device, pilot, prepared.geometry, prepared.buffers, prepared.plan, s);
             img.push_back(r.film.resolve());
+            if (s.aovs) {
+                accumulateHalf(fgMean, img.back());
+                accumulateHalf(fgCaustic, r.aovs.caustic.resolve());
+                accumulateHalf(fgAlbedo, r.aovs.albedo.resolve());
+            }
             fixed += 0.5 * (r.times.photons + r.times.maps);
             scaled += 0.5 * (r.times.total - r.times.photons - r.times.maps);
         }
@@ -121,7 +199,11 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
         pathSeconds += r.seconds / kPathPilotRenders;
     }
     path.unitSeconds = pathSeconds / kPilotSamples * pixelRatio;
-    path.errorSeconds = renderVariance(img) * pathSeconds * pixelRatio;
+    const double measured = renderVariance(img);
+    const double fireflies =
+        measureFireflies ? causticFireflyVariance(fgCaustic, fgAlbedo, fgMean, fireflyRadiance) / kPilotSamples : 0.0;
+    path.fireflyShare = fireflies > 0 ? fireflies / (measured + fireflies) : 0.0;
+    path.errorSeconds = (measured + fireflies) * pathSeconds * pixelRatio;
     c.candidates.push_back(path);
 
     for (size_t i = 1; i < c.candidates.size(); ++i)

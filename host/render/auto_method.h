@@ -9,12 +9,15 @@
 // cost the same at any size, the eye work and the path tracer scale with the pixels) it is the
 // error × seconds product that equal-time comparisons measure. The lower product wins. What the
 // pilot cannot see: fg's bias (its estimates are blurred, not noisy: cornell-box's fg is 0.2 %
-// dark), and noise that only finer pixels resolve.
+// dark), and noise that only finer pixels resolve. What its few path-traced samples rarely see,
+// the fireflies of caustics from small bright emitters (a sun through a glass ball), is added to
+// the path tracer's variance from fg's pilot instead (causticFireflyVariance).
 #pragma once
 #include <string>
 #include <vector>
 
 #include "device/device.h"
+#include "image/image.h"
 #include "prep/prepared_scene.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
@@ -26,6 +29,7 @@ struct AutoCandidate {
     RenderRequest request;    // what renders it (method and, for the fg split, strata/gather/light)
     double errorSeconds = 0;  // relMSE × seconds at full size
     double unitSeconds = 0;   // a pass (fg) or a sample per pixel (path) of the full image, predicted
+    double fireflyShare = 0;  // path: the share of its variance made of caustic fireflies (causticFireflyVariance)
 };
 
 struct AutoMethodChoice {
@@ -41,6 +45,22 @@ struct AutoMethodChoice {
     double fgBudgetSeconds(int width, int height) const;
     uint32_t unitsWithoutBudget(int width, int height) const;
 };
+
+// The radiance a path-traced caustic sample is worth when it finds its emitter through the
+// specular chain, averaged as the caustic light weights it: over the caustic photons' shares
+// (their power times the projection map's fraction, as the caustic pass allocates them), each
+// emitter's ∫ L² / ∫ L (over the sky's texels by solid angle; an area light's power / (π A));
+// delta lights count 0, as the path tracer's light tracer finds their caustics. Per channel;
+// zero when no caustic photons leave a non-delta emitter.
+Vec3 causticEmitterRadiance(const Scene& scene, const SceneBuffers& buffers);
+
+// The relative variance (relMSE's measure, per pixel and channel, averaged) that one path-traced
+// sample per pixel adds through caustic fireflies: at a diffuse point of albedo ρ a BSDF sample
+// that passes the specular chain into an emitter of radiance L_e is worth ρ T L_e (T ≤ 1 the
+// chain's throughput) with a small probability p, and its mean is the caustic radiance
+// L_c = ρ T L_e p; so its variance is about L_c ρ L_e. `caustic`, `albedo` and `mean` are fg's
+// pilot images (its caustic and albedo AOVs and the image); same size.
+double causticFireflyVariance(const Image& caustic, const Image& albedo, const Image& mean, Vec3 emitterRadiance);
 
 // The pilot on `device` (fg) and the CPU (path tracer) for `request` at the scene camera's size.
 AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const PreparedScene& prepared,
