@@ -5,6 +5,8 @@
  *                              rayEpsilon, findDistance
  *      camera                  PclCameraParams of the pass (frame, fields of view, thin lens, size)
  *      photons[i]              PclPhoton: the pass's caustic map (L S+ D records, trace_photons)
+ *      times[i]                photon i's shutter time when params.hasTimes (scenes that move:
+ *                              every ray of its connection is traced then); else unread
  *      nodes, packets, spheres the BVH; primInfo, materials; the texture and shading-normal
  *                              buffers (shared/texture.h, shared/shading_frame.h)
  * out: splats[i]               PclSplat: pixel and Φ ρd/π |ω_cam·n_g| (|ω_in·n_s| / |ω_in·n_g|) We G,
@@ -16,8 +18,9 @@
  * at the eye hits that see a surface directly (PclEyeEstimateParams::minDepth = 1): the sum
  * over a pass's photons estimates the same L S+ D E light, without the estimate's blur. The
  * record holds no primitive, so the surface is found again by a short ray along the record's
- * normal (on the side the photon came from); scenes whose geometry moves keep the caustic map
- * (a record holds no shutter time either).
+ * normal (on the side the photon came from). In scenes that move, the record's shutter time
+ * comes beside it (the time emit gave its path), so the surface, its normal and the shadow ray
+ * are those of that instant; the camera does not move.
  *
  * Random numbers: stream CONNECT, path = photon i, bounce 0, block 0: (u0, u1) the lens point. */
 #include "shared/types.h"
@@ -32,7 +35,8 @@
 #pragma OPENCL FP_CONTRACT OFF
 
 __kernel void connect_caustics(const PclConnectParams params, const PclCameraParams camera,
-                               __global const PclPhoton* photons, __global const PclBvhNode* nodes,
+                               __global const PclPhoton* photons, __global const float* times,
+                               __global const PclBvhNode* nodes,
                                __global const PclTriPacket* packets, __global const PclSphere* spheres,
                                __global const PclPrimInfo* primInfo, __global const PclMaterial* materials,
                                __global const PclMaterialTextures* materialTextures, __global const float* texels,
@@ -49,10 +53,11 @@ __kernel void connect_caustics(const PclConnectParams params, const PclCameraPar
     const PclV3 p = sampling_v3(ph.x, ph.y, ph.z);
     const PclV3 nf = photon_normal_decode(ph.normal); /* geometric, on the photon's side */
     const float h = params.findDistance;
+    const float tau = params.hasTimes ? times[i] : 0.0f;
 
     /* The record's surface: the nearest hit of p + n_f·h → p − n_f·h. */
     const PclRay find = bvh_ray(p.x + nf.x * h, p.y + nf.y * h, p.z + nf.z * h, -nf.x, -nf.y, -nf.z, 0.0f,
-                                2.0f * h, 0.0f);
+                                2.0f * h, tau);
     PclHit hit;
     if (!bvh_trace(nodes, packets, spheres, find, false, &hit)) {
         splats[i] = out;
@@ -62,7 +67,8 @@ __kernel void connect_caustics(const PclConnectParams params, const PclCameraPar
     PclV3 n;
     if (hit.prim >= params.triangleCount) {
         const PclV3 q = sampling_v3(find.ox - nf.x * hit.t, find.oy - nf.y * hit.t, find.oz - nf.z * hit.t);
-        n = sampling_v3((q.x - info.a) / info.radius, (q.y - info.b) / info.radius, (q.z - info.c) / info.radius);
+        const float cx = info.a + info.mx * tau, cy = info.b + info.my * tau, cz = info.c + info.mz * tau;
+        n = sampling_v3((q.x - cx) / info.radius, (q.y - cy) / info.radius, (q.z - cz) / info.radius);
     } else {
         n = sampling_v3(info.a, info.b, info.c);
     }
@@ -107,7 +113,7 @@ __kernel void connect_caustics(const PclConnectParams params, const PclCameraPar
     }
     const float eps = params.rayEpsilon;
     const PclV3 o = eye_add_scaled(p, nf, eps);
-    const PclRay shadow = bvh_ray(o.x, o.y, o.z, lens.x - o.x, lens.y - o.y, lens.z - o.z, 0.0f, 1.0f, 0.0f);
+    const PclRay shadow = bvh_ray(o.x, o.y, o.z, lens.x - o.x, lens.y - o.y, lens.z - o.z, 0.0f, 1.0f, tau);
     PclHit blocker;
     if (bvh_trace(nodes, packets, spheres, shadow, true, &blocker)) {
         splats[i] = out;

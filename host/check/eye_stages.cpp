@@ -143,19 +143,22 @@ RenderCheckReport checkConnectCausticsStage(Device& device, const Scene& sceneIn
                                             const RenderCheckOptions& o) {
     RenderCheckReport report = makeReport(o);
     const Scene scene = resized(sceneIn, o);
-    const PhotonMaps maps = photonMapsOnDevice(device, prepared.geometry, prepared.buffers, o.causticPhotons, o.seed);
+    // In a scene that moves, each record is connected at its photon's shutter time.
+    const bool moves = prepared.plan.timeSampling;
+    const PhotonMaps maps =
+        photonMapsOnDevice(device, prepared.geometry, prepared.buffers, o.causticPhotons, o.seed, nullptr, moves);
     report.causticPhotons = maps.caustic.size();
     const uint64_t passSeed = eyePassSeed(o.seed, o.pass);
     PclCameraParams cp = cameraParams(scene.camera, prepared.plan, passSeed, o.strata);
-    cp.timeSampling = 0;  // the kernel reads no time; the render refuses scenes that move
     const PclConnectParams params =
-        connectParams(prepared.geometry, prepared.buffers, uint32_t(maps.caustic.size()), passSeed);
+        connectParams(prepared.geometry, prepared.buffers, uint32_t(maps.caustic.size()), passSeed, moves);
     auto t0 = Clock::now();
     DeviceScene dscene(device, prepared.geometry, prepared.buffers);
-    const std::vector<PclSplat> d = connectCaustics(device, dscene, params, cp, maps.caustic);
+    const std::vector<PclSplat> d = connectCaustics(device, dscene, params, cp, maps.caustic, maps.causticTimes);
     const double dt = since(t0);
     t0 = Clock::now();
-    const std::vector<PclSplat> t = referenceConnectCaustics(scene, prepared.geometry, params, cp, maps.caustic);
+    const std::vector<PclSplat> t =
+        referenceConnectCaustics(scene, prepared.geometry, params, cp, maps.caustic, maps.causticTimes);
     const double tt = since(t0);
     const size_t pixels = size_t(o.width) * o.height;
     // Per record: the pixel (1 where both name the same one or none) and the value.

@@ -137,8 +137,9 @@ std::vector<PclPhoton> depositOnDevice(Device& device, const std::vector<uint32_
 }
 
 PhotonMaps photonMapsOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
-                              uint32_t photons, uint64_t seed, double* seconds) {
+                              uint32_t photons, uint64_t seed, double* seconds, bool causticTimes) {
     PhotonPassOptions po;
+    po.causticTimes = causticTimes;
     po.globalPhotons = photons;
     po.causticPhotons = photons;
     po.seed = seed;

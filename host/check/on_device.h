@@ -67,9 +67,10 @@ std::vector<uint32_t> exclusiveScanOnDevice(Device& device, const std::vector<ui
 // ---- the photon pass (pipeline/photon_pass.h) -----------------------------------------------
 
 // The maps the map and estimate checks read: a global and a caustic pass of `photons` paths
-// each with `seed`; *seconds (optional) receives the wall time.
+// each with `seed`; *seconds (optional) receives the wall time; causticTimes: also the caustic
+// records' shutter times (PhotonPassOptions::causticTimes).
 PhotonMaps photonMapsOnDevice(Device& device, const SceneGeometry& geometry, const SceneBuffers& buffers,
-                              uint32_t photons, uint64_t seed, double* seconds = nullptr);
+                              uint32_t photons, uint64_t seed, double* seconds = nullptr, bool causticTimes = false);
 
 // ---- sort (pipeline/sort.h) ----------------------------------------------------------------
 

@@ -410,8 +410,8 @@ Run addRenderCommand(CLI::App& app) {
         ->check(CLI::Range(0, 16));
     sub->add_option("--caustics", o->request.caustics,
                     "fg: connect (each caustic photon joined to the camera, as a light tracer does: sharp caustics "
-                    "where the eye sees them directly; the caustic map only through mirrors and glass; not in "
-                    "scenes that move) or map (Jensen's caustic map at every eye hit)")
+                    "where the eye sees them directly; the caustic map only through mirrors and glass; in scenes "
+                    "that move, at each photon's shutter time) or map (Jensen's caustic map at every eye hit)")
         ->check(CLI::IsMember({"connect", "map"}));
     sub->add_option("--gather-rays", o->request.gatherRays, "fg: final-gather rays per diffuse eye hit")
         ->check(CLI::Range(1u, 4096u));

@@ -5,8 +5,8 @@
 // seen through mirrors and glass (PclEyeEstimateParams::minDepth = 1). The twin is
 // host/reference/connect_caustics.h.
 //
-//   PclConnectParams cp = connectParams(geometry, buffers, photons.size(), passSeed);
-//   std::vector<PclSplat> s = connectCaustics(device, scene, cp, camera, photons);
+//   PclConnectParams cp = connectParams(geometry, buffers, photons.size(), passSeed, !times.empty());
+//   std::vector<PclSplat> s = connectCaustics(device, scene, cp, camera, photons, times);
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -21,12 +21,16 @@ namespace pcl {
 // epsilon: far beyond a position's float error, short of any other surface.
 constexpr float kConnectFindEpsilons = 8.0f;
 
+// hasTimes: the records come with their shutter times (scenes that move).
 PclConnectParams connectParams(const SceneGeometry& geometry, const SceneBuffers& buffers, uint32_t photonCount,
-                               uint64_t passSeed);
+                               uint64_t passSeed, bool hasTimes = false);
 
-// One splat per photon, in photon order (pixel PCL_NO_SPLAT: none). InternalError when the
-// camera samples time (records hold no shutter time: such scenes keep the caustic map).
+// One splat per photon, in photon order (pixel PCL_NO_SPLAT: none); each connection is traced at
+// times[i] (the shutter time photon i was emitted at: PhotonPassOptions::causticTimes), all at
+// time 0 when params.hasTimes is 0. InternalError when the camera samples time but the records
+// come without times, or times does not hold one per record.
 std::vector<PclSplat> connectCaustics(Device& device, const DeviceScene& scene, const PclConnectParams& params,
-                                      const PclCameraParams& camera, const std::vector<PclPhoton>& photons);
+                                      const PclCameraParams& camera, const std::vector<PclPhoton>& photons,
+                                      const std::vector<float>& times = {});
 
 }  // namespace pcl

@@ -34,7 +34,7 @@ void tallyEnds(const std::vector<uint32_t>& ends, PhotonPassKindStats& s) {
 std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const SceneGeometry& geometry,
                                 const SceneBuffers& buffers, const PhotonPassOptions& options, uint32_t passKind,
                                 uint32_t photons, PhotonPassStats& stats, PhotonPassKindStats& s,
-                                std::vector<PclPhoton>& volume) {
+                                std::vector<PclPhoton>& volume, std::vector<float>* times = nullptr) {
     const std::vector<uint32_t> first = lightFirstPhoton(buffers, photons, passKind);
     const uint32_t total = first.back();  // 0 when no light has power (or no marked cell)
     if (total == 0) return {};
@@ -86,6 +86,7 @@ std::vector<PclPhoton> buildMap(Device& device, const DeviceScene& scene, const 
             timing.scatterSeconds += volumeTiming.scatterSeconds;
         }
         tallyEnds(device.download<uint32_t>(ends, params.batchSize), s);
+        if (times) appendRecordTimes(params, device.download<uint32_t>(counts, params.batchSize), *times);
         const double emitS = Device::elapsedSeconds(emitted), traceS = Device::elapsedSeconds(traced);
         const double depositS = timing.scanSeconds + timing.growSeconds + timing.scatterSeconds;
         stats.emitSeconds += emitS;
@@ -146,7 +147,8 @@ PhotonMaps runPhotonPass(Device& device, const SceneGeometry& geometry, const Sc
                                maps.stats, maps.stats.global, maps.volume);
     if (options.buildCaustic && options.causticPhotons > 0)
         maps.caustic = buildMap(device, scene, geometry, buffers, options, PCL_PASS_CAUSTIC, options.causticPhotons,
-                                maps.stats, maps.stats.caustic, maps.volumeCaustic);
+                                maps.stats, maps.stats.caustic, maps.volumeCaustic,
+                                options.causticTimes ? &maps.causticTimes : nullptr);
     maps.stats.wallSeconds = since(start);
     return maps;
 }

@@ -24,6 +24,7 @@ struct PhotonPassOptions {
     bool buildGlobal = true;
     bool buildCaustic = true;
     size_t initialCapacity = 0;  // records per map before growth; 0: an estimate
+    bool causticTimes = false;   // also each caustic record's emission time (PhotonMaps::causticTimes)
 };
 
 // Per map (pass kind).
@@ -56,6 +57,9 @@ struct PhotonMaps {
     // Scenes with media: the volume photons of the global pass (L(S|D|V)*V) and of the caustic
     // pass (the volume caustics L S+ V, Jensen & Christensen 1998), each its own map.
     std::vector<PclPhoton> volume, volumeCaustic;
+    // With PhotonPassOptions::causticTimes: caustic[i]'s shutter time (prep/photon_allocation.h,
+    // photonEmissionTime), for connections in scenes that move; empty otherwise.
+    std::vector<float> causticTimes;
     PhotonPassStats stats;
 };
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "shared/rng.h"
+
 namespace pcl {
 
 double scalarPower(const PclLight& light) {
@@ -80,6 +82,23 @@ void emittedFlux(const SceneBuffers& buffers, const std::vector<uint32_t>& first
             float per = passKind == PCL_PASS_CAUSTIC ? L.power[c] * emitFraction(L) / float(n) : L.power[c] / float(n);
             flux[c] += double(per) * double(n);
         }
+    }
+}
+
+float photonEmissionTime(const PclPhotonParams& params, uint32_t photon) {
+    if (!params.hasMotion) return 0.0f;
+    const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
+    const uint32_t stream = params.pass == PCL_PASS_CAUSTIC ? PCL_RNG_STREAM_CAUSTIC : PCL_RNG_STREAM_PHOTON;
+    uint32_t w[4];
+    rng_block(seed, photon, 0u, 0u, stream, w);
+    return rng_u01(w[3]);
+}
+
+void appendRecordTimes(const PclPhotonParams& params, const std::vector<uint32_t>& counts, std::vector<float>& times) {
+    for (size_t i = 0; i < counts.size(); ++i) {
+        if (counts[i] == 0) continue;
+        const float t = photonEmissionTime(params, params.firstPhoton + uint32_t(i));
+        times.insert(times.end(), counts[i], t);
     }
 }
 

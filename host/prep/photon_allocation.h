@@ -37,6 +37,16 @@ std::vector<uint32_t> lightFirstPhoton(const SceneBuffers& buffers, uint32_t pho
 // each of its photons carries π A L(x) / n_i of its own point: π ∫ L dA in expectation).
 void emittedFlux(const SceneBuffers& buffers, const std::vector<uint32_t>& first, uint32_t passKind, double flux[3]);
 
+// The shutter time (normalised, [0, 1)) that emit gives photon `photon` of a pass (u3 of its
+// bounce-0 numbers; 0 when the scene does not move): what its records' connections to the camera
+// are traced at (connect_caustics).
+float photonEmissionTime(const PclPhotonParams& params, uint32_t photon);
+
+// Appends the emission time of every record that deposit wrote for one batch (params'
+// firstPhoton onward), from its per-path record counts: deposit keeps path order, so record r
+// belongs to the path whose counts it falls in.
+void appendRecordTimes(const PclPhotonParams& params, const std::vector<uint32_t>& counts, std::vector<float>& times);
+
 // The params of one batch: photons [firstPhoton, firstPhoton + batchSize) of a pass of kind
 // passKind (PCL_PASS_GLOBAL / PCL_PASS_CAUSTIC) with pass seed passSeed.
 PclPhotonParams makePhotonParams(const SceneGeometry& geometry, const SceneBuffers& buffers, uint32_t passKind,

@@ -1,7 +1,9 @@
 #include "reference/connect_caustics.h"
 
 #include <cmath>
+#include <string>
 
+#include "core/error.h"
 #include "core/math.h"
 #include "reference/camera.h"
 #include "reference/parallel_for.h"
@@ -22,14 +24,14 @@ Vec3 decodeDirection(uint32_t packed) {
 }
 
 PclSplat connect(const Scene& scene, const SceneGeometry& geometry, const RayCamera& rc, int width,
-                 const PclConnectParams& params, uint64_t seed, uint32_t i, const PclPhoton& ph) {
+                 const PclConnectParams& params, uint64_t seed, uint32_t i, const PclPhoton& ph, float time) {
     PclSplat none{PCL_NO_SPLAT, 0.0f, 0.0f, 0.0f};
     const Vec3 p(ph.x, ph.y, ph.z);
     float nv[3];
     referenceDecodeNormal(ph.normal, nv);
     const Vec3 nf(nv[0], nv[1], nv[2]);
     const float h = params.findDistance;
-    const PclRay find = makeRay(p + nf * h, -nf, 0.0f, 2.0f * h);
+    const PclRay find = makeRay(p + nf * h, -nf, time, 2.0f * h);
     PclHit hit;
     if (!geometry.intersect(find, hit)) return none;
     const SurfacePoint s = surfaceAt(scene, geometry, find, hit);
@@ -49,7 +51,7 @@ PclSplat connect(const Scene& scene, const SceneGeometry& geometry, const RayCam
         if (!(cosInS > 0.0f) || !(cosInG > 0.0f)) return none;
         g = cosInS * cosCamG / cosInG;
     }
-    if (geometry.occluded(spawnShadowRay(p, nf, c.lensPoint, Vec3(0.0f), 0.0f))) return none;
+    if (geometry.occluded(spawnShadowRay(p, nf, c.lensPoint, Vec3(0.0f), time))) return none;
     const Vec3 v = referenceDecodeRgbe(ph.rgbe) * s.rhoD * (g * c.importance / kPi);
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z) || !(maxComponent(v) > 0.0f)) return none;
     return {uint32_t(c.y) * uint32_t(width) + uint32_t(c.x), v.x, v.y, v.z};
@@ -59,7 +61,10 @@ PclSplat connect(const Scene& scene, const SceneGeometry& geometry, const RayCam
 
 std::vector<PclSplat> referenceConnectCaustics(const Scene& scene, const SceneGeometry& geometry,
                                                const PclConnectParams& params, const PclCameraParams& camera,
-                                               const std::vector<PclPhoton>& photons) {
+                                               const std::vector<PclPhoton>& photons, const std::vector<float>& times) {
+    if (params.hasTimes && times.size() != photons.size())
+        throw InternalError("connect caustics (twin): " + std::to_string(times.size()) + " times for " +
+                            std::to_string(photons.size()) + " records");
     Camera cam = scene.camera;
     cam.width = int(camera.width);
     cam.height = int(camera.height);
@@ -68,7 +73,8 @@ std::vector<PclSplat> referenceConnectCaustics(const Scene& scene, const SceneGe
     const uint64_t passSeed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
     std::vector<PclSplat> splats(photons.size());
     parallelForEveryThread(photons.size(), [&](size_t i) {
-        splats[i] = connect(scene, geometry, rc, cam.width, params, passSeed, uint32_t(i), photons[i]);
+        splats[i] = connect(scene, geometry, rc, cam.width, params, passSeed, uint32_t(i), photons[i],
+                            params.hasTimes ? times[i] : 0.0f);
     });
     return splats;
 }

@@ -12,9 +12,11 @@
 namespace pcl {
 
 // One splat per photon in photon order, as the kernel's; the camera's size and lens come from
-// `camera` (a pinhole unless camera.lensSampling), the lens samples from params' seed.
+// `camera` (a pinhole unless camera.lensSampling), the lens samples from params' seed; photon i
+// at shutter time times[i] when params.hasTimes (else 0).
 std::vector<PclSplat> referenceConnectCaustics(const Scene& scene, const SceneGeometry& geometry,
                                                const PclConnectParams& params, const PclCameraParams& camera,
-                                               const std::vector<PclPhoton>& photons);
+                                               const std::vector<PclPhoton>& photons,
+                                               const std::vector<float>& times = {});
 
 }  // namespace pcl

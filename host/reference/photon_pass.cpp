@@ -68,9 +68,16 @@ ReferencePhotonMaps runPhotonPassReference(const SceneBuffers& buffers, const Sc
     if (settings.globalPhotons > 0)
         maps.global =
             referencePhotonMap(buffers, geometry, settings, PCL_PASS_GLOBAL, &maps.globalStats, nullptr, &maps.volume);
-    if (settings.causticPhotons > 0)
-        maps.caustic = referencePhotonMap(buffers, geometry, settings, PCL_PASS_CAUSTIC, &maps.causticStats, nullptr,
-                                          &maps.volumeCaustic);
+    if (settings.causticPhotons > 0) {
+        std::vector<uint32_t> counts;
+        maps.caustic = referencePhotonMap(buffers, geometry, settings, PCL_PASS_CAUSTIC, &maps.causticStats,
+                                          settings.causticTimes ? &counts : nullptr, &maps.volumeCaustic);
+        if (settings.causticTimes)  // counts of every batch in path order: path i is photon i
+            appendRecordTimes(referencePhotonParams(buffers, geometry,
+                                                    referencePhotonPassSeed(settings.seed, settings.pass),
+                                                    PCL_PASS_CAUSTIC, 0, 0, settings.maxDepth),
+                              counts, maps.causticTimes);
+    }
     return maps;
 }
 

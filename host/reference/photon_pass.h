@@ -21,7 +21,8 @@ struct ReferencePhotonPassSettings {
     uint32_t maxDepth = 16;         // 1..255
     uint32_t batchSize = 1u << 16;  // paths traced per batch (bounds the slot memory)
     bool storeGlobal = true;
-    unsigned threads = 0;  // 0: all cores
+    unsigned threads = 0;       // 0: all cores
+    bool causticTimes = false;  // also each caustic record's emission time (ReferencePhotonMaps::causticTimes)
 };
 
 struct ReferencePhotonStats {
@@ -33,6 +34,7 @@ struct ReferencePhotonStats {
 struct ReferencePhotonMaps {
     std::vector<PclPhoton> global, caustic;
     std::vector<PclPhoton> volume, volumeCaustic;  // scenes with media: the passes' volume photons
+    std::vector<float> causticTimes;               // with causticTimes: caustic[i]'s shutter time
     ReferencePhotonStats globalStats, causticStats;
 };
 

@@ -49,8 +49,7 @@ Vec3 skyRadianceByItsLight(const Environment& env) {
     const int W = env.image.width, H = env.image.height;
     double l1[3] = {0, 0, 0}, l2[3] = {0, 0, 0};
     for (int y = 0; y < H; ++y) {
-        const double omega =
-            2.0 * kPiD / W * (std::cos(kPiD * y / double(H)) - std::cos(kPiD * (y + 1) / double(H)));
+        const double omega = 2.0 * kPiD / W * (std::cos(kPiD * y / double(H)) - std::cos(kPiD * (y + 1) / double(H)));
         for (int x = 0; x < W; ++x) {
             const Vec3 t = env.image.at(x, y);
             const double L[3] = {double(t.x) * env.scale.x, double(t.y) * env.scale.y, double(t.z) * env.scale.z};

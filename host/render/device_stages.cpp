@@ -47,6 +47,7 @@ PassPhotons DeviceRenderStages::tracePhotons(const PhotonPassOptions& options) {
     PassPhotons p;
     p.global = std::move(maps.global);
     p.caustic = std::move(maps.caustic);
+    p.causticTimes = std::move(maps.causticTimes);
     p.volume = std::move(maps.volume);
     p.volumeCaustic = std::move(maps.volumeCaustic);
     p.globalEmitted = maps.stats.global.emitted;
@@ -143,8 +144,9 @@ void DeviceRenderStages::causticEstimate(const PclEyeEstimateParams& params) {
 }
 
 std::vector<PclSplat> DeviceRenderStages::connectCaustics(const PclConnectParams& params, const PclCameraParams& camera,
-                                                          const std::vector<PclPhoton>& photons) {
-    return pcl::connectCaustics(device_, dscene_, params, camera, photons);
+                                                          const std::vector<PclPhoton>& photons,
+                                                          const std::vector<float>& times) {
+    return pcl::connectCaustics(device_, dscene_, params, camera, photons, times);
 }
 
 void DeviceRenderStages::globalEstimate(const PclEyeEstimateParams& params) {

@@ -68,6 +68,8 @@ PhotonPassOptions photonPassOptions(const PhotonRenderSettings& s, const RenderP
     po.seed = s.seed;
     po.pass = pass;
     po.batchSize = s.photonBatch;
+    // Connections in a scene that moves are traced at each caustic photon's own shutter time.
+    po.causticTimes = maps.caustic && s.causticConnections && plan.timeSampling;
     return po;
 }
 
@@ -161,7 +163,8 @@ private:
         e.firstRadius2 = firstSearchRadius2(photons, k, area_);
         return e;
     }
-    void connectCaustics(uint32_t pass, const std::vector<PclPhoton>& caustic, Film& passFilm);
+    void connectCaustics(uint32_t pass, const std::vector<PclPhoton>& caustic, const std::vector<float>& times,
+                         Film& passFilm);
     void findEmitterSpans();
     void emitterEyePaths(const PclCameraParams& camera, size_t first, uint32_t count);
     struct EmitterSpan {
@@ -418,11 +421,13 @@ ChunkParts PhotonRenderer::shadeProgressive(const PassMapSpec& m, const PclEyePa
 
 // 2b. fg's caustic connections: each caustic photon's splat, weighted by the n² samples a pixel's
 // pass gives it, so that the film's average adds the splat's estimate once per pass.
-void PhotonRenderer::connectCaustics(uint32_t pass, const std::vector<PclPhoton>& caustic, Film& passFilm) {
+void PhotonRenderer::connectCaustics(uint32_t pass, const std::vector<PclPhoton>& caustic,
+                                     const std::vector<float>& times, Film& passFilm) {
     const uint64_t passSeed = eyePassSeed(s_.seed, pass);
     PclCameraParams cp = cameraParams(scene_.camera, plan_, passSeed, s_.strata);
-    const PclConnectParams params = connectParams(geometry_, buffers_, uint32_t(caustic.size()), passSeed);
-    const std::vector<PclSplat> splats = stages_.connectCaustics(params, cp, caustic);
+    const PclConnectParams params =
+        connectParams(geometry_, buffers_, uint32_t(caustic.size()), passSeed, !times.empty());
+    const std::vector<PclSplat> splats = stages_.connectCaustics(params, cp, caustic, times);
     const float weight = float(spp_);
     for (const PclSplat& sp : splats) {
         if (sp.pixel == PCL_NO_SPLAT) continue;
@@ -666,7 +671,8 @@ PhotonRenderResult PhotonRenderer::run() {
         specifyMaps(photons, radius2, maps);
         timed(stages_, result_.times.maps, [&] { stages_.buildMaps(maps.spec); });
         if (s_.causticConnections && maps.spec.caustic.photons)
-            timed(stages_, result_.times.caustic, [&] { connectCaustics(pass, *maps.spec.caustic.photons, passFilm); });
+            timed(stages_, result_.times.caustic,
+                  [&] { connectCaustics(pass, *maps.spec.caustic.photons, photons.causticTimes, passFilm); });
         eyePass(pass, maps.spec, passFilm);
         if (!emitterSpans_.empty()) emitterSamples(pass, passFilm);
         // 5. The pass's sums, rounded once to fixed point, join the render's (exact: any

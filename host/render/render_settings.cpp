@@ -217,15 +217,12 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
     const bool fgCaustics = s.method == RenderMethod::FinalGather && plan.causticMap;
     if (!q.caustics.empty() && q.caustics != "connect" && q.caustics != "map")
         throw InputError("render: caustics \"" + q.caustics + "\", expected connect or map");
-    if (q.caustics == "connect" && fgCaustics && plan.timeSampling)
-        throw InputError("render: --caustics connect needs a scene that does not move (caustic photons hold no "
-                         "shutter time); use --caustics map");
     // Connections by default where they can run: at 256² and equal time on cornell-spheres-point
     // (scripts/equal_time.py, 30 / 60 s, fg 6x6x2 both) RMSE 0.0090 / 0.0076 against the map's
     // 0.0127 / 0.0102 and relMSE 0.00095 / 0.00067 against 0.00148 / 0.00093, judged without the
     // pixels that see the balls first (the reference lacks L S...S E light there): no blur, and
     // eye samples no longer pay a k-nearest search each (1.75x the passes).
-    s.causticConnections = fgCaustics && !plan.timeSampling && q.caustics != "map";
+    s.causticConnections = fgCaustics && q.caustics != "map";
     applyMethodDefaults(s, plan);
     if (q.globalPhotons) s.globalPhotons = q.globalPhotons;
     if (q.causticPhotons) s.causticPhotons = q.causticPhotons;
@@ -309,9 +306,9 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
              "saw an emitter's edge: lamp edges dominated fg's RMSE and cost a path tracer nothing");
     if (fg && built.caustic)
         note(std::string("caustics ") + (s.causticConnections ? "connect" : "map"), !q.caustics.empty(),
-             plan.timeSampling ? "the caustic map: the scene moves, and caustic photons hold no shutter time"
-                               : "each caustic photon joined to the camera (no blur, and eye samples stay cheap: "
-                                 "6x6); the caustic map only through mirrors and glass");
+             "each caustic photon joined to the camera (no blur, and eye samples stay cheap: 6x6; in scenes "
+             "that move, at the shutter time its path was emitted at); the caustic map only through mirrors and "
+             "glass");
     if (built.volume) {
         note("volume radii " + std::string(s.volumePhotonRadii ? "photon" : "fixed"), !q.volumeRadii.empty(),
              kVolumeRadiiReason);

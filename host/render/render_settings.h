@@ -128,7 +128,7 @@ struct RenderRequest {
     uint32_t globalPhotons = 0, causticPhotons = 0, k = 0, causticK = 0, lightSamples = 0, strata = 0, gatherRays = 0;
     uint32_t volumeK = 0;     // 0: the default
     std::string volumeRadii;  // "fixed", "photon"; empty: the default
-    std::string caustics;     // fg: "connect", "map"; empty: the default (connect unless the scene moves)
+    std::string caustics;     // fg: "connect", "map"; empty: the default (connect)
     int emitterStrata = -1;   // fg: the emitter samples' M (PhotonRenderSettings); -1: the default, 0: off
 };
 

@@ -74,6 +74,7 @@ struct ChunkResult {
 struct PassPhotons {
     std::vector<PclPhoton> global, caustic;
     std::vector<PclPhoton> volume, volumeCaustic;  // scenes with media
+    std::vector<float> causticTimes;               // PhotonPassOptions::causticTimes: caustic[i]'s shutter time
     uint64_t globalEmitted = 0, causticEmitted = 0;
 };
 
@@ -99,7 +100,8 @@ public:
     virtual void causticEstimate(const PclEyeEstimateParams& params) = 0;  // caustic map → caustic
     // fg's caustic connections: one splat per caustic photon (pipeline/connect_caustics.h).
     virtual std::vector<PclSplat> connectCaustics(const PclConnectParams& params, const PclCameraParams& camera,
-                                                  const std::vector<PclPhoton>& photons) = 0;
+                                                  const std::vector<PclPhoton>& photons,
+                                                  const std::vector<float>& times) = 0;
     virtual void globalEstimate(const PclEyeEstimateParams& params) = 0;  // global map → indirect
     virtual void finalGather(const PclGatherParams& params) = 0;          // global map → indirect
     // The beam radiance estimate along the medium segments the last eyePaths wrote, from the

@@ -41,8 +41,9 @@ public:
     void directLight(const PclDirectParams& p) override { inner_.directLight(p); }
     void causticEstimate(const PclEyeEstimateParams& p) override { inner_.causticEstimate(p); }
     std::vector<PclSplat> connectCaustics(const PclConnectParams& p, const PclCameraParams& camera,
-                                          const std::vector<PclPhoton>& photons) override {
-        return inner_.connectCaustics(p, camera, photons);
+                                          const std::vector<PclPhoton>& photons,
+                                          const std::vector<float>& times) override {
+        return inner_.connectCaustics(p, camera, photons, times);
     }
     void globalEstimate(const PclEyeEstimateParams& p) override { inner_.globalEstimate(p); }
     void finalGather(const PclGatherParams& p) override { inner_.finalGather(p); }

@@ -29,8 +29,10 @@ PassPhotons TwinRenderStages::tracePhotons(const PhotonPassOptions& options) {
     r.globalPhotons = options.buildGlobal ? options.globalPhotons : 0;
     r.causticPhotons = options.buildCaustic ? options.causticPhotons : 0;
     r.maxDepth = options.maxDepth;
+    r.causticTimes = options.causticTimes;
     ReferencePhotonMaps maps = runPhotonPassReference(buffers_, geometry_, r);
     PassPhotons p;
+    p.causticTimes = std::move(maps.causticTimes);
     p.global = std::move(maps.global);
     p.caustic = std::move(maps.caustic);
     p.volume = std::move(maps.volume);
@@ -95,8 +97,9 @@ void TwinRenderStages::causticEstimate(const PclEyeEstimateParams& params) {
 }
 
 std::vector<PclSplat> TwinRenderStages::connectCaustics(const PclConnectParams& params, const PclCameraParams& camera,
-                                                        const std::vector<PclPhoton>& photons) {
-    return referenceConnectCaustics(scene_, geometry_, params, camera, photons);
+                                                        const std::vector<PclPhoton>& photons,
+                                                        const std::vector<float>& times) {
+    return referenceConnectCaustics(scene_, geometry_, params, camera, photons, times);
 }
 
 void TwinRenderStages::globalEstimate(const PclEyeEstimateParams& params) {

@@ -28,7 +28,8 @@ public:
     void directLight(const PclDirectParams& params) override;
     void causticEstimate(const PclEyeEstimateParams& params) override;
     std::vector<PclSplat> connectCaustics(const PclConnectParams& params, const PclCameraParams& camera,
-                                          const std::vector<PclPhoton>& photons) override;
+                                          const std::vector<PclPhoton>& photons,
+                                          const std::vector<float>& times) override;
     void globalEstimate(const PclEyeEstimateParams& params) override;
     void finalGather(const PclGatherParams& params) override;
     void volumeEstimate() override;

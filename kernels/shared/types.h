@@ -468,7 +468,8 @@ typedef struct PclConnectParams {
     pcl_u32 triangleCount;    /* global ids at or above it are spheres */
     pcl_f32 rayEpsilon;       /* spawn offset along the normal */
     pcl_f32 findDistance;     /* the record's surface is found again by a ray from p + n_f·d to p − n_f·d */
-    pcl_u32 pad0, pad1;
+    pcl_u32 hasTimes;         /* 1: times[i] is photon i's shutter time (scenes that move); 0: all at 0 */
+    pcl_u32 pad0;
 } PclConnectParams;
 PCL_STATIC_ASSERT(sizeof(PclConnectParams) == 32, PclConnectParams_size);
 

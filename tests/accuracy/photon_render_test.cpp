@@ -104,9 +104,15 @@ TEST(PhotonRenderAccuracy, PointLampCausticsMatchTheLightTracedReference) {
 // samples per pixel leave aliased, as in the fg test above; relMSE under 0.03), judged where the
 // reference is complete (compare --skip-specular-pixels: it lacks L S...S E light elsewhere).
 // Measured (seed 5): caustic light -2.3 % / +0.7 %, means 0.9993 / 0.980 for both readers.
+// motion-dof (its sun through the chrome ball, the lamp through the gold one; the red ball moves):
+// the connections traced at each photon's shutter time; its caustic light is a seventh of
+// cornell-spheres' and noisier, so 16 passes, and it lies along the floor beside the balls, where
+// the map's k = 20 discs cross edges and read dark: connections +3.4 % here (+4.0 % at 4 passes;
+// +1.5 % over every pixel with seed 9), bound 5 %. (That each record is traced at its own time
+// is held by ConnectCaustics.ConnectionsInAMovingSceneAreTracedAtEachPhotonsTime.)
 TEST(PhotonRenderAccuracy, CausticConnectionsCarryTheCausticMapsLight) {
     ASSERT_TRUE(haveOpenImageIO()) << "the references are EXR";
-    for (const std::string name : {"cornell-spheres-point.json", "cornell-spheres.json"}) {
+    for (const std::string name : {"cornell-spheres-point.json", "cornell-spheres.json", "motion-dof.json"}) {
         Image ref = readImage(referencePath(name));
         auto p = prepareFile(name, ref.width, ref.height);
         const std::vector<uint8_t> keep = pixelsSeeingNoDeltaSurfaceFirst(p->scene, *p->geometry);
@@ -114,7 +120,7 @@ TEST(PhotonRenderAccuracy, CausticConnectionsCarryTheCausticMapsLight) {
         for (bool connect : {false, true}) {
             PhotonRenderSettings s;
             s.method = RenderMethod::FinalGather;
-            s.passes = 4;
+            s.passes = name == "motion-dof.json" ? 16 : 4;
             s.strata = 2;
             s.gatherRays = 16;
             s.lightSamples = 4;
@@ -129,16 +135,16 @@ TEST(PhotonRenderAccuracy, CausticConnectionsCarryTheCausticMapsLight) {
             for (size_t i = 0; i < keep.size(); ++i)
                 if (keep[i]) caustic[connect] += double(c.rgb[3 * i]) + c.rgb[3 * i + 1] + c.rgb[3 * i + 2];
             ImageErrors e = compare(img, ref, keep);
-            std::printf("[figure] %s fg caustics %s (64 wide, 4 passes x 4 spp, 50k+50k photons, %.1f s, caustic "
+            std::printf("[figure] %s fg caustics %s (64 wide, %u passes x 4 spp, 50k+50k photons, %.1f s, caustic "
                         "stage %.2f s) vs the reference without specular pixels: %s; caustic light %.4g\n",
-                        name.c_str(), connect ? "connect" : "map", r.times.total, r.times.caustic,
+                        name.c_str(), connect ? "connect" : "map", s.passes, r.times.total, r.times.caustic,
                         formatErrors(e).c_str(), caustic[connect]);
             EXPECT_NEAR(e.meanRatio, 1.0, name == "cornell-spheres.json" ? 0.02 : 0.01)
                 << name << (connect ? " connect" : " map");
             EXPECT_LT(e.relMse, 0.03) << name << (connect ? " connect" : " map");
             expectFinite(r, img, name);
         }
-        EXPECT_NEAR(caustic[1] / caustic[0], 1.0, 0.03) << name;
+        EXPECT_NEAR(caustic[1] / caustic[0], 1.0, name == "motion-dof.json" ? 0.05 : 0.03) << name;
     }
 }
 

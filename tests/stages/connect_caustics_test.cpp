@@ -11,8 +11,10 @@
 #include "pipeline/connect_caustics.h"
 #include "pipeline/device_scene.h"
 #include "pipeline/eye_estimate.h"
+#include "prep/photon_allocation.h"
 #include "reference/camera.h"
 #include "reference/connect_caustics.h"
+#include "reference/emit.h"
 #include "reference/eye_estimate.h"
 #include "reference/photon_pass.h"
 #include "shared/camera.h"
@@ -150,6 +152,94 @@ TEST(ConnectCaustics, EyeEstimateLeavesDirectlySeenHitsToTheConnections) {
     const std::vector<PclEstimateQuery> dq = dev.download<PclEstimateQuery>(queries, hits.size());
     ASSERT_EQ(dq.size(), q.size());
     for (size_t i = 0; i < q.size(); ++i) EXPECT_EQ(dq[i].maxRadius2, q[i].maxRadius2) << i;
+}
+
+// The shutter time of a record (prep/photon_allocation.h, photonEmissionTime) is the one emit gave
+// its path: motion-dof's caustic and global photons, against the twin's emit, bit for bit.
+TEST(ConnectCaustics, RecordTimesAreTheTimesEmitGaveTheirPaths) {
+    test::BuiltScene b = test::shippedScene("motion-dof.json", 64, 48);
+    ASSERT_TRUE(b.buffers.hasMotion);
+    for (uint32_t kind : {uint32_t(PCL_PASS_GLOBAL), uint32_t(PCL_PASS_CAUSTIC)}) {
+        const std::vector<uint32_t> first = referenceLightFirstPhoton(b.buffers, kind, 4000);
+        const PclPhotonParams params = referencePhotonParams(b.buffers, b.geometry, 77, kind, 1000, 3000, 16);
+        const std::vector<PclPhotonRay> rays = emitPhotonsReference(b.buffers, first, params, 1);
+        size_t differ = 0;
+        float lo = 1.0f, hi = 0.0f;
+        for (uint32_t i = 0; i < rays.size(); ++i) {
+            const float t = photonEmissionTime(params, params.firstPhoton + i);
+            differ += t != rays[i].time;
+            lo = std::min(lo, t);
+            hi = std::max(hi, t);
+        }
+        EXPECT_EQ(differ, 0u) << (kind == PCL_PASS_CAUSTIC ? "caustic" : "global");
+        EXPECT_LT(lo, 0.01f);  // spread over the shutter
+        EXPECT_GT(hi, 0.99f);
+    }
+}
+
+// In a scene that moves each record is connected at its own shutter time: motion-dof's global
+// photons (more of them land on the moving ball than caustic ones; the kernel reads any records)
+// with their times, device against twin as above; and the records on the moving ball, which
+// only their own instant finds again, splat about as often as the rest with their times and
+// hardly at all when every connection is traced at time 0.
+TEST(ConnectCaustics, ConnectionsInAMovingSceneAreTracedAtEachPhotonsTime) {
+    test::BuiltScene b = test::shippedScene("motion-dof.json", 64, 48);
+    const Sphere* moving = nullptr;
+    for (const Sphere& sp : b.scene.spheres)
+        if (length(sp.motion) > 0.0f) moving = &sp;
+    ASSERT_NE(moving, nullptr);
+    ReferencePhotonPassSettings ps;
+    ps.seed = 3;
+    ps.globalPhotons = 80000;
+    std::vector<uint32_t> counts;
+    const std::vector<PclPhoton> records =
+        referencePhotonMap(b.buffers, b.geometry, ps, PCL_PASS_GLOBAL, nullptr, &counts);
+    std::vector<float> times;
+    appendRecordTimes(referencePhotonParams(b.buffers, b.geometry, referencePhotonPassSeed(ps.seed, ps.pass),
+                                            PCL_PASS_GLOBAL, 0, 0, 16),
+                      counts, times);
+    ASSERT_EQ(times.size(), records.size());
+    // Which records lie on the moving ball at their own time.
+    std::vector<bool> onBall(records.size());
+    size_t ballRecords = 0;
+    for (size_t i = 0; i < records.size(); ++i) {
+        const Vec3 c = moving->centre + moving->motion * times[i];
+        const float d = length(Vec3(records[i].x, records[i].y, records[i].z) - c);
+        onBall[i] = std::abs(d - moving->radius) < 1e-3f;
+        ballRecords += onBall[i];
+    }
+    ASSERT_GT(ballRecords, 200u);
+
+    const uint64_t seed = eyePassSeed(3, 1);
+    DeviceScene scene(test::testDevice(), b.geometry, b.buffers);
+    size_t ballSplats[2] = {0, 0}, otherSplats[2] = {0, 0};
+    for (bool withTimes : {false, true}) {
+        // (A camera that samples time refuses records without times; the connection reads none.)
+        const PclCameraParams cp = cameraParams(b.scene.camera, true, withTimes, seed, 1);
+        const PclConnectParams params = connectParams(b.geometry, b.buffers, uint32_t(records.size()), seed, withTimes);
+        const std::vector<float> t = withTimes ? times : std::vector<float>{};
+        const std::vector<PclSplat> d = connectCaustics(test::testDevice(), scene, params, cp, records, t);
+        const std::vector<PclSplat> r = referenceConnectCaustics(b.scene, b.geometry, params, cp, records, t);
+        ASSERT_EQ(d.size(), r.size());
+        size_t differ = 0;
+        for (size_t i = 0; i < d.size(); ++i) {
+            const float rel =
+                std::max({std::abs(d[i].r - r[i].r), std::abs(d[i].g - r[i].g), std::abs(d[i].b - r[i].b)}) /
+                std::max({r[i].r, r[i].g, r[i].b, 1e-30f});
+            if (d[i].pixel != r[i].pixel || !(rel < 1e-4f)) ++differ;
+            if (d[i].pixel == PCL_NO_SPLAT) continue;
+            (onBall[i] ? ballSplats : otherSplats)[withTimes]++;
+        }
+        std::printf("[figure] motion-dof global records %s times: %zu records (%zu on the moving ball), splats %zu "
+                    "on the ball / %zu elsewhere, %zu differ from the twin\n",
+                    withTimes ? "with" : "without", d.size(), ballRecords, ballSplats[withTimes],
+                    otherSplats[withTimes], differ);
+        EXPECT_LE(differ, d.size() / 500);
+    }
+    const double ballRate = double(ballSplats[1]) / double(ballRecords);
+    const double otherRate = double(otherSplats[1]) / double(records.size() - ballRecords);
+    EXPECT_GT(ballRate, 0.5 * otherRate) << "records on the moving ball, connected at their time";
+    EXPECT_LT(ballSplats[0], ballSplats[1] / 4) << "at time 0 the ball is elsewhere for most of them";
 }
 
 }  // namespace

@@ -63,9 +63,9 @@ TEST(RenderSettings, DefaultsPerMethodFollowThePlan) {
     EXPECT_EQ(fgConnect.gatherRays, 2u);
     EXPECT_EQ(fgConnect.causticK, 20u);
     EXPECT_FALSE(fg.causticConnections);  // no caustic map, nothing to connect
-    // The scene moves (records hold no shutter time): the map; asked for, connections are refused.
-    EXPECT_FALSE(resolve("fg", dof).settings.causticConnections);
-    EXPECT_THROW(resolve("fg", dof, [](RenderRequest& q) { q.caustics = "connect"; }), InputError);
+    // The scene moves: connections too (each at its photon's shutter time), and the map on request.
+    EXPECT_TRUE(resolve("fg", dof).settings.causticConnections);
+    EXPECT_FALSE(resolve("fg", dof, [](RenderRequest& q) { q.caustics = "map"; }).settings.causticConnections);
     EXPECT_THROW(resolve("fg", spheres, [](RenderRequest& q) { q.caustics = "both"; }), InputError);
     // The caustic map at every eye hit (a k-nearest estimate per eye hit): 4x4 eye samples of 4
     // gather rays, 2 shadow rays, 20 photons per caustic estimate.
@@ -102,10 +102,12 @@ TEST(RenderSettings, DefaultsPerMethodFollowThePlan) {
     EXPECT_EQ(resolve("progressive", box).settings.emitterStrata, 0u);
     EXPECT_EQ(fg.passes, defaultPasses(RenderMethod::FinalGather, 256, 256));
     EXPECT_EQ(fg.passes, 10u);
-    // A lens and a shutter: the eye samples sample them too (motion-dof has caustics: 4x4 of 4).
+    // A lens and a shutter: the eye samples sample them too (motion-dof's caustics are connected:
+    // its eye samples stay cheap, 6x6 of 2).
     const PhotonRenderSettings fgDof = resolve("fg", dof).settings;
-    EXPECT_EQ(fgDof.strata, dof.causticMap ? 4u : 6u);
-    EXPECT_EQ(fgDof.gatherRays, dof.causticMap ? 4u : 2u);
+    ASSERT_TRUE(dof.causticMap);
+    EXPECT_EQ(fgDof.strata, 6u);
+    EXPECT_EQ(fgDof.gatherRays, 2u);
     const PhotonRenderSettings direct = resolve("direct", box).settings;
     EXPECT_EQ(direct.strata, 2u);
     EXPECT_EQ(direct.passes, 4u);
