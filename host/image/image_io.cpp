@@ -18,6 +18,7 @@
 #include "core/error.h"
 
 #ifdef PHOTONCL_HAVE_OIIO
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #endif
 
@@ -53,9 +54,10 @@ struct AllChannels {
     std::vector<float> pixels;
 };
 
-AllChannels readAllChannels(const std::string& path) {
-    if (!fs::exists(path)) throw InputError(path + ": no such file");
-    auto in = OIIO::ImageInput::open(path);
+// `proxy`: read from it instead of the file (path then names the format by its extension).
+AllChannels readAllChannels(const std::string& path, OIIO::Filesystem::IOProxy* proxy = nullptr) {
+    if (!proxy && !fs::exists(path)) throw InputError(path + ": no such file");
+    auto in = OIIO::ImageInput::open(path, nullptr, proxy);
     if (!in) throw InputError(path + ": cannot read: " + OIIO::geterror());
     AllChannels a{in->spec(), {}};
     if (a.spec.width <= 0 || a.spec.height <= 0 || a.spec.nchannels <= 0)
@@ -65,6 +67,16 @@ AllChannels readAllChannels(const std::string& path) {
         throw InputError(path + ": cannot read pixels: " + in->geterror());
     in->close();
     return a;
+}
+
+StoredImage storedImage(AllChannels a) {
+    StoredImage s;
+    s.width = a.spec.width;
+    s.height = a.spec.height;
+    s.channels = a.spec.nchannels;
+    s.integer = !a.spec.format.is_floating_point();
+    s.pixels = std::move(a.pixels);
+    return s;
 }
 #endif
 
@@ -264,15 +276,19 @@ StoredImage readStoredImage(const std::string& path) {
         return s;
     }
 #ifdef PHOTONCL_HAVE_OIIO
-    AllChannels a = readAllChannels(path);
-    s.width = a.spec.width;
-    s.height = a.spec.height;
-    s.channels = a.spec.nchannels;
-    s.integer = !a.spec.format.is_floating_point();
-    s.pixels = std::move(a.pixels);
-    return s;
+    return storedImage(readAllChannels(path));
 #else
     throw InputError(path + ": this build reads PFM only (built without OpenImageIO)");
+#endif
+}
+
+StoredImage readStoredImage(const std::vector<unsigned char>& bytes, const std::string& name) {
+#ifdef PHOTONCL_HAVE_OIIO
+    OIIO::Filesystem::IOMemReader memory(bytes.data(), bytes.size());
+    return storedImage(readAllChannels(name, &memory));
+#else
+    (void)bytes;
+    throw InputError(name + ": this build reads no embedded images (built without OpenImageIO)");
 #endif
 }
 

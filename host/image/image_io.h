@@ -66,6 +66,10 @@ struct StoredImage {
     std::vector<float> pixels;  // width * height * channels, top row first
 };
 StoredImage readStoredImage(const std::string& path);
+// The same from an encoded file's bytes in memory (an image embedded in a glTF file); `name`
+// only tells OpenImageIO the format by its extension (".png", ".jpg"). InputError without
+// OpenImageIO.
+StoredImage readStoredImage(const std::vector<unsigned char>& bytes, const std::string& name);
 
 // One layer written by writeLinearImage with layers: the channels "<layer>.R/G/B" of an EXR, or
 // the PFM "<stem>.<layer>.pfm" beside a PFM. InputError naming the layer when it is not there.

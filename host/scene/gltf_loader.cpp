@@ -663,15 +663,13 @@ private:
         if (auto emissive = g.find("emissiveTexture"); emissive != g.end()) {
             // glTF 2.0 §3.9.5: emitted = emissiveFactor × the texture (sRGB), here also × the
             // emissive strength (m.emission holds the product). With a zero factor it emits nothing.
-            if (m.emits())
-                m.emissionTexture =
-                    textureFor(*emissive, field + ".emissiveTexture", "emissiveTexture", TextureEncoding::Srgb);
+            if (m.emits()) m.emissionTexture = textureFor(*emissive, field + ".emissiveTexture", TextureEncoding::Srgb);
             else noteIgnored("emissiveTexture of a material with emissiveFactor 0");
         }
         if (auto normal = g.find("normalTexture"); normal != g.end()) {
             // Linear texels (glTF 2.0 §3.9.3); scale multiplies the decoded x and y.
             const std::string nf = field + ".normalTexture";
-            m.normalTexture = textureFor(*normal, nf, "normalTexture", TextureEncoding::Linear);
+            m.normalTexture = textureFor(*normal, nf, TextureEncoding::Linear);
             if (normal->is_object())
                 if (auto s = normal->find("scale"); s != normal->end()) {
                     if (!s->is_number() || !std::isfinite(s->get<double>()))
@@ -683,15 +681,14 @@ private:
         if (pbr == g.end() || !pbr->is_object()) return;
         const std::string pf = field + ".pbrMetallicRoughness";
         if (auto base = pbr->find("baseColorTexture"); base != pbr->end())
-            m.rhoDTexture = textureFor(*base, pf + ".baseColorTexture", "baseColorTexture", TextureEncoding::Srgb);
+            m.rhoDTexture = textureFor(*base, pf + ".baseColorTexture", TextureEncoding::Srgb);
         auto mr = pbr->find("metallicRoughnessTexture");
         if (mr == pbr->end()) return;
         if (m.specular == SpecularKind::Dielectric) {
             noteIgnored("metallicRoughnessTexture of a transmissive material");
             return;
         }
-        m.exponentTexture =
-            textureFor(*mr, pf + ".metallicRoughnessTexture", "metallicRoughnessTexture", TextureEncoding::Linear);
+        m.exponentTexture = textureFor(*mr, pf + ".metallicRoughnessTexture", TextureEncoding::Linear);
         if (m.exponentTexture < 0) return;
         Material::MetallicRoughness& f = m.metallicRoughness;
         f.active = true;
@@ -728,9 +725,43 @@ private:
             ignoredTextures_ += (ignoredTextures_.empty() ? "" : ", ") + what;
     }
 
-    // The Scene::textures index of a textureInfo {index, texCoord, extensions}, or -1 when its
-    // image is embedded (a data URI or a bufferView: not decoded here, noted as ignored).
-    int textureFor(const json& info, const std::string& field, const std::string& kind, TextureEncoding encoding) {
+    // The encoded bytes of an embedded glTF image (images[i] with a bufferView and mimeType, or a
+    // data: URI), its MIME type, and the field that names them in messages.
+    std::vector<unsigned char> embeddedImageBytes(const json& image, const std::string& ifield, std::string& mime,
+                                                  std::string& efield) {
+        if (auto m = image.find("mimeType"); m != image.end()) {
+            if (!m->is_string()) fail(ifield + ".mimeType", "a string", showJson(*m));
+            mime = m->get<std::string>();
+        }
+        std::vector<unsigned char> bytes;
+        if (auto uri = image.find("uri"); uri != image.end()) {
+            efield = ifield + ".uri";
+            if (!uri->is_string()) fail(efield, "a string", showJson(*uri));
+            std::string decodedMime;
+            if (!tinygltf::DecodeDataURI(&bytes, decodedMime, uri->get<std::string>(), 0, false) || bytes.empty())
+                fail(efield, "a base64 data: URI of an image/png or image/jpeg",
+                     "\"" + uri->get<std::string>().substr(0, 40) + "...\"");
+            if (!decodedMime.empty()) mime = decodedMime;
+            return bytes;
+        }
+        efield = ifield + ".bufferView";
+        const int view = intIn(image, "bufferView", ifield, 0, int(model_.bufferViews.size()) - 1, -1);
+        if (view < 0) fail(ifield, "a uri or a bufferView", "neither");
+        if (mime.empty()) fail(ifield + ".mimeType", "image/png or image/jpeg (required with a bufferView)", "none");
+        const tinygltf::BufferView& bv = model_.bufferViews[size_t(view)];
+        if (bv.buffer < 0 || size_t(bv.buffer) >= model_.buffers.size() ||
+            bv.byteOffset + bv.byteLength > model_.buffers[size_t(bv.buffer)].data.size())
+            fail(at("bufferViews", size_t(view)), "a byte range inside its buffer",
+                 std::to_string(bv.byteLength) + " bytes from " + std::to_string(bv.byteOffset));
+        const auto& data = model_.buffers[size_t(bv.buffer)].data;
+        bytes.assign(data.begin() + std::ptrdiff_t(bv.byteOffset),
+                     data.begin() + std::ptrdiff_t(bv.byteOffset + bv.byteLength));
+        return bytes;
+    }
+
+    // The Scene::textures index of a textureInfo {index, texCoord, extensions}: its image a file
+    // beside the scene or embedded (a bufferView, as in a .glb, or a data: URI).
+    int textureFor(const json& info, const std::string& field, TextureEncoding encoding) {
         if (!info.is_object()) fail(field, "a textureInfo object", showJson(info));
         const int index = intIn(info, "index", field, -1, int(textures_.textures.size()) - 1, -1);
         if (index < 0)
@@ -772,18 +803,23 @@ private:
         const std::string ifield = at("images", size_t(source));
         if (!image.is_object()) fail(ifield, "an object", showJson(image));
         auto uri = image.find("uri");
-        if (uri == image.end() || !uri->is_string() || uri->get<std::string>().rfind("data:", 0) == 0) {
-            noteIgnored(kind + " of an embedded image (" + ifield + ")");
-            return -1;
-        }
-        tex.path = resolveInsideFolder(file_, ifield + ".uri", percentDecode(uri->get<std::string>()));
+        const bool inFile = uri != image.end() && uri->is_string() && uri->get<std::string>().rfind("data:", 0) != 0;
         // Shared by every use with the same image, sampler, coordinates and transform.
         const std::string key =
             std::to_string(source) + "/" + std::to_string(sampler) + "/" + std::to_string(texCoord) + "/" +
             show(transform.offset[0]) + "," + show(transform.offset[1]) + "," + show(transform.scale[0]) + "," +
             show(transform.scale[1]) + "," + show(transform.rotation) + "/" + std::to_string(int(encoding));
         if (auto it = textureIndex_.find(key); it != textureIndex_.end()) return it->second;
-        tex.image = loadTextureImage(file_, ifield + ".uri", tex.path, encoding);  // colour: sRGB, data: linear
+        if (inFile) {
+            tex.path = resolveInsideFolder(file_, ifield + ".uri", percentDecode(uri->get<std::string>()));
+            tex.image = loadTextureImage(file_, ifield + ".uri", tex.path, encoding);  // colour: sRGB, data: linear
+        } else {
+            // Embedded, as Blender's .glb export writes them: a bufferView or a data: URI.
+            std::string mime, efield;
+            const std::vector<unsigned char> bytes = embeddedImageBytes(image, ifield, mime, efield);
+            tex.path = file_ + "#" + ifield;
+            tex.image = loadEmbeddedTextureImage(file_, efield, bytes, mime, encoding);
+        }
         scene_.textures.push_back(std::move(tex));
         const int added = int(scene_.textures.size()) - 1;
         textureIndex_[key] = added;

@@ -10,17 +10,11 @@ namespace pcl {
 
 float srgbToLinear(float e) { return e <= 0.04045f ? e / 12.92f : std::pow((e + 0.055f) / 1.055f, 2.4f); }
 
-Image loadTextureImage(const std::string& sceneFile, const std::string& field, const std::string& imagePath,
-                       TextureEncoding encoding) {
-    const std::string shown = "\"" + imagePath + "\"";
-    if (!std::filesystem::is_regular_file(imagePath))
-        failInput(sceneFile, field, "an image file", shown + " (no such file)");
-    StoredImage stored;
-    try {
-        stored = readStoredImage(imagePath);
-    } catch (const std::exception& e) {
-        failInput(sceneFile, field, "a readable image of at least 1x1 texels", shown + " (" + e.what() + ")");
-    }
+namespace {
+
+// The checks and decoding every texture gets once its file is read; `shown` names it in messages.
+Image textureFromStored(const std::string& sceneFile, const std::string& field, const std::string& shown,
+                        const StoredImage& stored, TextureEncoding encoding) {
     if (stored.width < 1 || stored.height < 1)
         failInput(sceneFile, field, "an image of at least 1x1 texels",
                   shown + " of " + std::to_string(stored.width) + "x" + std::to_string(stored.height));
@@ -40,6 +34,37 @@ Image loadTextureImage(const std::string& sceneFile, const std::string& field, c
             image.rgb[3 * i + size_t(c)] = srgb ? srgbToLinear(x) : x;
         }
     return image;
+}
+
+}  // namespace
+
+Image loadTextureImage(const std::string& sceneFile, const std::string& field, const std::string& imagePath,
+                       TextureEncoding encoding) {
+    const std::string shown = "\"" + imagePath + "\"";
+    if (!std::filesystem::is_regular_file(imagePath))
+        failInput(sceneFile, field, "an image file", shown + " (no such file)");
+    StoredImage stored;
+    try {
+        stored = readStoredImage(imagePath);
+    } catch (const std::exception& e) {
+        failInput(sceneFile, field, "a readable image of at least 1x1 texels", shown + " (" + e.what() + ")");
+    }
+    return textureFromStored(sceneFile, field, shown, stored, encoding);
+}
+
+Image loadEmbeddedTextureImage(const std::string& sceneFile, const std::string& field,
+                               const std::vector<unsigned char>& bytes, const std::string& mimeType,
+                               TextureEncoding encoding) {
+    const std::string shown = "an embedded " + mimeType + " of " + std::to_string(bytes.size()) + " bytes";
+    const char* name = mimeType == "image/png" ? "embedded.png" : mimeType == "image/jpeg" ? "embedded.jpg" : nullptr;
+    if (!name) failInput(sceneFile, field, "an embedded image/png or image/jpeg (glTF's image types)", shown);
+    StoredImage stored;
+    try {
+        stored = readStoredImage(bytes, name);
+    } catch (const std::exception& e) {
+        failInput(sceneFile, field, "a readable image of at least 1x1 texels", shown + " (" + e.what() + ")");
+    }
+    return textureFromStored(sceneFile, field, shown, stored, encoding);
 }
 
 }  // namespace pcl

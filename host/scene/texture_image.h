@@ -3,6 +3,7 @@
 // got Y" message, and the sRGB decoding of display-encoded files.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "image/image.h"
 
@@ -17,6 +18,12 @@ enum class TextureEncoding { Auto, Srgb, Linear };
 // channels, or a texel outside [0, 1] (a reflectance above 1 would create energy).
 Image loadTextureImage(const std::string& sceneFile, const std::string& field, const std::string& imagePath,
                        TextureEncoding encoding);
+
+// The same for an image embedded in the scene file (a glTF bufferView or data: URI): its encoded
+// bytes and MIME type (image/png or image/jpeg, glTF's two; anything else is refused).
+Image loadEmbeddedTextureImage(const std::string& sceneFile, const std::string& field,
+                               const std::vector<unsigned char>& bytes, const std::string& mimeType,
+                               TextureEncoding encoding);
 
 // The sRGB decoding of one encoded value in [0, 1] (IEC 61966-2-1).
 float srgbToLinear(float encoded);

@@ -2,14 +2,17 @@
 // the glTF is decoded from sRGB and multiplies the base-colour-derived ρd; TEXCOORD_0/1 are read
 // per vertex, the textureInfo's texCoord and KHR_texture_transform (which may override it) and
 // the sampler's wrap modes are kept; the texels reach the flat buffers and a triangle hit reads
-// the expected value. Embedded images are left out with a warning (the factor alone), and a bad
-// reference or image is refused with the usual message.
+// the expected value. Embedded images (a bufferView with its mimeType, as a .glb holds them, or a
+// data: URI) decode to the same texels as the file, and a bad reference or image is refused with
+// the usual message.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include <nlohmann/json.hpp>
 #include <unistd.h>
@@ -162,12 +165,67 @@ TEST_F(GltfTextureTest, TexCoordAndKhrTextureTransform) {
     EXPECT_EQ(t.transform.rotation, 0.5f);  // radians, as glTF gives it
 }
 
-TEST_F(GltfTextureTest, EmbeddedImageIsLeftOutWithTheFactorAlone) {
+// base64 (RFC 4648) for data: URIs.
+static std::string base64(const std::string& bytes) {
+    static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
+        if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+        if (i + 2 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 2]));
+        out += k[(v >> 18) & 63];
+        out += k[(v >> 12) & 63];
+        out += i + 1 < bytes.size() ? k[(v >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? k[v & 63] : '=';
+    }
+    return out;
+}
+
+TEST_F(GltfTextureTest, EmbeddedImagesDecodeAsTheFileDoes) {
+    const Scene fromFile = loadScene(write(doc()));
+    ASSERT_EQ(fromFile.textures.size(), 1u);
+    std::ifstream in(dir_ / "base.png", std::ios::binary);
+    const std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(png.size(), 8u);
+    auto expectSameTexels = [&](const Scene& s, const char* how) {
+        ASSERT_EQ(s.textures.size(), 1u) << how;
+        EXPECT_EQ(s.textures[0].image.rgb, fromFile.textures[0].image.rgb) << how;
+        EXPECT_EQ(s.materials[size_t(s.meshes[0].material)].rhoDTexture, 0) << how;
+    };
+    // In a buffer, as a .glb's BIN chunk holds it: a bufferView and its mimeType.
+    std::ofstream(dir_ / "image.bin", std::ios::binary) << png;
     json d = doc();
-    d["images"][0] = {{"bufferView", 0}, {"mimeType", "image/png"}};
-    const Scene s = loadScene(write(d));
-    EXPECT_TRUE(s.textures.empty());
-    EXPECT_EQ(s.materials[size_t(s.meshes[0].material)].rhoDTexture, -1);
+    d["buffers"].push_back({{"uri", "image.bin"}, {"byteLength", png.size()}});
+    d["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 0}, {"byteLength", png.size()}});
+    d["images"][0] = {{"bufferView", 4}, {"mimeType", "image/png"}};
+    expectSameTexels(loadScene(write(d)), "bufferView");
+    // A data: URI.
+    d = doc();
+    d["images"][0] = {{"uri", "data:image/png;base64," + base64(png)}};
+    expectSameTexels(loadScene(write(d)), "data URI");
+
+    auto expectError = [&](const json& bad, std::initializer_list<std::string> fragments) {
+        try {
+            loadScene(write(bad));
+            ADD_FAILURE() << "loaded fine";
+        } catch (const InputError& e) {
+            const std::string msg = e.what();
+            for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "lacks " << f << ": " << msg;
+        }
+    };
+    json bad = doc();
+    bad["buffers"].push_back({{"uri", "image.bin"}, {"byteLength", png.size()}});
+    bad["bufferViews"].push_back({{"buffer", 1}, {"byteOffset", 0}, {"byteLength", png.size()}});
+    bad["images"][0] = {{"bufferView", 4}};
+    expectError(bad, {"images[0].mimeType", "required with a bufferView", "none"});
+    bad["images"][0] = {{"bufferView", 4}, {"mimeType", "image/gif"}};
+    expectError(bad, {"images[0].bufferView", "image/png or image/jpeg", "image/gif"});
+    std::ofstream(dir_ / "image.bin", std::ios::binary) << std::string(png.size(), 'x');
+    bad["images"][0] = {{"bufferView", 4}, {"mimeType", "image/png"}};
+    expectError(bad, {"images[0].bufferView", "a readable image", "embedded image/png"});
+    bad = doc();
+    bad["images"][0] = {{"uri", "data:image/png;base64,@@@"}};
+    expectError(bad, {"images[0].uri"});
 }
 
 TEST_F(GltfTextureTest, BadReferencesAreRefused) {
