@@ -11,8 +11,9 @@
  *      lightOfPrim[prim]       sampling) and the MIS weight of an emitter the glossy lobe finds
  *      media[], primMedia[prim] participating media (read only when volumeSegments > 0)
  *      env, envData[]          the sky (shared/environment.h): a chain that leaves the scene
- *                              collects its radiance (LE, LS+E, through glossy lobes in full:
- *                              the glossy hits' light samples leave the sky out)
+ *                              collects its radiance (LE, LS+E); a glossy hit also samples it
+ *                              by its map (stream EYE_SKY, path = pixel, bounce = k, block = the
+ *                              hit), MIS against the lobe, which weighs the sky it escapes to
  * out: hits[i]                 PclEyeHit: the hit whose diffuse part was chosen (position,
  *                              viewer-side normal, wo, throughput, ρd, material, depth), the
  *                              light the chain collects before it (`emitted`: emission, the
@@ -221,10 +222,11 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
             for (int c = 0; c < 3; ++c) T[c] = T[c] * tr[c];
         }
         if (!found) {
-            if (env_active(env)) { /* out to the sky */
+            if (env_active(env)) { /* out to the sky; after a glossy lobe, its half of the MIS pair */
                 float Lsky[3];
-                env_radiance(env, envData, d, Lsky);
-                for (int c = 0; c < 3; ++c) Le[c] = Le[c] + T[c] * Lsky[c];
+                const float pdfSky = env_radiance(env, envData, d, Lsky);
+                const float wE = pdfLobe > 0.0f ? eye_mis_weight(1u, pdfLobe, 1u, pdfSky) : 1.0f;
+                for (int c = 0; c < 3; ++c) Le[c] = Le[c] + T[c] * Lsky[c] * wE;
             }
             break;
         }
@@ -302,6 +304,21 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                 const float pdfB = (1.0f - pd) * ((e + 1.0f) / (2.0f * PCL_PI_F)) * cp;
                 const float f = cp * cosS * eye_mis_weight(1u, pdfL, 1u, pdfB) / pdfL;
                 for (int c = 0; c < 3; ++c) sum[c] = sum[c] + le[c] * f;
+            }
+            if (env_active(env)) { /* the sky: one sample by its map, MIS against the lobe */
+                uint ws[4];
+                rng_block(seed, pixel, k, v, PCL_RNG_STREAM_EYE_SKY, ws);
+                PclV3 wsky;
+                float Lsky[3], tr[3];
+                const float pdfSky = env_sample(env, envData, rng_u01(ws[0]), rng_u01(ws[1]), &wsky, Lsky);
+                const float cosSky = sampling_dot(sf, wsky);
+                if (pdfSky > 0.0f && cosSky > 0.0f && sampling_dot(nf, wsky) > 0.0f &&
+                    light_shadow(nodes, packets, spheres, em, medium, lifted, wsky, INFINITY, tau, tr)) {
+                    const float cp = eye_phong_cos_power(d, sf, wsky, e);
+                    const float pdfB = (1.0f - pd) * ((e + 1.0f) / (2.0f * PCL_PI_F)) * cp;
+                    const float f = cp * cosSky * eye_mis_weight(1u, pdfSky, 1u, pdfB) / pdfSky;
+                    for (int c = 0; c < 3; ++c) sum[c] = sum[c] + Lsky[c] * tr[c] * f;
+                }
             }
             const float norm = (e + 2.0f) / (2.0f * PCL_PI_F);
             for (int c = 0; c < 3; ++c) Le[c] = Le[c] + T[c] * M.rhoS[c] * norm * sum[c];

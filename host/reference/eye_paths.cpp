@@ -151,7 +151,11 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
             T = T * eyeMediumTransmittance(med, tEnd);
         }
         if (!found) {
-            if (skyActive(buffers)) Le = Le + T * skyRadiance(buffers, d);  // out to the sky
+            if (skyActive(buffers)) {  // out to the sky; after a glossy lobe, its half of the MIS pair
+                float pdfSky = 0.0f;
+                const Vec3 Lsky = skyRadiance(buffers, d, &pdfSky);
+                Le = Le + T * Lsky * (pdfLobe > 0.0f ? eyeMisWeight(1, pdfLobe, 1, pdfSky) : 1.0f);
+            }
             break;
         }
         const Vec3 p = o + d * hit.t;
@@ -209,6 +213,21 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
                 const float cp = eyePhongCosPower(d, sf, wi, e);
                 const float pdfB = (1.0f - pd) * ((e + 1.0f) / (2.0f * kPi)) * cp;
                 sum = sum + le * (cp * cosS * eyeMisWeight(1, pdfL, 1, pdfB) / pdfL);
+            }
+            if (skyActive(buffers)) {  // the sky: one sample by its map, MIS against the lobe
+                uint32_t ws[4];
+                rng_block(seed, pixel, k, v, PCL_RNG_STREAM_EYE_SKY, ws);
+                Vec3 wsky, Lsky;
+                const float pdfSky = skySample(buffers, rng_u01(ws[0]), rng_u01(ws[1]), wsky, Lsky);
+                const float cosSky = dot(sf, wsky);
+                if (pdfSky > 0.0f && cosSky > 0.0f && dot(nf, wsky) > 0.0f) {
+                    const Vec3 tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, lifted, wsky,
+                                                           std::numeric_limits<float>::infinity(), ray.time);
+                    const float cp = eyePhongCosPower(d, sf, wsky, e);
+                    const float pdfB = (1.0f - pd) * ((e + 1.0f) / (2.0f * kPi)) * cp;
+                    if (maxComponent(tr) > 0.0f)
+                        sum = sum + Lsky * tr * (cp * cosSky * eyeMisWeight(1, pdfSky, 1, pdfB) / pdfSky);
+                }
             }
             const float norm = (e + 2.0f) / (2.0f * kPi);
             Le = Le + T * eyeVec(m.rhoS) * Vec3(norm) * sum;

@@ -37,6 +37,7 @@
 #define PCL_RNG_STREAM_EQUIANGULAR 6u /* the host reference path tracer's equiangular samples in media */
 #define PCL_RNG_STREAM_EYE_MEDIUM 7u /* eye_paths: single scattering along the eye segments in media */
 #define PCL_RNG_STREAM_CONNECT 8u /* connect_caustics: the lens point of caustic photon i's connection */
+#define PCL_RNG_STREAM_EYE_SKY 9u /* eye_paths: a glossy hit's sample of the sky (path = pixel, bounce = k, block = hit) */
 #define PCL_RNG_STREAM_TEST 0xFFFFFFFFu
 
 /* The high word of a 32x32-bit product, by a 64-bit multiply on both sides rather than OpenCL's

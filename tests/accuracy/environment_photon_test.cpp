@@ -163,3 +163,33 @@ TEST(EnvironmentPhotons, SkySpheresMatchThePathTracer) {
         EXPECT_LT(e.p99, 0.10) << renderMethodName(m);
     }
 }
+
+// The same plane glossy (Phong n = 5, ρs 0.4 over ρd 0.3; the camera looks straight down, so its
+// mirror direction is the zenith and the sun texel 39° off it sits well inside the lobe): the
+// light a glossy hit reflects comes from its own samples of the sky's map (MIS against the lobe),
+// as the directional light's comes from its shadow ray. fg's image per pixel against the
+// directional light's, within 5 % at the 99th percentile and 1 % in the mean (measured 0.9978,
+// 4.2 %; the glossy part makes the image 2.36 times the diffuse part alone). Found by the lobe
+// alone, the sun texel (0.04 sr) was a rare hit: before glossy hits sampled the sky, the same
+// test read mean 0.780 and 99th percentile 263 %.
+TEST(EnvironmentPhotons, GlossyHitsSampleTheSkyLikeADirectionalLight) {
+    test_scenes::OneTexelSkyPlane scenes = test_scenes::oneTexelSkyPlane(32, 16, 5, 3, 500.0f, 0.3f);
+    for (Scene* s : {&scenes.sky, &scenes.sun})
+        for (Material& m : s->materials) {
+            m.specular = SpecularKind::Glossy;
+            m.rhoS = Vec3(0.4f);
+            m.phongExponent = 5.0f;
+        }
+    const auto pSky = test::prepare(scenes.sky), pSun = test::prepare(scenes.sun);
+    const RenderMethod m = RenderMethod::FinalGather;
+    const Image sky = test::renderImage(*pSky, m, settingsFor(m), 0, 0, "glossy, one texel");
+    const Image dir = test::renderImage(*pSun, m, settingsFor(m), 0, 0, "glossy, directional");
+    const Errors toSun = errors(sky, [&](int x, int y) { return dir.at(x, y); });
+    const Errors diffuseOnly = errors(dir, [&](int, int) { return Vec3(scenes.expected); });
+    std::printf("[figure] glossy plane, one bright texel vs the directional light (fg): mean ratio %.4f, 99th "
+                "percentile %.2f %%; the directional image over the diffuse part alone %.4f\n",
+                toSun.meanRatio, 100 * toSun.p99, diffuseOnly.meanRatio);
+    EXPECT_GT(diffuseOnly.meanRatio, 1.05) << "the glossy lobe reflects a visible share of the sun";
+    EXPECT_NEAR(toSun.meanRatio, 1.0, 0.01);
+    EXPECT_LT(toSun.p99, 0.05);
+}

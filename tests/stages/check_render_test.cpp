@@ -42,9 +42,16 @@ TEST(CheckRender, CornellSpheres) { runCheck("cornell-spheres.json"); }
 // Under a sky (no other light): escapes in eye_paths and final_gather, sky samples in direct_light.
 TEST(CheckRender, SkySpheres) { runCheck("sky-spheres.json"); }
 // The same under an image sky (16 × 8 texels of unequal colour, turned 40°): the twin reads the
-// same texels and samples the same directions (shared/environment.h).
+// same texels and samples the same directions (shared/environment.h); the clay ball is made
+// glossy too (Phong n = 20, ρs 0.25), so eye paths sample the sky at glossy hits as well.
 TEST(CheckRender, SkySpheresUnderAnImageSky) {
     Scene scene = loadScene(shippedScene("sky-spheres.json"));
+    for (Material& m : scene.materials)
+        if (m.name == "clay") {
+            m.specular = SpecularKind::Glossy;
+            m.rhoS = Vec3(0.25f);
+            m.phongExponent = 20.0f;
+        }
     scene.environment.scale = Vec3(1.5f);
     scene.environment.image = Image(16, 8);
     for (int y = 0; y < 8; ++y)

@@ -175,6 +175,51 @@ TEST(MemoryPlan, PredictedBytesEqualAllocatedBytesForEveryBuffer) {
     std::printf("[figure] %zu buffers planned, %zu allocations observed\n", plan.buffers.size(), log.count);
 }
 
+// The courtyard: image textures, a normal map with its tangents, per-vertex normals and an image
+// sky. Every scene buffer the photon pass allocates for them is planned to the byte, and every
+// planned scene buffer is allocated.
+TEST(MemoryPlan, TexturedSkyLitScenePlansEverySceneBuffer) {
+    const BuiltScene s = buildScene(shippedScene("courtyard/courtyard.json"));
+    ASSERT_FALSE(s.scene.textures.empty());
+    ASSERT_TRUE(s.scene.environment.active());
+    Device device = test::testDevice();
+    AllocationLog log;
+    log.observe(device);
+    PhotonPassOptions o;
+    o.globalPhotons = 5000;
+    o.causticPhotons = 5000;
+    o.maxDepth = 16;
+    for (bool global : {true, false}) {
+        PhotonPassOptions one = o;
+        one.buildGlobal = global;
+        one.buildCaustic = !global;
+        log.phase = global ? "global photon pass" : "caustic photon pass";
+        runPhotonPass(device, s.geometry, s.buffers, one);
+    }
+    device.setAllocationObserver(nullptr);
+    const MemoryPlan plan = planMemory(photonPassMemoryRequest(s.geometry, s.buffers, o), memoryLimits(device.info()));
+    size_t sceneBuffers = 0, planned = 0;
+    for (const auto& [key, bytes] : log.largest) {
+        if (key.first != "scene") continue;
+        ++sceneBuffers;
+        const PlannedBuffer* b = plan.find(key.first, key.second);
+        ASSERT_NE(b, nullptr) << key.second << " (" << bytes << " bytes) was allocated but not planned";
+        EXPECT_EQ(b->bytes, bytes) << key.second;
+        planned += b->bytes;
+    }
+    for (const PlannedBuffer& b : plan.buffers) {
+        if (b.phase == "scene") {
+            EXPECT_TRUE(log.largest.count({b.phase, b.what})) << b.what << " was planned but never allocated";
+        }
+    }
+    for (const char* what : {"scene: texels", "scene: environment"}) {
+        bool found = false;
+        for (const auto& [key, bytes] : log.largest) found = found || key.second.rfind(what, 0) == 0;
+        EXPECT_TRUE(found) << what << "... was never allocated";
+    }
+    std::printf("[figure] courtyard: %zu scene buffers, %zu bytes, each as planned\n", sceneBuffers, planned);
+}
+
 // A scene with media: the media buffers, the volume slots and counts and each pass's volume map
 // are planned to the byte as allocated (a volume map that outgrows its first capacity is
 // allocated again larger: at least the planned bytes), and the batch is sized for both slot
