@@ -106,6 +106,8 @@ TEST(EnvironmentEmit, ConstantSkyFluxIsFourPiSquaredRSquaredL) {
     }
     for (int c = 0; c < 3; ++c) {
         const double want = 4.0 * kPiD * kPiD * R * R * L[c];
+        std::printf("[figure] constant sky flux, channel %d: %.6g W emitted, 4 pi^2 R^2 L = %.6g (ratio %.6f)\n", c,
+                    got[c], want, got[c] / want);
         EXPECT_NEAR(got[c], want, 1e-4 * want) << "channel " << c;
         EXPECT_NEAR(b.buffers.lights.back().power[c], want, 1e-5 * want) << "channel " << c;
     }
@@ -131,6 +133,9 @@ TEST(EnvironmentEmit, ImageSkyFluxIsPiRSquaredIntegralOfL) {
         const double want = kPiD * R * R * integral[c];
         const double mean = sum[c] / n, var = std::max(0.0, sum2[c] / n - mean * mean);
         const double se = std::sqrt(var / n) * n;  // of the sum
+        std::printf("[figure] image sky flux, channel %d: %.6g W emitted, pi R^2 integral L = %.6g (ratio %.4f, "
+                    "standard error %.2f %%)\n",
+                    c, sum[c], want, sum[c] / want, 100.0 * se / want);
         EXPECT_NEAR(sum[c], want, 5.0 * se) << "channel " << c << " (standard error " << se << ")";
         EXPECT_LT(std::abs(sum[c] - want), 0.02 * want) << "channel " << c;
     }

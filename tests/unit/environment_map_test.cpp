@@ -214,6 +214,24 @@ TEST(EnvironmentScene, LoadsAConstantAndAnImageSky) {
     EXPECT_EQ(s.environment.image.at(1, 0), Vec3(3.0f, 2.0f, 1.0f));
     EXPECT_EQ(s.environment.scale, Vec3(2.0f));
     EXPECT_FLOAT_EQ(s.environment.rotationDegrees, 90.0f);
+
+    // The HDR formats a user's sky comes in: OpenEXR and Radiance RGBE (.hdr), read the same.
+    if (!haveOpenImageIO()) return;  // (a build without OpenImageIO reads PFM only)
+    writeLinearImage((folder.dir / "sky.exr").string(), sky, ImageMetadata{});
+    s = loadJsonScene(folder.write(R"({"image": "sky.exr"})"));
+    ASSERT_EQ(s.environment.image.width, 4);
+    EXPECT_EQ(s.environment.image.at(1, 0), Vec3(3.0f, 2.0f, 1.0f));
+    // 4 × 2 flat RGBE pixels (no run-length coding below 8 wide): (3, 2, 1) = (192, 128, 64) × 2^(130-136).
+    std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n";
+    for (int i = 0; i < 8; ++i) hdr += i == 1 ? std::string("\xC0\x80\x40\x82", 4) : std::string(4, '\0');
+    std::ofstream(folder.dir / "sky.hdr", std::ios::binary) << hdr;
+    s = loadJsonScene(folder.write(R"({"image": "sky.hdr"})"));
+    ASSERT_EQ(s.environment.image.width, 4);
+    ASSERT_EQ(s.environment.image.height, 2);
+    EXPECT_NEAR(s.environment.image.at(1, 0).x, 3.0f, 0.02f);
+    EXPECT_NEAR(s.environment.image.at(1, 0).y, 2.0f, 0.02f);
+    EXPECT_NEAR(s.environment.image.at(1, 0).z, 1.0f, 0.02f);
+    EXPECT_EQ(s.environment.image.at(0, 0), Vec3(0.0f));
 }
 
 TEST(EnvironmentScene, RefusesBadSkiesWithTheUsualMessage) {
