@@ -9,6 +9,7 @@
 #include <map>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "check/on_device.h"
@@ -60,6 +61,30 @@ struct AllocationLog {
     }
     std::string mapName = "global";
 };
+
+// `photons` paths for each map, 16 bounces.
+PhotonPassOptions smallPasses(uint32_t photons) {
+    PhotonPassOptions o;
+    o.globalPhotons = photons;
+    o.causticPhotons = photons;
+    o.maxDepth = 16;
+    return o;
+}
+
+// A global pass, then a caustic pass, with options o (each building its own map), logged under
+// the phases "global photon pass" and "caustic photon pass": {global pass's maps, caustic pass's}.
+std::pair<PhotonMaps, PhotonMaps> runBothPasses(Device& device, const BuiltScene& s, const PhotonPassOptions& o,
+                                                AllocationLog& log) {
+    std::pair<PhotonMaps, PhotonMaps> maps;
+    for (bool global : {true, false}) {
+        PhotonPassOptions one = o;
+        one.buildGlobal = global;
+        one.buildCaustic = !global;
+        log.phase = global ? "global photon pass" : "caustic photon pass";
+        (global ? maps.first : maps.second) = runPhotonPass(device, s.geometry, s.buffers, one);
+    }
+    return maps;
+}
 
 std::vector<PclPhoton> randomMap(size_t n, uint32_t seed) {
     std::mt19937 rng(seed);
@@ -120,21 +145,14 @@ TEST(MemoryPlan, PredictedBytesEqualAllocatedBytesForEveryBuffer) {
     AllocationLog log;
     log.observe(device);
 
-    PhotonPassOptions o;
-    o.globalPhotons = 20000;
-    o.causticPhotons = 20000;
-    o.maxDepth = 16;
+    PhotonPassOptions o = smallPasses(20000);
     o.batchSize = 8192;  // several batches and a partial last one
+    const auto [globalPass, causticPass] = runBothPasses(device, s, o, log);
+    ASSERT_EQ(globalPass.stats.global.growths, 0u) << "the initial capacity was predicted";
+    ASSERT_EQ(causticPass.stats.caustic.growths, 0u) << "the initial capacity was predicted";
     PhotonMaps maps;
-    for (bool global : {true, false}) {
-        PhotonPassOptions one = o;
-        one.buildGlobal = global;
-        one.buildCaustic = !global;
-        log.phase = global ? "global photon pass" : "caustic photon pass";
-        PhotonMaps m = runPhotonPass(device, s.geometry, s.buffers, one);
-        (global ? maps.global : maps.caustic) = global ? m.global : m.caustic;
-        ASSERT_EQ((global ? m.stats.global : m.stats.caustic).growths, 0u) << "the initial capacity was predicted";
-    }
+    maps.global = globalPass.global;
+    maps.caustic = causticPass.caustic;
     ASSERT_GT(maps.global.size(), 1000u);
     ASSERT_GT(maps.caustic.size(), 100u);
 
@@ -185,17 +203,8 @@ TEST(MemoryPlan, TexturedSkyLitScenePlansEverySceneBuffer) {
     Device device = test::testDevice();
     AllocationLog log;
     log.observe(device);
-    PhotonPassOptions o;
-    o.globalPhotons = 5000;
-    o.causticPhotons = 5000;
-    o.maxDepth = 16;
-    for (bool global : {true, false}) {
-        PhotonPassOptions one = o;
-        one.buildGlobal = global;
-        one.buildCaustic = !global;
-        log.phase = global ? "global photon pass" : "caustic photon pass";
-        runPhotonPass(device, s.geometry, s.buffers, one);
-    }
+    const PhotonPassOptions o = smallPasses(5000);
+    runBothPasses(device, s, o, log);
     device.setAllocationObserver(nullptr);
     const MemoryPlan plan = planMemory(photonPassMemoryRequest(s.geometry, s.buffers, o), memoryLimits(device.info()));
     size_t sceneBuffers = 0, planned = 0;
@@ -230,18 +239,10 @@ TEST(MemoryPlan, PhotonPassWithMediaPlansTheVolumeBuffers) {
     Device device = test::testDevice();
     AllocationLog log;
     log.observe(device);
-    PhotonPassOptions o;
-    o.globalPhotons = 20000;
-    o.causticPhotons = 20000;
-    o.maxDepth = 16;
-    for (bool global : {true, false}) {
-        PhotonPassOptions one = o;
-        one.buildGlobal = global;
-        one.buildCaustic = !global;
-        log.phase = global ? "global photon pass" : "caustic photon pass";
-        PhotonMaps m = runPhotonPass(device, s.geometry, s.buffers, one);
-        ASSERT_GT((global ? m.volume : m.volumeCaustic).size(), 0u);
-    }
+    const PhotonPassOptions o = smallPasses(20000);
+    const auto [globalPass, causticPass] = runBothPasses(device, s, o, log);
+    ASSERT_GT(globalPass.volume.size(), 0u);
+    ASSERT_GT(causticPass.volumeCaustic.size(), 0u);
     device.setAllocationObserver(nullptr);
 
     MemoryRequest req = photonPassMemoryRequest(s.geometry, s.buffers, o);
