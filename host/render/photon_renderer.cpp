@@ -425,8 +425,10 @@ void PhotonRenderer::connectCaustics(uint32_t pass, const std::vector<PclPhoton>
                                      const std::vector<float>& times, Film& passFilm) {
     const uint64_t passSeed = eyePassSeed(s_.seed, pass);
     PclCameraParams cp = cameraParams(scene_.camera, plan_, passSeed, s_.strata);
+    // The records come with times wherever the scene moves (photonPassOptions), even a pass
+    // that stored none: the camera samples time there, and a record without one is refused.
     const PclConnectParams params =
-        connectParams(geometry_, buffers_, uint32_t(caustic.size()), passSeed, !times.empty());
+        connectParams(geometry_, buffers_, uint32_t(caustic.size()), passSeed, plan_.timeSampling);
     const std::vector<PclSplat> splats = stages_.connectCaustics(params, cp, caustic, times);
     const float weight = float(spp_);
     for (const PclSplat& sp : splats) {
