@@ -25,7 +25,7 @@
  * from (u4, u5), the photon travelling d = −w from a point of the disc of radius R (u1, u2)
  * perpendicular to d, 2R before the scene centre; its flux per channel is
  * π R² L_c(w) / (p(w) n) (caustic: × f), which sums to Φ = π R² ∫ L dω in expectation and exactly
- * for the channel average (p ∝ avg L). Caustic photons cross instead the disc of the ball around
+ * for the luminance (p ∝ Y(L)). Caustic photons cross instead the disc of the ball around
  * every specular object (L.e1: centre, radius r; every ray that meets a specular surface crosses
  * it), 2R before its centre, with r in place of R: aimed without a projection map. */
 #include "shared/types.h"

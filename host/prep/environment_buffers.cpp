@@ -23,7 +23,7 @@ EnvironmentBuffers buildEnvironmentBuffers(const Environment& environment) {
     e.sinRot = float(std::sin(radians));
     b.data.assign(size_t(e.columnCdfOffset) + size_t(H) * (W + 1u), 0.0f);
 
-    // Texels (float, as the kernels read them); weights avg(L) Ω in double from those floats.
+    // Texels (float, as the kernels read them); weights Y(L) Ω in double from those floats.
     std::vector<double> rowWeight(H, 0.0);
     double total = 0.0, integral[3] = {0.0, 0.0, 0.0};
     for (uint32_t y = 0; y < H; ++y) {
@@ -36,7 +36,7 @@ EnvironmentBuffers buildEnvironmentBuffers(const Environment& environment) {
             t[0] = L.x;
             t[1] = L.y;
             t[2] = L.z;
-            row += (double(t[0]) + t[1] + t[2]) / 3.0 * omega;
+            row += double(env_luminance(t)) * omega;
             column[x + 1] = float(row);
             for (int c = 0; c < 3; ++c) integral[c] += double(t[c]) * omega;
         }

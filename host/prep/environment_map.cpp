@@ -20,14 +20,14 @@ EnvironmentMap::EnvironmentMap(const Environment& environment) {
     cosRot_ = float(std::cos(radians));
     sinRot_ = float(std::sin(radians));
 
-    // Each texel's weight: its channel average times its solid angle (the share of ∫ L dω).
+    // Each texel's weight: its luminance times its solid angle (its share of ∫ Y(L) dω).
     std::vector<double> weight(size_t(width_) * size_t(height_));
     double total = 0.0;
     for (int y = 0; y < height_; ++y) {
         const double omega = rowSolidAngle(y);
         for (int x = 0; x < width_; ++x) {
             const Vec3 L = texel(x, y);
-            weight[size_t(y) * size_t(width_) + size_t(x)] = (double(L.x) + L.y + L.z) / 3.0 * omega;
+            weight[size_t(y) * size_t(width_) + size_t(x)] = double(luminance(L)) * omega;
             total += weight[size_t(y) * size_t(width_) + size_t(x)];
             integral_ += L * float(omega);
         }

@@ -6,9 +6,9 @@
 //   u = atan2(w.x, −w.z) / 2π  (wrapped to [0, 1)),   v = acos(w.y) / π  (row 0 looks up),
 // and its radiance is scale × that texel: nearest texel, so the sky is constant over each texel.
 // That makes exact importance sampling simple: choose a texel by its share of ∫ L dω (its
-// average channel times its solid angle (2π/W)(cos θ0 − cos θ1)), then a direction uniformly in
-// its solid angle (φ uniform, cos θ uniform): the density is exactly proportional to the texel's
-// channel average. A constant sky is one texel covering the sphere: uniform directions.
+// luminance Y (Rec. 709) times its solid angle (2π/W)(cos θ0 − cos θ1)), then a direction uniformly
+// in its solid angle (φ uniform, cos θ uniform): the density is exactly proportional to the
+// texel's luminance. A constant sky is one texel covering the sphere: uniform directions.
 #pragma once
 #include <string>
 #include <vector>

@@ -7,10 +7,11 @@
  *   u = atan2(w.x, −w.z) / 2π (wrapped to [0, 1)),  v = acos(w.y) / π (row 0 looks up);
  * nearest texel. A constant sky is one 1 × 1 texel. Importance sampling (exact, piecewise
  * constant): a row by rowCdf, a column by that row's columnCdf, then a direction uniform in the
- * texel's solid angle (φ uniform, cos θ uniform). Each texel's weight is its channel average
- * times its solid angle, so the density is
- *   p(w) = avg(L(w)) / I,   I = ∫ avg(L) dω  (PclEnvironment.integral),
- * and a sample's radiance over its density is L_c(w) · I / avg(L(w)) per channel.
+ * texel's solid angle (φ uniform, cos θ uniform). Each texel's weight is its luminance Y
+ * (Rec. 709: 0.2126 R + 0.7152 G + 0.0722 B, > 0 wherever any channel is) times its solid angle,
+ * so the density is
+ *   p(w) = Y(L(w)) / I,   I = ∫ Y(L) dω  (PclEnvironment.integral),
+ * and a sample's radiance over its density is L_c(w) · I / Y(L(w)) per channel.
  *
  * data[] (floats): texels rgb (scale applied) at 3 (y W + x); rowCdf[H + 1] at rowCdfOffset
  * (0 … 1); per row y, columnCdf[W + 1] at columnCdfOffset + y (W + 1) (0 … 1). */
@@ -24,10 +25,13 @@ typedef struct PclEnvironment {
     pcl_u32 width, height;                  /* texels; 0 × 0: no sky */
     pcl_u32 rowCdfOffset, columnCdfOffset;  /* floats into data[] */
     pcl_f32 cosRot, sinRot;                 /* the sky's rotation about +y */
-    pcl_f32 integral;                       /* I = ∫ avg(L) dω over the sphere (4π L for a constant grey sky) */
+    pcl_f32 integral;                       /* I = ∫ Y(L) dω over the sphere (4π L for a constant grey sky) */
     pcl_f32 pad0;
 } PclEnvironment;
 PCL_STATIC_ASSERT(sizeof(PclEnvironment) == 32, PclEnvironment_size);
+
+/* The luminance Y of radiance L[3], by which the sky is sampled. */
+PCL_INLINE pcl_f32 env_luminance(const pcl_f32 L[3]) { return 0.2126f * L[0] + 0.7152f * L[1] + 0.0722f * L[2]; }
 
 PCL_INLINE int env_active(const PclEnvironment env) { return env.width > 0u && env.integral > 0.0f; }
 
@@ -61,7 +65,7 @@ PCL_INLINE pcl_f32 env_radiance(const PclEnvironment env, PCL_GLOBAL const pcl_f
         return 0.0f;
     }
     env_texel_radiance(data, env_texel_of(env, w), L);
-    return ((L[0] + L[1] + L[2]) / 3.0f) / env.integral;
+    return env_luminance(L) / env.integral;
 }
 
 /* The solid-angle density env_sample gives world direction w. */
@@ -116,7 +120,7 @@ PCL_INLINE pcl_f32 env_sample(const PclEnvironment env, PCL_GLOBAL const pcl_f32
     const pcl_f32 lx = sinTheta * sinPhi, lz = -sinTheta * cosPhi;
     *w = sampling_v3(env.cosRot * lx + env.sinRot * lz, cosTheta, -env.sinRot * lx + env.cosRot * lz);
     env_texel_radiance(data, y * W + x, L);
-    return ((L[0] + L[1] + L[2]) / 3.0f) / env.integral;
+    return env_luminance(L) / env.integral;
 }
 
 #endif /* PCL_ENVIRONMENT_H */

@@ -1,7 +1,7 @@
 // Photons from the environment light ("sky", kernels/emit.cl with shared/environment.h): the
 // flux the photons carry against the closed form Φ = π R² ∫ L dω (R the scene's bounding-sphere
 // radius), for a constant sky (Φ = 4π² R² L: every photon carries Φ/n, float rounding only,
-// 1e-4 relative) and a coloured image sky (the channel average exactly, 1e-4, since the density
+// 1e-4 relative) and a coloured image sky (its luminance exactly, 1e-4, since the density
 // follows it; each channel within 5 standard errors of the photons' mean); the device's photons
 // against the CPU twin's (reference/emit.cpp); directions against the map's density (χ²).
 #include <gtest/gtest.h>
@@ -127,8 +127,11 @@ TEST(EnvironmentEmit, ImageSkyFluxIsPiRSquaredIntegralOfL) {
             sum2[c] += double(s.rays[i].power[c]) * s.rays[i].power[c];
         }
     const double n = s.count;
-    const double avgWant = kPiD * R * R * (integral[0] + integral[1] + integral[2]) / 3.0;
-    EXPECT_NEAR((sum[0] + sum[1] + sum[2]) / 3.0, avgWant, 1e-4 * avgWant);
+    const auto Y = [](const double c[3]) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; };
+    const double luminanceWant = kPiD * R * R * Y(integral);
+    std::printf("[figure] image sky flux, luminance: %.6g W emitted, pi R^2 integral Y(L) = %.6g (ratio %.6f)\n",
+                Y(sum), luminanceWant, Y(sum) / luminanceWant);
+    EXPECT_NEAR(Y(sum), luminanceWant, 1e-4 * luminanceWant);
     for (int c = 0; c < 3; ++c) {
         const double want = kPiD * R * R * integral[c];
         const double mean = sum[c] / n, var = std::max(0.0, sum2[c] / n - mean * mean);
@@ -142,7 +145,7 @@ TEST(EnvironmentEmit, ImageSkyFluxIsPiRSquaredIntegralOfL) {
 }
 
 // The photons' directions follow the map: counts per texel against n × the texel's share of
-// ∫ avg(L) dω (χ² over texels with ≥ 20 expected, 5σ of the χ² distribution), none from the black row.
+// ∫ Y(L) dω, Y the luminance (χ² over texels with ≥ 20 expected, 5σ of the χ² distribution), none from the black row.
 TEST(EnvironmentEmit, DirectionsFollowTheMapsDensity) {
     const Environment sky = imageSky();
     test::BuiltScene b = skyScene(sky);
@@ -160,7 +163,7 @@ TEST(EnvironmentEmit, DirectionsFollowTheMapsDensity) {
         const double omega = 2.0 * kPiD / W * (std::cos(kPiD * y / H) - std::cos(kPiD * (y + 1) / H));
         for (uint32_t x = 0; x < W; ++x) {
             const float* t = &b.buffers.sky.data[3 * (y * W + x)];
-            const double expected = s.count * (double(t[0]) + t[1] + t[2]) / 3.0 * omega / env.integral;
+            const double expected = s.count * (0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2]) * omega / env.integral;
             if (y == 5) {
                 EXPECT_EQ(counts[y * W + x], 0.0) << "black texel " << x;
             }

@@ -1,5 +1,5 @@
 // The environment light ("sky"): the equirectangular mapping (Mitsuba 3's), exact importance
-// sampling of a texel map (χ² against the texels' shares of ∫ L dω, density ∝ L), the JSON key
+// sampling of a texel map (χ² against the texels' shares of ∫ Y(L) dω, density ∝ the luminance Y), the JSON key
 // "environment" and the messages that refuse bad skies, and the photon methods refusing a sky.
 #include <gtest/gtest.h>
 
@@ -86,7 +86,7 @@ TEST(EnvironmentMap, SamplesTexelsByTheirShareOfTheIntegral) {
         for (int x = 0; x < W; ++x) {
             const Vec3 L = img.at(x, y) * Vec3(1.0f, 2.0f, 0.5f);
             const double omega = 2.0 * kPiD / W * (std::cos(kPiD * y / H) - std::cos(kPiD * (y + 1) / H));
-            share[size_t(y * W + x)] = (L.x + L.y + L.z) / 3.0 * omega;
+            share[size_t(y * W + x)] = (0.2126 * L.x + 0.7152 * L.y + 0.0722 * L.z) * omega;  // luminance
             total += share[size_t(y * W + x)];
         }
     const int N = 400000;
@@ -102,7 +102,7 @@ TEST(EnvironmentMap, SamplesTexelsByTheirShareOfTheIntegral) {
         ++count[size_t(y * W + x)];
         worstPdf = std::max(worstPdf, std::abs(map.pdf(w) / pdf - 1.0));
         const Vec3 L = map.radiance(w);
-        worstProportion = std::max(worstProportion, std::abs(pdf / ((L.x + L.y + L.z) / 3.0 / total) - 1.0));
+        worstProportion = std::max(worstProportion, std::abs(pdf / ((0.2126 * L.x + 0.7152 * L.y + 0.0722 * L.z) / total) - 1.0));
     }
     double chi2 = 0.0;
     int dof = -1, inDark = 0;
