@@ -358,7 +358,9 @@ Run addRenderCommand(CLI::App& app) {
         sub->add_option(
                "--method", o->request.method,
                "auto (the default): fg or path, whichever a pilot of each at a quarter of the size (about 2-5 s, "
-               "paid from --time) says reaches a lower error in the same time; without --time the winner gets the "
+               "paid from --time) says reaches a lower error in the same time, fg with the gather rays its indirect "
+               "part's share of the pilot's variance and time asks for (at most twice the default); without --time "
+               "the winner gets the "
                "time fg's default passes would take. Left out, the method is fg instead when --passes, --device ref "
                "or an option only the photon methods read (--aov, --strata, --k, ...) is given, and progressive "
                "in participating media. fg: photon mapping with final gathering (direct light by shadow rays, "

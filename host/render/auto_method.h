@@ -30,12 +30,28 @@ struct AutoCandidate {
     double errorSeconds = 0;  // relMSE × seconds at full size
     double unitSeconds = 0;   // a pass (fg) or a sample per pixel (path) of the full image, predicted
     double fireflyShare = 0;  // path: the share of its variance made of caustic fireflies (causticFireflyVariance)
+    std::string tuned;        // fg: how the pilot changed its gather rays and why (empty: unchanged)
 };
+
+// fg's gather rays for the indirect part's share of the variance and of the time: a pass at g0
+// rays has relative variance V, of which the indirect part's is Vi, and takes T seconds, of which
+// the indirect stage's are Ti. With g rays the indirect variance scales by g0/g and its time by
+// g/g0, so the error × time (V − Vi + Vi g0/g)(T − Ti + Ti g/g0) is least at
+//   g/g0 = sqrt(Vi (T − Ti) / ((V − Vi) Ti)).
+// Returns that g rounded, within [1, maxRays] (g0 where a figure is missing or non-positive).
+uint32_t gatherRaysForTheIndirectShare(uint32_t g0, double V, double Vi, double T, double Ti, uint32_t maxRays = 16);
+// The error × time that formula predicts at g rays.
+double predictedErrorSeconds(uint32_t g0, uint32_t g, double V, double Vi, double T, double Ti);
+// The relative variance of one part of the image (an AOV) from K ≥ 2 independent renders, each
+// pixel's over the squared mean of the whole image (`totals`, the same renders) + ε: the part's
+// share of renderVariance when the parts are independent.
+double partVariance(const std::vector<Image>& parts, const std::vector<Image>& totals);
 
 struct AutoMethodChoice {
     std::vector<AutoCandidate> candidates;  // fg's first, the path tracer last
     size_t chosen = 0;                      // the lowest errorSeconds
     double pilotSeconds = 0;                // wall time of the whole pilot
+    double fgDefaultPassSeconds = 0;        // fg's pass at its default settings, as measured
     const AutoCandidate& best() const { return candidates[chosen]; }
     std::string log() const;  // one line: the choice and every candidate's figures
     // Without a time budget: the time fg's default passes at width × height would take, as the

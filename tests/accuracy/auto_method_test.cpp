@@ -6,7 +6,8 @@
 // the path tracer 1.6-3× below fg 6×6 × 2 (with them, seed 1: 4.6× and 1.3×). (With two
 // path-traced pilot renders instead of six, one firefly tripled the path tracer's variance and
 // motion-dof chose fg for one seed of four.) Every candidate's product is finite and positive
-// and the chosen one the lowest.
+// and the chosen one the lowest. fg's gather rays follow the indirect part's share of its variance
+// and time (gatherRaysForTheIndirectShare).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -46,6 +47,9 @@ TEST(AutoMethod, PicksFinalGatheringForACausticScene) {
     const AutoMethodChoice c = pilot("cornell-spheres.json");
     EXPECT_EQ(c.best().request.method, "fg");
     EXPECT_EQ(c.candidates.size(), 2u) << "caustic connections: fg (already 6x6x2) and the path tracer";
+    // The indirect part holds about 3/4 of fg's variance and 1/7 of its time: the formula asks for
+    // about 4x the default 2 gather rays, capped at twice.
+    EXPECT_EQ(c.best().request.gatherRays, 4u) << c.best().tuned;
 }
 
 TEST(AutoMethod, TriesTheCheapSplitWhenEyeSamplesReadTheCausticMap) {
@@ -61,7 +65,8 @@ TEST(AutoMethod, PicksThePathTracerForMotionDof) { EXPECT_EQ(pilot("motion-dof.j
 // pixel gets 2500 samples, an fg split at 1.25 s a pass 4 passes, fg itself its 10.
 TEST(AutoMethod, WithoutATimeBudgetTheWinnerGetsFgsDefaultTime) {
     AutoMethodChoice c;
-    c.candidates = {{"fg", {}, 1.0, 0.5}, {"fg 6x6x2", {}, 1.0, 1.25}, {"path", {}, 1.0, 0.002}};
+    c.candidates = {{"fg", {}, 1.0, 0.5, 0, {}}, {"fg 6x6x2", {}, 1.0, 1.25, 0, {}}, {"path", {}, 1.0, 0.002, 0, {}}};
+    c.fgDefaultPassSeconds = 0.5;
     EXPECT_DOUBLE_EQ(c.fgBudgetSeconds(256, 256), 5.0);
     const uint32_t expected[] = {10, 4, 2500};
     for (size_t i = 0; i < 3; ++i) {
@@ -126,4 +131,30 @@ TEST(AutoMethod, CountsThePathTracersCausticFirefliesOnTheCourtyard) {
     const AutoMethodChoice c = pilot("courtyard/courtyard.json");
     EXPECT_EQ(c.best().request.method, "fg");
     EXPECT_GT(c.candidates.back().fireflyShare, 0.5);
+}
+
+// fg's gather rays by the indirect part's shares: with 80 % of the variance and 20 % of the time
+// in the indirect part, g/g0 = sqrt(0.8 · 0.8 / (0.2 · 0.2)) = 4, where the predicted error ×
+// time (0.2 + 0.8/4)(0.8 + 0.2 · 4) = 0.64 is the least (1 at g0); the cap, and no change where
+// a share is missing.
+TEST(AutoMethod, GatherRaysFollowTheIndirectPartsShareOfVarianceAndTime) {
+    EXPECT_EQ(gatherRaysForTheIndirectShare(2, 1.0, 0.8, 1.0, 0.2, 16), 8u);
+    EXPECT_EQ(gatherRaysForTheIndirectShare(2, 1.0, 0.8, 1.0, 0.2, 4), 4u);
+    EXPECT_EQ(gatherRaysForTheIndirectShare(8, 1.0, 0.2, 1.0, 0.8, 16), 2u);  // a cheap indirect part: fewer
+    EXPECT_NEAR(predictedErrorSeconds(2, 8, 1.0, 0.8, 1.0, 0.2), 0.64, 1e-12);
+    EXPECT_NEAR(predictedErrorSeconds(2, 2, 1.0, 0.8, 1.0, 0.2), 1.0, 1e-12);
+    for (uint32_t g : {6u, 7u, 9u, 10u})
+        EXPECT_GT(predictedErrorSeconds(2, g, 1.0, 0.8, 1.0, 0.2), predictedErrorSeconds(2, 8, 1.0, 0.8, 1.0, 0.2));
+    EXPECT_EQ(gatherRaysForTheIndirectShare(2, 1.0, 0.0, 1.0, 0.2, 16), 2u);  // no indirect variance
+    EXPECT_EQ(gatherRaysForTheIndirectShare(2, 1.0, 0.8, 1.0, 0.0, 16), 2u);  // no indirect time
+    EXPECT_EQ(gatherRaysForTheIndirectShare(2, 1.0, 1.0, 1.0, 0.2, 16), 2u);  // nothing else to weigh
+
+    // partVariance: a part that differs from the whole by a constant carries all its variance.
+    Image a(1, 1), b(1, 1), pa(1, 1), pb(1, 1);
+    a.set(0, 0, Vec3(1.0f, 2.0f, 3.0f));
+    b.set(0, 0, Vec3(3.0f, 2.0f, 1.0f));
+    pa.set(0, 0, Vec3(0.5f, 1.5f, 2.5f));
+    pb.set(0, 0, Vec3(2.5f, 1.5f, 0.5f));
+    // Per channel: sample variance over (mean² + 0.01) with the whole image's mean 2: (2, 0, 2) / 4.01.
+    EXPECT_NEAR(partVariance({pa, pb}, {a, b}), (2.0 + 0.0 + 2.0) / 3.0 / 4.01, 1e-6);
 }

@@ -102,7 +102,8 @@ TEST(EnvironmentMap, SamplesTexelsByTheirShareOfTheIntegral) {
         ++count[size_t(y * W + x)];
         worstPdf = std::max(worstPdf, std::abs(map.pdf(w) / pdf - 1.0));
         const Vec3 L = map.radiance(w);
-        worstProportion = std::max(worstProportion, std::abs(pdf / ((0.2126 * L.x + 0.7152 * L.y + 0.0722 * L.z) / total) - 1.0));
+        worstProportion =
+            std::max(worstProportion, std::abs(pdf / ((0.2126 * L.x + 0.7152 * L.y + 0.0722 * L.z) / total) - 1.0));
     }
     double chi2 = 0.0;
     int dof = -1, inDark = 0;
