@@ -39,6 +39,7 @@ for name in "${scenes[@]}"; do
     scene="$root/scenes/$name.json"
     [ -f "$scene" ] || scene="$root/scenes/$name.gltf"
     [ -f "$scene" ] || scene="$root/scenes/$name/$name.json"
+    [ -f "$scene" ] || scene="$root/scenes/media/$name.json"
     [ -f "$scene" ] || { echo "equal_time_all.sh: no scene file for $name" >&2; exit 2; }
     echo "== $name" >&2
     reference="$root/tests/data/ref256-$name.exr"
