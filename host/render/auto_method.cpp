@@ -28,19 +28,9 @@ void accumulateHalf(Image& dst, const Image& src) {
 }
 
 // The relative variance of one render from K ≥ 2 independent ones: per pixel and channel the
-// sample variance over the K over (mean² + ε) (relMSE's ε), averaged.
-double renderVariance(const std::vector<Image>& runs) {
-    const size_t K = runs.size(), n = runs.front().rgb.size();
-    double sum = 0.0;
-    for (size_t i = 0; i < n; ++i) {
-        double mean = 0.0, sq = 0.0;
-        for (const Image& r : runs) mean += r.rgb[i];
-        mean /= double(K);
-        for (const Image& r : runs) sq += (r.rgb[i] - mean) * (r.rgb[i] - mean);
-        sum += sq / double(K - 1) / (mean * mean + kRelMseEpsilon);
-    }
-    return sum / double(n);
-}
+// sample variance over the K over (mean² + ε) (relMSE's ε), averaged: the whole image as its
+// own part.
+double renderVariance(const std::vector<Image>& runs) { return partVariance(runs, runs); }
 
 // ∫ L² dω / ∫ L dω over the sky, per channel: the radiance a sample that finds the sky at random
 // (in proportion to solid angle) is worth, weighted by how much light it brings.
@@ -213,7 +203,7 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
         candidate.errorSeconds = variance * candidate.unitSeconds;
         if (first) c.fgDefaultPassSeconds = candidate.unitSeconds;
         // Gather rays where the indirect part's noise needs them (unless the request fixes them).
-        if (request.gatherRays || s.method != RenderMethod::FinalGather) continue;
+        if (request.gatherRays) continue;
         const double Vi = partVariance(indirect, img);
         // At most twice the default: the indirect part's variance also holds the photon map's own
         // noise (a fresh map each pass), which more gather rays in a pass do not average, so the

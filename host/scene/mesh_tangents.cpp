@@ -5,6 +5,7 @@
 #include <cfloat>
 #include <cmath>
 #include <map>
+#include <utility>
 
 #include "core/math.h"
 
@@ -249,8 +250,8 @@ std::vector<float> mikkTSpaceCornerTangents(const TriangleMesh& mesh, int uvSet)
 
 void setCornerTangents(TriangleMesh& mesh, const std::vector<float>& cornerTangents) {
     const size_t vertexCount = mesh.positions.size();
-    std::vector<std::vector<std::array<float, 4>>> copies(vertexCount);  // distinct tangents per vertex
-    std::vector<std::vector<uint32_t>> copyIndex(vertexCount);
+    // Per vertex, its distinct tangents and the vertex (itself or a copy) that holds each.
+    std::vector<std::vector<std::pair<std::array<float, 4>, uint32_t>>> copies(vertexCount);
     std::vector<float> tangents(4 * vertexCount);
     for (size_t v = 0; v < vertexCount; ++v) {  // unused vertices: any perpendicular, w = +1
         const Vec3 n = mesh.normals.size() == vertexCount && length(mesh.normals[v]) > 0.0f ? normalize(mesh.normals[v])
@@ -276,14 +277,13 @@ void setCornerTangents(TriangleMesh& mesh, const std::vector<float>& cornerTange
         const std::array<float, 4> t{cornerTangents[4 * c], cornerTangents[4 * c + 1], cornerTangents[4 * c + 2],
                                      cornerTangents[4 * c + 3]};
         auto& seen = copies[v];
-        const auto it = std::find(seen.begin(), seen.end(), t);
+        const auto it = std::find_if(seen.begin(), seen.end(), [&](const auto& e) { return e.first == t; });
         if (it != seen.end()) {
-            mesh.indices[c] = copyIndex[v][size_t(it - seen.begin())];
+            mesh.indices[c] = it->second;
             continue;
         }
         const uint32_t target = seen.empty() ? v : copyVertex(v);
-        seen.push_back(t);
-        copyIndex[v].push_back(target);
+        seen.push_back({t, target});
         std::copy(t.begin(), t.end(), tangents.begin() + 4 * std::ptrdiff_t(target));
         mesh.indices[c] = target;
     }
