@@ -1,7 +1,7 @@
 // render --method auto's pilot (render/auto_method.h) at 64 wide (it renders the whole 64²
 // image): cornell-spheres, whose caustic under the glass ball the path tracer finds by chance,
-// must pick an fg split, and motion-dof (lens, shutter, a lamp seen in specular balls), where the
-// path tracer wins at equal time, the path tracer. Measured over seeds 0-3 before the caustic
+// must pick an fg split, and motion-dof (lens, shutter, a lamp seen in specular balls) is a close
+// call between fg and the path tracer. Measured over seeds 0-3 before the caustic
 // fireflies were counted: fg 6×6 × 2 with relMSE × seconds 1.6-2× below the path tracer's, and
 // the path tracer 1.6-3× below fg 6×6 × 2 (with them, seed 1: 4.6× and 1.3×). (With two
 // path-traced pilot renders instead of six, one firefly tripled the path tracer's variance and
@@ -58,7 +58,18 @@ TEST(AutoMethod, TriesTheCheapSplitWhenEyeSamplesReadTheCausticMap) {
     EXPECT_EQ(c.candidates.size(), 3u) << "a caustic map read at eye hits: two fg splits and the path tracer";
 }
 
-TEST(AutoMethod, PicksThePathTracerForMotionDof) { EXPECT_EQ(pilot("motion-dof.json").best().request.method, "path"); }
+// motion-dof is a close call, as equal time at 256² found (the pilot picked the path tracer at
+// 10 s and fg at 30 and 60 s; fg won RMSE and lost relMSE). At 64 wide the two figures came within
+// 0.87-1.43x of each other over 14 runs on 2026-12-03, which side wins following the machine's
+// timings, so the test holds them close instead of naming a winner (it named the path tracer and
+// failed 3 runs of 14 on the idle machine).
+TEST(AutoMethod, MotionDofIsACloseCallBetweenFgAndThePathTracer) {
+    const AutoMethodChoice c = pilot("motion-dof.json");
+    ASSERT_EQ(c.candidates.size(), 2u);
+    const double ratio = c.candidates.front().errorSeconds / c.candidates.back().errorSeconds;
+    EXPECT_GT(ratio, 0.5) << c.log();
+    EXPECT_LT(ratio, 2.0) << c.log();
+}
 
 // Without --time the winner spends what fg's default passes would take, as the pilot predicts:
 // fg's pass of 0.5 s × 10 default passes at 256² = 5 s, so the path tracer at 2 ms a sample per
