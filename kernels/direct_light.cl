@@ -21,13 +21,16 @@
  *
  * Point, spot, directional lights: every one, one exact shadow ray each. Triangle lights: M
  * samples m; random numbers stream LIGHT, path = pixel, bounce = k·M + m, block 0: u0 chooses
- * the light (the first l with u0 < areaCdf[l]), (u1, u2) the point.
+ * the light (the first l with u0 < areaCdf[l]), (u1, u2) jitter the point's cell, sample k·M + m
+ * of the pixel's n²M stratified together (shared/stratify.h; pattern: word 0 of (pixel,
+ * PCL_LIGHT_PATTERN_BOUNCE, block 0)).
  *
  * The sky: M more samples m by its map (shared/environment.h), block 1 of the same counters:
- * (u0, u1) the direction; MIS (power heuristic) against the N gather rays as for triangle
+ * (u0, u1) jitter the direction's cell, stratified as the triangle lights' points (pattern: word 1); MIS (power heuristic) against the N gather rays as for triangle
  * lights (final_gather adds the sky a gather ray escapes to with the other half). */
 #include "shared/types.h"
 #include "shared/rng.h"
+#include "shared/stratify.h"
 #include "shared/sampling.h"
 #include "shared/bvh.h"
 #include "shared/eye.h"
@@ -85,18 +88,25 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
         for (int c = 0; c < 3; ++c) sum[c] = sum[c] + L.power[c] * g * tr[c];
     }
 
-    /* Triangle lights: M samples by area, MIS (power heuristic) against N cosine samples. */
+    /* Triangle lights: M samples by area, MIS (power heuristic) against N cosine samples. The
+     * pixel's n² M points of this pass are stratified together (shared/stratify.h), as are its
+     * sky directions: word 0 and word 1 of (pixel, PCL_LIGHT_PATTERN_BOUNCE, block 0) the patterns. */
     const uint M = params.lightSamples;
+    uint pattern[4];
+    rng_block(seed, h.pixel, PCL_LIGHT_PATTERN_BOUNCE, 0u, PCL_RNG_STREAM_LIGHT, pattern);
     if (params.areaPowerTotal > 0.0f && M > 0u) {
         float area[3] = {0.0f, 0.0f, 0.0f};
         for (uint m = 0u; m < M; ++m) {
             uint w[4];
             rng_block(seed, h.pixel, h.sample * M + m, 0u, PCL_RNG_STREAM_LIGHT, w);
+            float u1, u2;
+            stratify_cmj(h.sample * M + m, params.samplesPerPixel * M, pattern[0], rng_u01(w[1]), rng_u01(w[2]), &u1,
+                         &u2);
             PclV3 wi;
             float pdfL, cosS, le[3];
             if (!light_area_sample(nodes, packets, spheres, em, medium, primInfo, materials, lt, lights, areaCdf, params.lightCount,
-                                   params.areaPowerTotal, p, nf, sf, o, eps, tau, rng_u01(w[0]), rng_u01(w[1]),
-                                   rng_u01(w[2]), &wi, &pdfL, &cosS, le))
+                                   params.areaPowerTotal, p, nf, sf, o, eps, tau, rng_u01(w[0]), u1, u2, &wi, &pdfL,
+                                   &cosS, le))
                 continue;
             float pdfB = cosS / PCL_PI_F;
             if (params.histogramCells > 0u) {  /* the gather rays' importance density */
@@ -117,9 +127,12 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
         for (uint m = 0u; m < M; ++m) {
             uint w[4];
             rng_block(seed, h.pixel, h.sample * M + m, 1u, PCL_RNG_STREAM_LIGHT, w);
+            float u0, u1;
+            stratify_cmj(h.sample * M + m, params.samplesPerPixel * M, pattern[1], rng_u01(w[0]), rng_u01(w[1]), &u0,
+                         &u1);
             PclV3 wi;
             float Lsky[3], tr[3];
-            const float pdfL = env_sample(env, envData, rng_u01(w[0]), rng_u01(w[1]), &wi, Lsky);
+            const float pdfL = env_sample(env, envData, u0, u1, &wi, Lsky);
             if (!(pdfL > 0.0f)) continue;
             const float cosS = sampling_dot(sf, wi);
             if (!(cosS > 0.0f) || !(sampling_dot(nf, wi) > 0.0f)) continue;

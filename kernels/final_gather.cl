@@ -16,15 +16,19 @@
  *                              scene straight from the eye hit adds its radiance with the MIS
  *                              weight against direct_light's M sky samples; after a specular
  *                              bounce in full, or not at all when the caustic map is read
- * Random numbers: stream GATHER, path = pixel, bounce = k·N + g; block 0: (u0, u1) the cosine
- * direction; block b + 1 at gather hit b: u0 lobe, u1 reflect/refract, (u2, u3) glossy direction
- * (drawn only where the hit has a specular lobe).
+ * Random numbers: stream GATHER, path = pixel, bounce = k·N + g; block 0: (u0, u1) the jitter of
+ * the cosine direction's cell, sample k·N + g of the pixel's n²N stratified together
+ * (shared/stratify.h) with the pattern of word 0 of (pixel, PCL_GATHER_PATTERN_BOUNCE, block 0)
+ * (with importance histograms that sample's v picks the cell: see below); block b + 1 at gather hit b:
+ * u0 lobe, u1 reflect/refract, (u2, u3) glossy direction (drawn only where the hit has a specular
+ * lobe).
  *
  * final_gather_resolve — one eye record per work-item:
  * in:  hits, gathered, irradiance (params.irradianceStride floats per query, rgb first)
  * out: radiance[i] = throughput × ρd × (1/N) Σ_g (weight_g E_g + emitted_g) */
 #include "shared/types.h"
 #include "shared/rng.h"
+#include "shared/stratify.h"
 #include "shared/sampling.h"
 #include "shared/bvh.h"
 #include "shared/eye.h"
@@ -75,14 +79,21 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
     float s1 = rng_u01(w[0]), s2 = rng_u01(w[1]);
     float ratio = 1.0f;  /* cosine density / sampling density */
     const uint G = params.histogramCells;
+    /* The pixel's n² N directions of this pass stratified together (shared/stratify.h). */
+    uint pattern[4];
+    rng_block(seed, h.pixel, PCL_GATHER_PATTERN_BOUNCE, 0u, PCL_RNG_STREAM_GATHER, pattern);
+    stratify_cmj(bounceWord, params.samplesPerPixel * N, pattern[0], s1, s2, &s1, &s2);
     if (G > 0u) {
-        /* A cell by the record's cumulative table (u2), then uniform within it. */
+        /* A cell by the record's cumulative table at s2, then (s1, s2's place in the cell's span
+         * of the table) within it: uniform there, and the cells keep the strata's spread. */
         __global const float* cdf = histograms + (size_t)i * G * G;
-        const float u2 = rng_u01(w[2]);
         uint c = 0u;
-        while (c + 1u < G * G && !(u2 < cdf[c])) ++c;
+        while (c + 1u < G * G && !(s2 < cdf[c])) ++c;
+        const float lo = c == 0u ? 0.0f : cdf[c - 1u], span = cdf[c] - lo;
+        float t = span > 0.0f ? (s2 - lo) / span : 0.5f;
+        t = t < 0x1.fffffep-1f ? t : 0x1.fffffep-1f;
         s1 = ((float)(c % G) + s1) / (float)G;
-        s2 = ((float)(c / G) + s2) / (float)G;
+        s2 = ((float)(c / G) + t) / (float)G;
         ratio = 1.0f / ((float)(G * G) * eye_cell_probability(cdf, c));
     }
     PclV3 d = sampling_cosine_hemisphere(s0, s1, s2);

@@ -8,6 +8,7 @@
 #include "reference/parallel_for.h"
 #include "reference/sky.h"
 #include "shared/rng.h"
+#include "shared/stratify.h"
 
 namespace pcl {
 
@@ -36,16 +37,22 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
         if (g > 0.0f) sum = sum + eyeVec(L.power) * g * tr;
     }
     const uint32_t M = params.lightSamples;
+    // The pixel's n² M light points and sky directions of this pass, each stratified together.
+    const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
+    uint32_t pattern[4];
+    rng_block(seed, h.pixel, PCL_LIGHT_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_LIGHT, pattern);
     if (params.areaPowerTotal > 0.0f && M > 0) {
-        const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
         Vec3 area(0.0f);
         for (uint32_t m = 0; m < M; ++m) {
             uint32_t w[4];
             rng_block(seed, h.pixel, h.sample * M + m, 0, PCL_RNG_STREAM_LIGHT, w);
+            float u1, u2;
+            stratify_cmj(h.sample * M + m, params.samplesPerPixel * M, pattern[0], rng_u01(w[1]), rng_u01(w[2]), &u1,
+                         &u2);
             Vec3 wi, le;
             float pdfL, cosS;
             if (!lightAreaSample(geometry, buffers, table, sm, params.lightCount, params.areaPowerTotal, p, nf, sf, o,
-                                 eps, tau, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), wi, pdfL, cosS, le))
+                                 eps, tau, rng_u01(w[0]), u1, u2, wi, pdfL, cosS, le))
                 continue;
             float pdfB = cosS / kPi;
             if (params.histogramCells > 0 && cdf) {
@@ -59,13 +66,15 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
     }
     // The sky: M samples by its map (block 1 of the same counters), MIS against the gather rays.
     if (skyActive(buffers) && M > 0) {
-        const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
         Vec3 sky(0.0f);
         for (uint32_t m = 0; m < M; ++m) {
             uint32_t w[4];
             rng_block(seed, h.pixel, h.sample * M + m, 1, PCL_RNG_STREAM_LIGHT, w);
+            float u0, u1;
+            stratify_cmj(h.sample * M + m, params.samplesPerPixel * M, pattern[1], rng_u01(w[0]), rng_u01(w[1]), &u0,
+                         &u1);
             Vec3 wi, Lsky, tr;
-            const float pdfL = skySample(buffers, rng_u01(w[0]), rng_u01(w[1]), wi, Lsky);
+            const float pdfL = skySample(buffers, u0, u1, wi, Lsky);
             if (!(pdfL > 0.0f)) continue;
             const float cosS = dot(sf, wi);
             if (!(cosS > 0.0f) || !(dot(nf, wi) > 0.0f)) continue;

@@ -12,6 +12,7 @@
 #include "reference/textured_material.h"
 #include "reference/trace_photons.h"
 #include "shared/rng.h"
+#include "shared/stratify.h"
 
 namespace pcl {
 
@@ -98,11 +99,17 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
     rng_block(seed, h.pixel, bounceWord, 0, PCL_RNG_STREAM_GATHER, w);
     float s1 = rng_u01(w[0]), s2 = rng_u01(w[1]), ratio = 1.0f;
     const uint32_t G = params.histogramCells;
+    // The pixel's n² N directions of this pass stratified together (shared/stratify.h).
+    uint32_t pattern[4];
+    rng_block(seed, h.pixel, PCL_GATHER_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_GATHER, pattern);
+    stratify_cmj(bounceWord, params.samplesPerPixel * N, pattern[0], s1, s2, &s1, &s2);
     if (G > 0 && cdf) {
-        const float u2 = rng_u01(w[2]);
-        const uint32_t c = uint32_t(std::min<size_t>(std::upper_bound(cdf, cdf + G * G, u2) - cdf, G * G - 1));
+        // A cell by the table at s2, then s1 and s2's place in the cell's span within it.
+        const uint32_t c = uint32_t(std::min<size_t>(std::upper_bound(cdf, cdf + G * G, s2) - cdf, G * G - 1));
+        const float lo = c == 0 ? 0.0f : cdf[c - 1], span = cdf[c] - lo;
+        const float t = std::min(span > 0.0f ? (s2 - lo) / span : 0.5f, 0x1.fffffep-1f);
         s1 = (float(c % G) + s1) / float(G);
-        s2 = (float(c / G) + s2) / float(G);
+        s2 = (float(c / G) + t) / float(G);
         ratio = 1.0f / (float(G * G) * eyeCellProbability(cdf, c));
     }
     Vec3 d = sampleCosineHemisphere(s0, s1, s2);
