@@ -1,0 +1,81 @@
+// kernels/shared/stratify.h: Kensler's correlated multi-jittered samples, as the final gather and
+// direct light draw them. Each pattern must be a stratification (one sample per row of v, at most
+// one per cell of the m × n grid), and a sample must be uniform over patterns (the estimate stays
+// unbiased).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <set>
+#include <vector>
+
+#include "shared/rng.h"
+#include "shared/stratify.h"
+
+namespace {
+
+TEST(Stratify, PermuteIsABijection) {
+    for (uint32_t l : {1u, 2u, 3u, 7u, 16u, 37u, 144u, 1000u}) {
+        for (uint32_t p : {0u, 1u, 0xdeadbeefu, 12345u}) {
+            std::set<uint32_t> seen;
+            for (uint32_t i = 0; i < l; ++i) {
+                const uint32_t j = stratify_permute(i, l, p);
+                ASSERT_LT(j, l);
+                seen.insert(j);
+            }
+            EXPECT_EQ(seen.size(), l) << "l " << l << " pattern " << p;
+        }
+    }
+}
+
+TEST(Stratify, EveryPatternIsAStratification) {
+    for (uint32_t N : {1u, 2u, 5u, 8u, 36u, 72u, 144u, 1000u}) {
+        uint32_t m = 1;
+        while ((m + 1) * (m + 1) <= N) ++m;
+        const uint32_t n = (N + m - 1) / m;
+        for (uint32_t p : {7u, 0x9e3779b9u, 424242u}) {
+            std::vector<int> row(N, 0), cell(m * n, 0);
+            for (uint32_t s = 0; s < N; ++s) {
+                uint32_t w[4];
+                rng_block(99, p, s, 0, PCL_RNG_STREAM_TEST, w);
+                float u, v;
+                stratify_cmj(s, N, p, rng_u01(w[0]), rng_u01(w[1]), &u, &v);
+                ASSERT_GE(u, 0.0f);
+                ASSERT_LT(u, 1.0f);
+                ASSERT_GE(v, 0.0f);
+                ASSERT_LT(v, 1.0f);
+                ++row[std::min<uint32_t>(uint32_t(v * float(N)), N - 1)];
+                // The cell's column is u's m-stratum, its row v's n-stratum of the same sample.
+                const uint32_t cx = std::min<uint32_t>(uint32_t(u * float(m)), m - 1);
+                const uint32_t cy = std::min<uint32_t>(uint32_t(v * float(n)), n - 1);
+                ++cell[cy * m + cx];
+            }
+            for (uint32_t r = 0; r < N; ++r) EXPECT_EQ(row[r], 1) << "N " << N << " row " << r;
+            for (uint32_t c = 0; c < m * n; ++c) EXPECT_LE(cell[c], 1) << "N " << N << " cell " << c;
+        }
+    }
+}
+
+// One sample index over 2^16 patterns (as the pixels and passes draw them): χ² over an 8 × 8
+// grid of [0,1)², 63 degrees of freedom: 99.9 % of uniform draws stay below 103.4.
+TEST(Stratify, ASampleIsUniformOverPatterns) {
+    for (uint32_t N : {8u, 144u}) {
+        for (uint32_t s : {0u, N / 3, N - 1}) {
+            const int draws = 1 << 16, G = 8;
+            std::vector<int> hist(G * G, 0);
+            for (int k = 0; k < draws; ++k) {
+                uint32_t w[4];
+                rng_block(7, uint32_t(k), 0xFFFFFFFFu, 0, PCL_RNG_STREAM_TEST, w);
+                float u, v;
+                stratify_cmj(s, N, w[0], rng_u01(w[1]), rng_u01(w[2]), &u, &v);
+                ++hist[int(v * G) * G + int(u * G)];
+            }
+            const double expect = double(draws) / (G * G);
+            double chi2 = 0;
+            for (int h : hist) chi2 += (h - expect) * (h - expect) / expect;
+            std::printf("[figure] stratify N %u sample %u: chi2 %.1f over 63 dof\n", N, s, chi2);
+            EXPECT_LT(chi2, 103.4) << "N " << N << " sample " << s;
+        }
+    }
+}
+
+}  // namespace
