@@ -269,14 +269,15 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
                           : "2x2: at equal time lamp edges, shadows and caustics need eye samples more than passes");
     if (fg)
         note("gather rays " + std::to_string(s.gatherRays), q.gatherRays,
-             cheapEye      ? "2 per eye sample, 72 per pixel and pass: the indirect noise falls as "
-                             "1/sqrt(passes × samples × gather rays)"
-             : causticEye  ? "4 per eye sample, 64 per pixel and pass: the indirect noise falls as "
-                             "1/sqrt(passes × samples × gather rays)"
+             cheapEye      ? "2 per eye sample, 72 per pixel and pass, stratified together: the indirect "
+                             "noise falls at least as 1/sqrt(passes × samples × gather rays)"
+             : causticEye  ? "4 per eye sample, 64 per pixel and pass, stratified together: the indirect "
+                             "noise falls at least as 1/sqrt(passes × samples × gather rays)"
              : distributed ? "16 per eye sample, 4 eye samples per pass: the 64 per pixel and pass of a "
-                             "scene without them; the indirect noise falls as "
+                             "scene without them, stratified together; the indirect noise falls at least as "
                              "1/sqrt(passes × samples × gather rays)"
-                           : "64: the indirect part's noise falls as 1/sqrt(passes × gather rays)");
+                           : "64, stratified: the indirect part's noise falls at least as 1/sqrt(passes × gather "
+                             "rays)");
     // A map the method does not build (mapsFor) emits nothing.
     const RenderMaps built = mapsFor(s.method, plan);
     note("global photons per pass " + std::to_string(built.global ? s.globalPhotons : 0u), q.globalPhotons,
