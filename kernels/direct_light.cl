@@ -26,8 +26,9 @@
  * PCL_LIGHT_PATTERN_BOUNCE, block 0)).
  *
  * The sky: M more samples m by its map (shared/environment.h), block 1 of the same counters:
- * (u0, u1) jitter the direction's cell, stratified as the triangle lights' points (pattern: word 1); MIS (power heuristic) against the N gather rays as for triangle
- * lights (final_gather adds the sky a gather ray escapes to with the other half). */
+ * (u0, u1) jitter the direction's cell, stratified as the triangle lights' points (pattern:
+ * word 1); MIS (power heuristic) against the N gather rays as for triangle lights (final_gather
+ * adds the sky a gather ray escapes to with the other half). */
 #include "shared/types.h"
 #include "shared/rng.h"
 #include "shared/stratify.h"

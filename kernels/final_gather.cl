@@ -19,9 +19,9 @@
  * Random numbers: stream GATHER, path = pixel, bounce = k·N + g; block 0: (u0, u1) the jitter of
  * the cosine direction's cell, sample k·N + g of the pixel's n²N stratified together
  * (shared/stratify.h) with the pattern of word 0 of (pixel, PCL_GATHER_PATTERN_BOUNCE, block 0)
- * (with importance histograms that sample's v picks the cell: see below); block b + 1 at gather hit b:
- * u0 lobe, u1 reflect/refract, (u2, u3) glossy direction (drawn only where the hit has a specular
- * lobe).
+ * (with importance histograms that sample's v picks the cell: see below); block b + 1 at gather
+ * hit b: u0 lobe, u1 reflect/refract, (u2, u3) glossy direction (drawn only where the hit has a
+ * specular lobe).
  *
  * final_gather_resolve — one eye record per work-item:
  * in:  hits, gathered, irradiance (params.irradianceStride floats per query, rgb first)
