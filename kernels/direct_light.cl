@@ -93,8 +93,9 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
      * pixel's n² M points of this pass are stratified together (shared/stratify.h), as are its
      * sky directions: word 0 and word 1 of (pixel, PCL_LIGHT_PATTERN_BOUNCE, block 0) the patterns. */
     const uint M = params.lightSamples;
-    uint pattern[4];
-    rng_block(seed, h.pixel, PCL_LIGHT_PATTERN_BOUNCE, 0u, PCL_RNG_STREAM_LIGHT, pattern);
+    uint pattern[4] = {0u, 0u, 0u, 0u};
+    if (M > 0u && (params.areaPowerTotal > 0.0f || env_active(env))) /* none for delta lights alone */
+        rng_block(seed, h.pixel, PCL_LIGHT_PATTERN_BOUNCE, 0u, PCL_RNG_STREAM_LIGHT, pattern);
     if (params.areaPowerTotal > 0.0f && M > 0u) {
         float area[3] = {0.0f, 0.0f, 0.0f};
         for (uint m = 0u; m < M; ++m) {

@@ -39,8 +39,9 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
     const uint32_t M = params.lightSamples;
     // The pixel's n² M light points and sky directions of this pass, each stratified together.
     const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
-    uint32_t pattern[4];
-    rng_block(seed, h.pixel, PCL_LIGHT_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_LIGHT, pattern);
+    uint32_t pattern[4] = {0, 0, 0, 0};
+    if (M > 0 && (params.areaPowerTotal > 0.0f || skyActive(buffers)))  // none for delta lights alone
+        rng_block(seed, h.pixel, PCL_LIGHT_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_LIGHT, pattern);
     if (params.areaPowerTotal > 0.0f && M > 0) {
         Vec3 area(0.0f);
         for (uint32_t m = 0; m < M; ++m) {
