@@ -17,17 +17,21 @@
  *      materialTextures, texels, triangleUvs
  *                              emission textures: a triangle light's radiance at the point
  *                              sampled (read only with PCL_TEXTURED, shared/texture.h)
+ *      strata[2s], [2s + 1]    the cell of sample s of the pass's pattern of n²M for the triangle
+ *                              lights' points; strata[2n²M + 2s], [… + 1] for the sky's
+ *                              directions (stratify.h, stratify_cmj_cell; words 0 and 1 of
+ *                              (PCL_PASS_PATTERN_PATH, PCL_LIGHT_PATTERN_BOUNCE, block 0))
  * out: radiance[i]             PclRadiance: throughput × ρd/π × Σ (0 without a diffuse hit)
  *
  * Point, spot, directional lights: every one, one exact shadow ray each. Triangle lights: M
  * samples m; random numbers stream LIGHT, path = pixel, bounce = k·M + m, block 0: u0 chooses
  * the light (the first l with u0 < areaCdf[l]), (u1, u2) jitter the point's cell, sample k·M + m
- * of the pixel's n²M stratified together (shared/stratify.h; pattern: word 0 of (pixel,
- * PCL_LIGHT_PATTERN_BOUNCE, block 0)).
+ * of the pass's pattern, shifted for the pixel by words 0 and 1 of (pixel,
+ * PCL_LIGHT_PATTERN_BOUNCE, block 0) (stratify_shifted).
  *
  * The sky: M more samples m by its map (shared/environment.h), block 1 of the same counters:
- * (u0, u1) jitter the direction's cell, stratified as the triangle lights' points (pattern:
- * word 1); MIS (power heuristic) against the N gather rays as for triangle lights (final_gather
+ * (u0, u1) jitter the direction's cell, stratified as the triangle lights' points (the second
+ * pattern, shifted by words 2 and 3); MIS (power heuristic) against the N gather rays as for triangle lights (final_gather
  * adds the sky a gather ray escapes to with the other half). */
 #include "shared/types.h"
 #include "shared/rng.h"
@@ -51,7 +55,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
                            __global const PclMedium* media, __global const PclPrimMedium* primMedia,
                            __global PclRadiance* radiance, const PclEnvironment env, __global const float* envData,
                            __global const PclMaterialTextures* materialTextures, __global const float* texels,
-                           __global const PclTriangleUv* triangleUvs) {
+                           __global const PclTriangleUv* triangleUvs, __global const uint* strata) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
     const PclEyeHit h = hits[i];
@@ -91,19 +95,22 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
 
     /* Triangle lights: M samples by area, MIS (power heuristic) against N cosine samples. The
      * pixel's n² M points of this pass are stratified together (shared/stratify.h), as are its
-     * sky directions: word 0 and word 1 of (pixel, PCL_LIGHT_PATTERN_BOUNCE, block 0) the patterns. */
+     * sky directions: the pass's patterns, shifted by the words of (pixel, PCL_LIGHT_PATTERN_BOUNCE,
+     * block 0). */
     const uint M = params.lightSamples;
-    uint pattern[4] = {0u, 0u, 0u, 0u};
+    const uint count = params.samplesPerPixel * M, cells = stratify_cells(count);
+    uint shift[4] = {0u, 0u, 0u, 0u};
     if (M > 0u && (params.areaPowerTotal > 0.0f || env_active(env))) /* none for delta lights alone */
-        rng_block(seed, h.pixel, PCL_LIGHT_PATTERN_BOUNCE, 0u, PCL_RNG_STREAM_LIGHT, pattern);
+        rng_block(seed, h.pixel, PCL_LIGHT_PATTERN_BOUNCE, 0u, PCL_RNG_STREAM_LIGHT, shift);
     if (params.areaPowerTotal > 0.0f && M > 0u) {
         float area[3] = {0.0f, 0.0f, 0.0f};
         for (uint m = 0u; m < M; ++m) {
             uint w[4];
             rng_block(seed, h.pixel, h.sample * M + m, 0u, PCL_RNG_STREAM_LIGHT, w);
             float u1, u2;
-            stratify_cmj(h.sample * M + m, params.samplesPerPixel * M, pattern[0], rng_u01(w[1]), rng_u01(w[2]), &u1,
-                         &u2);
+            const uint s = h.sample * M + m;
+            stratify_shifted(strata[2u * s], strata[2u * s + 1u], cells, count, rng_u01(w[1]), rng_u01(w[2]),
+                             rng_u01(shift[0]), rng_u01(shift[1]), &u1, &u2);
             PclV3 wi;
             float pdfL, cosS, le[3];
             if (!light_area_sample(nodes, packets, spheres, em, medium, primInfo, materials, lt, lights, areaCdf, params.lightCount,
@@ -130,8 +137,9 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
             uint w[4];
             rng_block(seed, h.pixel, h.sample * M + m, 1u, PCL_RNG_STREAM_LIGHT, w);
             float u0, u1;
-            stratify_cmj(h.sample * M + m, params.samplesPerPixel * M, pattern[1], rng_u01(w[0]), rng_u01(w[1]), &u0,
-                         &u1);
+            const uint s = count + h.sample * M + m;
+            stratify_shifted(strata[2u * s], strata[2u * s + 1u], cells, count, rng_u01(w[0]), rng_u01(w[1]),
+                             rng_u01(shift[2]), rng_u01(shift[3]), &u0, &u1);
             PclV3 wi;
             float Lsky[3], tr[3];
             const float pdfL = env_sample(env, envData, u0, u1, &wi, Lsky);

@@ -16,10 +16,13 @@
  *                              scene straight from the eye hit adds its radiance with the MIS
  *                              weight against direct_light's M sky samples; after a specular
  *                              bounce in full, or not at all when the caustic map is read
+ *      strata[2s], [2s + 1]     the cell of sample s of the pass's pattern of n²N (stratify.h,
+ *                              stratify_cmj_cell; word 0 of (PCL_PASS_PATTERN_PATH,
+ *                              PCL_GATHER_PATTERN_BOUNCE, block 0) its pattern)
  * Random numbers: stream GATHER, path = pixel, bounce = k·N + g; block 0: (u0, u1) the jitter of
- * the cosine direction's cell, sample k·N + g of the pixel's n²N stratified together
- * (shared/stratify.h) with the pattern of word 0 of (pixel, PCL_GATHER_PATTERN_BOUNCE, block 0)
- * (with importance histograms that sample's v picks the cell: see below); block b + 1 at gather
+ * the cosine direction's cell, sample k·N + g of the pass's pattern, shifted for the pixel by words
+ * 0 and 1 of (pixel, PCL_GATHER_PATTERN_BOUNCE, block 0) (stratify_shifted; with importance
+ * histograms that sample's v picks the cell: see below); block b + 1 at gather
  * hit b: u0 lobe, u1 reflect/refract, (u2, u3) glossy direction (drawn only where the hit has a
  * specular lobe).
  *
@@ -49,7 +52,8 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
                                  __global const PclTriangleUv* triangleUvs,
                                  __global const PclTriangleNormals* triangleNormals,
                                  __global const PclNormalMap* normalMaps,
-                                 __global const PclTriangleTangents* triangleTangents) {
+                                 __global const PclTriangleTangents* triangleTangents,
+                                 __global const uint* strata) {
     const uint j = (uint)get_global_id(0);
     const uint N = params.gatherRays;
     if (j >= params.sampleCount * N) return;
@@ -80,9 +84,11 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
     float ratio = 1.0f;  /* cosine density / sampling density */
     const uint G = params.histogramCells;
     /* The pixel's n² N directions of this pass stratified together (shared/stratify.h). */
-    uint pattern[4];
-    rng_block(seed, h.pixel, PCL_GATHER_PATTERN_BOUNCE, 0u, PCL_RNG_STREAM_GATHER, pattern);
-    stratify_cmj(bounceWord, params.samplesPerPixel * N, pattern[0], s1, s2, &s1, &s2);
+    uint shift[4];
+    rng_block(seed, h.pixel, PCL_GATHER_PATTERN_BOUNCE, 0u, PCL_RNG_STREAM_GATHER, shift);
+    const uint count = params.samplesPerPixel * N;
+    stratify_shifted(strata[2u * bounceWord], strata[2u * bounceWord + 1u], stratify_cells(count), count, s1, s2,
+                     rng_u01(shift[0]), rng_u01(shift[1]), &s1, &s2);
     if (G > 0u) {
         /* A cell by the record's cumulative table at s2, then (s1, s2's place in the cell's span
          * of the table) within it: uniform there, and the cells keep the strata's spread. */

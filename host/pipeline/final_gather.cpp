@@ -3,7 +3,9 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "pipeline/pass_strata.h"
 #include "pipeline/query_order.h"
+#include "shared/rng.h"
 
 namespace pcl {
 
@@ -62,14 +64,18 @@ cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const Device
                             ": expected 0..16");
     auto kernel = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, PclEnvironment, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "final_gather", "final_gather_trace", scene.programOptions());
+    const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
+    const cl::Buffer strata = device.upload(passStrata(seed, PCL_RNG_STREAM_GATHER, PCL_GATHER_PATTERN_BOUNCE, 1,
+                                                       params.samplesPerPixel * params.gatherRays),
+                                            CL_MEM_READ_ONLY, "final gather: the pass's strata");
     return device.launchLocal("final_gather", kernel, photonGlobalRange(gatherRayCount(params)),
                               cl::NDRange(kPhotonGroup), params, hits, scene.geometry.nodes, scene.geometry.packets,
                               scene.geometry.spheres, scene.primInfo, scene.materials, scene.lights, lights.lightOfPrim,
                               histograms, queries, gathered, scene.sky, scene.skyData, scene.materialTextures,
                               scene.texels, scene.triangleUvs, scene.triangleNormals, scene.normalMaps,
-                              scene.triangleTangents);
+                              scene.triangleTangents, strata);
 }
 
 cl::Buffer buildGatherHistograms(Device& device, const PhotonMapOnDevice& global, const PclGatherParams& params,

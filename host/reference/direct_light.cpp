@@ -37,19 +37,26 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
         if (g > 0.0f) sum = sum + eyeVec(L.power) * g * tr;
     }
     const uint32_t M = params.lightSamples;
-    // The pixel's n² M light points and sky directions of this pass, each stratified together.
+    // The pixel's n² M light points and sky directions of this pass, each stratified together:
+    // the pass's two patterns, shifted for the pixel. The kernel reads their cells from a table;
+    // the twin permutes (stratify_cmj_cell) itself.
     const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
-    uint32_t pattern[4] = {0, 0, 0, 0};
-    if (M > 0 && (params.areaPowerTotal > 0.0f || skyActive(buffers)))  // none for delta lights alone
-        rng_block(seed, h.pixel, PCL_LIGHT_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_LIGHT, pattern);
+    const uint32_t count = params.samplesPerPixel * M, cells = stratify_cells(count);
+    uint32_t shift[4] = {0, 0, 0, 0}, pattern[4] = {0, 0, 0, 0};
+    if (M > 0 && (params.areaPowerTotal > 0.0f || skyActive(buffers))) {  // none for delta lights alone
+        rng_block(seed, h.pixel, PCL_LIGHT_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_LIGHT, shift);
+        rng_block(seed, PCL_PASS_PATTERN_PATH, PCL_LIGHT_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_LIGHT, pattern);
+    }
     if (params.areaPowerTotal > 0.0f && M > 0) {
         Vec3 area(0.0f);
         for (uint32_t m = 0; m < M; ++m) {
             uint32_t w[4];
             rng_block(seed, h.pixel, h.sample * M + m, 0, PCL_RNG_STREAM_LIGHT, w);
             float u1, u2;
-            stratify_cmj(h.sample * M + m, params.samplesPerPixel * M, pattern[0], rng_u01(w[1]), rng_u01(w[2]), &u1,
-                         &u2);
+            uint32_t cellA, cellB;
+            stratify_cmj_cell(h.sample * M + m, count, pattern[0], &cellA, &cellB);
+            stratify_shifted(cellA, cellB, cells, count, rng_u01(w[1]), rng_u01(w[2]), rng_u01(shift[0]),
+                             rng_u01(shift[1]), &u1, &u2);
             Vec3 wi, le;
             float pdfL, cosS;
             if (!lightAreaSample(geometry, buffers, table, sm, params.lightCount, params.areaPowerTotal, p, nf, sf, o,
@@ -72,8 +79,10 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
             uint32_t w[4];
             rng_block(seed, h.pixel, h.sample * M + m, 1, PCL_RNG_STREAM_LIGHT, w);
             float u0, u1;
-            stratify_cmj(h.sample * M + m, params.samplesPerPixel * M, pattern[1], rng_u01(w[0]), rng_u01(w[1]), &u0,
-                         &u1);
+            uint32_t cellA, cellB;
+            stratify_cmj_cell(h.sample * M + m, count, pattern[1], &cellA, &cellB);
+            stratify_shifted(cellA, cellB, cells, count, rng_u01(w[0]), rng_u01(w[1]), rng_u01(shift[2]),
+                             rng_u01(shift[3]), &u0, &u1);
             Vec3 wi, Lsky, tr;
             const float pdfL = skySample(buffers, u0, u1, wi, Lsky);
             if (!(pdfL > 0.0f)) continue;

@@ -99,10 +99,15 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
     rng_block(seed, h.pixel, bounceWord, 0, PCL_RNG_STREAM_GATHER, w);
     float s1 = rng_u01(w[0]), s2 = rng_u01(w[1]), ratio = 1.0f;
     const uint32_t G = params.histogramCells;
-    // The pixel's n² N directions of this pass stratified together (shared/stratify.h).
-    uint32_t pattern[4];
-    rng_block(seed, h.pixel, PCL_GATHER_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_GATHER, pattern);
-    stratify_cmj(bounceWord, params.samplesPerPixel * N, pattern[0], s1, s2, &s1, &s2);
+    // The pixel's n² N directions of this pass stratified together (shared/stratify.h): the
+    // pass's pattern, shifted for the pixel. The kernel reads its cells from a table; the twin
+    // permutes (stratify_cmj_cell) itself.
+    uint32_t shift[4], pattern[4], cellA, cellB;
+    rng_block(seed, h.pixel, PCL_GATHER_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_GATHER, shift);
+    rng_block(seed, PCL_PASS_PATTERN_PATH, PCL_GATHER_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_GATHER, pattern);
+    stratify_cmj_cell(bounceWord, params.samplesPerPixel * N, pattern[0], &cellA, &cellB);
+    stratify_shifted(cellA, cellB, stratify_cells(params.samplesPerPixel * N), params.samplesPerPixel * N, s1, s2,
+                     rng_u01(shift[0]), rng_u01(shift[1]), &s1, &s2);
     if (G > 0 && cdf) {
         // A cell by the table at s2, then s1 and s2's place in the cell's span within it.
         const uint32_t c = uint32_t(std::min<size_t>(std::upper_bound(cdf, cdf + G * G, s2) - cdf, G * G - 1));

@@ -434,11 +434,14 @@ typedef struct PclGatherParams {
                                  reaches after a specular bounce (LS+D seen from the eye hit) is
                                  left to it, not counted twice */
 } PclGatherParams;
-/* The bounce word of the Philox block whose word 0 is a pixel's gather pattern for its pass
- * (stratify_cmj): above every k·N + g (n² ≤ 256, N ≤ 4096). */
+/* The bounce word of the Philox block whose words 0 and 1 shift a pixel's copy of the pass's
+ * gather pattern (stratify_shifted): above every k·N + g (n² ≤ 256, N ≤ 4096). */
 #define PCL_GATHER_PATTERN_BOUNCE 0xFFFFFFFFu
 /* The same for direct_light's patterns (stream LIGHT): above every k·M + m (M ≤ 256). */
 #define PCL_LIGHT_PATTERN_BOUNCE 0xFFFFFFFFu
+/* The path word of the Philox block that draws a pass's shared patterns (stratify_shifted) at
+ * those bounce words: no pixel has this index. */
+#define PCL_PASS_PATTERN_PATH 0xFFFFFFFFu
 #define PCL_GATHER_UNIFORM_MIX 0.25f  /* the cosine share of the importance histogram's density */
 #define PCL_GATHER_MAX_CELLS 16u      /* G ≤ 16 */
 PCL_STATIC_ASSERT(sizeof(PclGatherParams) == 64, PclGatherParams_size);

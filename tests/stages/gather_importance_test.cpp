@@ -61,8 +61,8 @@ TEST(GatherImportance, HistogramsGatherAndDirectMatchTheTwinCornellBox) {
 // One sample per pixel, so each hit's 8 gather rays are one stratified pattern (shared/stratify.h).
 // With M = 0 a ray is worth ρ Le where it meets the light, which it does with the cosine-weighted
 // probability p = expect / (ρ Le): 8 independent cosine rays would spread as √((1 − p) / (8p)),
-// 0.63 here. Stratified they spread far less (0.27); the histogram, whose cells the strata pick,
-// still beats independent rays (0.48) but no longer the stratified cosine rays.
+// 0.63 here. Stratified they spread far less (0.38); the histogram, whose cells the strata pick,
+// still beats independent rays (0.48) but not the stratified cosine rays.
 TEST(GatherImportance, SquareLightStaysUnbiasedAndStratifiedRaysSpreadLess) {
     Scene sc;
     sc.camera.position = Vec3(0, 5, 5);
@@ -120,7 +120,12 @@ TEST(GatherImportance, SquareLightStaysUnbiasedAndStratifiedRaysSpreadLess) {
     std::printf("[figure] square light, M=0: spread of 8 independent cosine rays %.3f; stratified %.3f (G=0), %.3f "
                 "(G=%u)\n",
                 independent, spread[0], spread[1], kCells);
-    EXPECT_LT(spread[0], 0.6 * independent);
+    // Each pixel's copy of the pass's pattern is shifted on the torus (stratify_shifted), so where
+    // the light falls on the strata varies: 0.380 here (0.60x). A fresh unshifted pattern per
+    // pixel read 0.269 only because this light sits centred on the grid's middle line; moved off
+    // centre by 0.7 it read 0.64 against the shifted 0.55, and from 16 rays a pixel on the two
+    // read the same (a 2^13-pixel stand-alone run of the same sampling).
+    EXPECT_LT(spread[0], 0.65 * independent);
     EXPECT_LT(spread[1], 0.9 * independent);
 }
 

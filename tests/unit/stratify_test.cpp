@@ -1,15 +1,19 @@
 // kernels/shared/stratify.h: Kensler's correlated multi-jittered samples, as the final gather and
 // direct light draw them. Each pattern must be a stratification (one sample per row of v, at most
 // one per cell of the m × n grid), and a sample must be uniform over patterns (the estimate stays
-// unbiased).
+// unbiased); the same for a pass's pattern shifted per pixel on the torus, and the kernels' table
+// of a pass's cells must be the cells the twins permute.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <set>
 #include <vector>
 
+#include "pipeline/pass_strata.h"
 #include "shared/rng.h"
 #include "shared/stratify.h"
+#include "shared/types.h"
 
 namespace {
 
@@ -75,6 +79,84 @@ TEST(Stratify, ASampleIsUniformOverPatterns) {
             std::printf("[figure] stratify N %u sample %u: chi2 %.1f over 63 dof\n", N, s, chi2);
             EXPECT_LT(chi2, 103.4) << "N " << N << " sample " << s;
         }
+    }
+}
+
+// A pass's pattern shifted on the torus (stratify_shifted) is still one sample per row of v and
+// per fine column of u, counted from the shift.
+TEST(Stratify, AShiftedPatternIsAStratificationOnTheTorus) {
+    for (uint32_t N : {1u, 8u, 36u, 72u, 144u, 1000u}) {
+        const uint32_t cells = stratify_cells(N);
+        for (uint32_t p : {7u, 0x9e3779b9u}) {
+            for (const float su : {0.0f, 0.37f, 0.999f}) {
+                const float sv = 1.0f - su * 0.5f;
+                std::vector<int> row(N, 0), column(cells, 0);
+                for (uint32_t s = 0; s < N; ++s) {
+                    uint32_t a, b;
+                    stratify_cmj_cell(s, N, p, &a, &b);
+                    ASSERT_LT(a, cells);
+                    ASSERT_LT(b, N);
+                    float u, v;
+                    stratify_shifted(a, b, cells, N, 0.5f, 0.5f, su, sv < 1.0f ? sv : 0.0f, &u, &v);
+                    ASSERT_GE(u, 0.0f);
+                    ASSERT_LT(u, 1.0f);
+                    ASSERT_GE(v, 0.0f);
+                    ASSERT_LT(v, 1.0f);
+                    // Jittered to the cell's middle, so the unshifted point lies half a cell from
+                    // every edge: its row and column survive the float rounding.
+                    float u0 = u - su, v0 = v - (sv < 1.0f ? sv : 0.0f);
+                    u0 = u0 < 0.0f ? u0 + 1.0f : u0;
+                    v0 = v0 < 0.0f ? v0 + 1.0f : v0;
+                    ++row[std::min<uint32_t>(uint32_t(v0 * float(N)), N - 1)];
+                    ++column[std::min<uint32_t>(uint32_t(u0 * float(cells)), cells - 1)];
+                }
+                for (uint32_t r = 0; r < N; ++r) EXPECT_EQ(row[r], 1) << "N " << N << " row " << r;
+                for (uint32_t c = 0; c < cells; ++c) EXPECT_LE(column[c], 1) << "N " << N << " column " << c;
+            }
+        }
+    }
+}
+
+// One sample of one fixed pattern over 2^16 shifts (the pixels of a pass): uniform (χ², 63 dof).
+TEST(Stratify, AShiftedSampleIsUniformOverShifts) {
+    for (uint32_t N : {8u, 72u}) {
+        for (uint32_t s : {0u, N / 3, N - 1}) {
+            uint32_t a, b;
+            stratify_cmj_cell(s, N, 0x1234567u, &a, &b);
+            const int draws = 1 << 16, G = 8;
+            std::vector<int> hist(G * G, 0);
+            for (int k = 0; k < draws; ++k) {
+                uint32_t w[4];
+                rng_block(11, uint32_t(k), 0xFFFFFFFFu, 0, PCL_RNG_STREAM_TEST, w);
+                float u, v;
+                stratify_shifted(a, b, stratify_cells(N), N, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3]),
+                                 &u, &v);
+                ++hist[int(v * G) * G + int(u * G)];
+            }
+            const double expect = double(draws) / (G * G);
+            double chi2 = 0;
+            for (int h : hist) chi2 += (h - expect) * (h - expect) / expect;
+            std::printf("[figure] stratify shifted N %u sample %u: chi2 %.1f over 63 dof\n", N, s, chi2);
+            EXPECT_LT(chi2, 103.4) << "N " << N << " sample " << s;
+        }
+    }
+}
+
+// The table the kernels read (pipeline/pass_strata) holds the cells the twins permute.
+TEST(Stratify, PassStrataTableHoldsEachPatternsCells) {
+    const uint64_t seed = 0x123456789abcull;
+    for (uint32_t count : {0u, 1u, 72u, 288u}) {
+        const std::vector<uint32_t> t = pcl::passStrata(seed, PCL_RNG_STREAM_LIGHT, PCL_LIGHT_PATTERN_BOUNCE, 2, count);
+        ASSERT_EQ(t.size(), std::max<size_t>(4 * count, 2));
+        uint32_t words[4];
+        rng_block(seed, PCL_PASS_PATTERN_PATH, PCL_LIGHT_PATTERN_BOUNCE, 0, PCL_RNG_STREAM_LIGHT, words);
+        for (uint32_t w = 0; w < 2; ++w)
+            for (uint32_t s = 0; s < count; ++s) {
+                uint32_t a, b;
+                stratify_cmj_cell(s, count, words[w], &a, &b);
+                EXPECT_EQ(t[2 * (w * count + s)], a);
+                EXPECT_EQ(t[2 * (w * count + s) + 1], b);
+            }
     }
 }
 
