@@ -5,6 +5,8 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "pipeline/device_scene.h"
+#include "pipeline/pass_strata.h"
+#include "shared/rng.h"
 
 namespace pcl {
 
@@ -59,9 +61,14 @@ PclCameraParams cameraParams(const Camera& camera, const RenderPlan& plan, uint6
 }
 
 cl::Event generateCameraRays(Device& device, const PclCameraParams& params, cl::Buffer& rays) {
-    auto kernel = device.kernel<PclCameraParams, cl::Buffer>("camera", "camera_rays");
+    auto kernel = device.kernel<PclCameraParams, cl::Buffer, cl::Buffer>("camera", "camera_rays");
+    // Two patterns: the lens points', then the shutter times'.
+    const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
+    const cl::Buffer strata = device.upload(passStrata(seed, PCL_RNG_STREAM_CAMERA, PCL_CAMERA_PATTERN_BOUNCE, 2,
+                                                       params.strata * params.strata),
+                                            CL_MEM_READ_ONLY, "camera: the pass's strata");
     return device.launchLocal("camera", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
-                              params, rays);
+                              params, rays, strata);
 }
 
 }  // namespace pcl

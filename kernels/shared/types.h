@@ -331,6 +331,9 @@ typedef struct PclCameraParams {
     pcl_u32 timeSampling;     /* 0: time 0 (RenderPlan::timeSampling) */
     pcl_u32 pad0, pad1, pad2;
 } PclCameraParams;
+/* The bounce word of the Philox block (stream CAMERA, path = pixel) whose words shift the pixel's
+ * copy of the pass's lens (0, 1) and time (2) patterns (stratify_shifted): above every k < n². */
+#define PCL_CAMERA_PATTERN_BOUNCE 0xFFFFFFFFu
 PCL_STATIC_ASSERT(sizeof(PclCameraParams) == 128, PclCameraParams_size);
 
 typedef struct PclEyeParams {
