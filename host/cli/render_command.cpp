@@ -358,7 +358,8 @@ Run addRenderCommand(CLI::App& app) {
         sub->add_option(
                "--method", o->request.method,
                "auto (the default): fg or path, whichever a pilot of each at a quarter of the size (about 2-5 s, "
-               "paid from --time) says reaches a lower error in the same time, fg with the gather rays its indirect "
+               "paid from --time) says reaches a lower relMSE in the time (its noise at that time plus, for fg, "
+               "its bias against the path tracer's pilot), fg with the gather rays its indirect "
                "part's share of the pilot's variance and time asks for (at most twice the default); without --time "
                "the winner gets the "
                "time fg's default passes would take. Left out, the method is fg instead when --passes, --device ref "

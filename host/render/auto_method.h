@@ -9,7 +9,12 @@
 // cost the same at any size, the eye work and the path tracer scale with the pixels) it is the
 // error × seconds product that equal-time comparisons measure. The lower product wins. What the
 // pilot cannot see: fg's bias (its estimates are blurred, not noisy: cornell-box's fg is 0.2 %
-// dark), and noise that only finer pixels resolve. What its few path-traced samples rarely see,
+// dark), and noise that only finer pixels resolve. Since 2026-12-03 it measures fg's bias against
+// the path tracer's pilot (squaredBias, the pixels fg's caustic light dominates aside, where the
+// path tracer's few samples are unsteady) and compares the relMSE each candidate is predicted to
+// reach in the budget: errorSeconds / T + biasSquared. On sky-spheres fg's pilot read 1.2-1.5x the
+// path tracer's error x time, yet at 30 s its relMSE was 30x (a band where the clay ball meets the
+// ground, 1.33x too bright: bias). What its few path-traced samples rarely see,
 // the fireflies of caustics from small bright emitters (a sun through a glass ball), is added to
 // the path tracer's variance from fg's pilot instead (causticFireflyVariance).
 #pragma once
@@ -27,9 +32,10 @@ namespace pcl {
 struct AutoCandidate {
     std::string name;         // "fg", "fg 6x6x2", "path"
     RenderRequest request;    // what renders it (method and, for the fg split, strata/gather/light)
-    double errorSeconds = 0;  // relMSE × seconds at full size
+    double errorSeconds = 0;  // relMSE × seconds at full size (the variance's part)
     double unitSeconds = 0;   // a pass (fg) or a sample per pixel (path) of the full image, predicted
     double fireflyShare = 0;  // path: the share of its variance made of caustic fireflies (causticFireflyVariance)
+    double biasSquared = 0;   // fg: the relMSE that does not fall with time (squaredBias against the path tracer)
     std::string tuned;        // fg: how the pilot changed its gather rays and why (empty: unchanged)
 };
 
@@ -42,6 +48,12 @@ struct AutoCandidate {
 uint32_t gatherRaysForTheIndirectShare(uint32_t g0, double V, double Vi, double T, double Ti, uint32_t maxRays = 16);
 // The error × time that formula predicts at g rays.
 double predictedErrorSeconds(uint32_t g0, uint32_t g, double V, double Vi, double T, double Ti);
+// The relative squared bias between two methods from their independent renders (K ≥ 2 each, the
+// same size): per pixel and channel (ā − b̄)² less each mean's variance (s²/K), over ((ā + b̄)/2)²
+// + ε, averaged over the pixels `keep` marks (all when empty); less twice its standard error, so
+// that noise alone reads 0. An unbiased estimate of the squared difference of their means: against
+// the path tracer, fg's bias, which no number of passes removes.
+double squaredBias(const std::vector<Image>& a, const std::vector<Image>& b, const std::vector<bool>& keep);
 // The relative variance of one part of the image (an AOV) from K ≥ 2 independent renders, each
 // pixel's over the squared mean of the whole image (`totals`, the same renders) + ε: the part's
 // share of renderVariance when the parts are independent.
@@ -49,10 +61,13 @@ double partVariance(const std::vector<Image>& parts, const std::vector<Image>& t
 
 struct AutoMethodChoice {
     std::vector<AutoCandidate> candidates;  // fg's first, the path tracer last
-    size_t chosen = 0;                      // the lowest errorSeconds
+    size_t chosen = 0;                      // the lowest predicted relMSE at the budget
+    double budgetSeconds = 0;               // the time the choice was made for
     double pilotSeconds = 0;                // wall time of the whole pilot
     double fgDefaultPassSeconds = 0;        // fg's pass at its default settings, as measured
     const AutoCandidate& best() const { return candidates[chosen]; }
+    // The relMSE a candidate is predicted to reach in budgetSeconds: errorSeconds / T + biasSquared.
+    double predictedRelMse(const AutoCandidate& c) const;
     std::string log() const;  // one line: the choice and every candidate's figures
     // Without a time budget: the time fg's default passes at width × height would take, as the
     // pilot predicts it (fgBudgetSeconds), spent by the winner: its passes, or its samples per

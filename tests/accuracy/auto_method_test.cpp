@@ -1,7 +1,8 @@
 // render --method auto's pilot (render/auto_method.h) at 64 wide (it renders the whole 64²
 // image): cornell-spheres, whose caustic under the glass ball the path tracer finds by chance,
 // must pick an fg split, and motion-dof (lens, shutter, a lamp seen in specular balls) is a close
-// call between fg and the path tracer. Measured over seeds 0-3 before the caustic
+// call between fg and the path tracer (since lens and shutter are stratified, fg is ahead in error
+// x time there). Measured over seeds 0-3 before the caustic
 // fireflies were counted: fg 6×6 × 2 with relMSE × seconds 1.6-2× below the path tracer's, and
 // the path tracer 1.6-3× below fg 6×6 × 2 (with them, seed 1: 4.6× and 1.3×). (With two
 // path-traced pilot renders instead of six, one firefly tripled the path tracer's variance and
@@ -23,17 +24,19 @@ using namespace pcl;
 
 namespace {
 
-AutoMethodChoice pilot(const std::string& name, const std::string& caustics = "") {
+AutoMethodChoice pilot(const std::string& name, const std::string& caustics = "", double seconds = 0) {
     const Scene scene = accuracy::loadSceneAt(name, 64, 64);
     const PreparedScene prepared = prepareScene(scene);
     RenderRequest request;
     request.seed = 1;
     request.caustics = caustics;
+    request.seconds = seconds;
     const AutoMethodChoice c = chooseRenderMethod(test::testDevice(), scene, prepared, request);
     std::printf("[figure] %s at 64 wide: %s", name.c_str(), c.log().c_str());
     for (const AutoCandidate& k : c.candidates) {
         EXPECT_TRUE(std::isfinite(k.errorSeconds) && k.errorSeconds > 0) << name << " " << k.name;
-        EXPECT_LE(c.best().errorSeconds, k.errorSeconds) << name << " " << k.name;
+        EXPECT_TRUE(std::isfinite(k.biasSquared) && k.biasSquared >= 0) << name << " " << k.name;
+        EXPECT_LE(c.predictedRelMse(c.best()), c.predictedRelMse(k)) << name << " " << k.name;
     }
     return c;
 }
@@ -58,17 +61,67 @@ TEST(AutoMethod, TriesTheCheapSplitWhenEyeSamplesReadTheCausticMap) {
     EXPECT_EQ(c.candidates.size(), 3u) << "a caustic map read at eye hits: two fg splits and the path tracer";
 }
 
-// motion-dof is a close call, as equal time at 256² found (the pilot picked the path tracer at
-// 10 s and fg at 30 and 60 s; fg won RMSE and lost relMSE). At 64 wide the two figures came within
-// 0.87-1.43x of each other over 14 runs on 2026-12-03, which side wins following the machine's
-// timings, so the test holds them close instead of naming a winner (it named the path tracer and
-// failed 3 runs of 14 on the idle machine).
-TEST(AutoMethod, MotionDofIsACloseCallBetweenFgAndThePathTracer) {
+// motion-dof was a close call (at 64 wide fg's error x time came within 0.87-1.43x of the path
+// tracer's over 14 runs on 2026-12-03, which side won following the machine's timings). Since
+// its lens points and shutter times are stratified per pixel, fg's variance is 1.6x lower: the
+// ratio read 0.46-0.59 in five runs (0.46 while a build ran), so the test holds it between 0.25
+// and 1: fg ahead in error x time, by no more than the timings can swing. (At 256² the pilot
+// still picks the path tracer from 30 s: fg's bias, below.)
+TEST(AutoMethod, MotionDofFgsErrorTimesSecondsIsBelowThePathTracers) {
     const AutoMethodChoice c = pilot("motion-dof.json");
     ASSERT_EQ(c.candidates.size(), 2u);
     const double ratio = c.candidates.front().errorSeconds / c.candidates.back().errorSeconds;
-    EXPECT_GT(ratio, 0.5) << c.log();
-    EXPECT_LT(ratio, 2.0) << c.log();
+    EXPECT_GT(ratio, 0.25) << c.log();
+    EXPECT_LT(ratio, 1.0) << c.log();
+}
+
+// fg's bias against the path tracer's pilot (squaredBias): on sky-spheres a band where the clay
+// ball meets the ground reads 1.33x too bright at 256² (the gather rays' close hits read estimates
+// blurred across the contact), so fg's relMSE stops falling. fg's error x time alone came within
+// 1.2-1.5x of the path tracer's, and at 30 s the pilot once picked fg, whose relMSE was then 30x
+// the path tracer's (equal time, 2026-12-03). With the bias counted the path tracer wins at 30 s.
+TEST(AutoMethod, SkySpheresCountsFgsBiasAndPicksThePathTracer) {
+    const AutoMethodChoice c = pilot("sky-spheres.json", "", 30.0);
+    ASSERT_EQ(c.candidates.size(), 2u);
+    EXPECT_GT(c.candidates.front().biasSquared, 2e-5) << c.log();
+    EXPECT_EQ(c.best().request.method, "path") << c.log();
+}
+
+// squaredBias on made-up renders: two methods of equal mean read 0 (noise alone is taken out);
+// one 10 % brighter on a quarter of the pixels reads about 0.25 × 0.1² / (1 + ε) relative.
+TEST(AutoMethod, SquaredBiasTakesTheNoiseOutAndKeepsAnOffset) {
+    const int W = 64, H = 64;
+    uint64_t state = 12345;
+    auto noise = [&state]() {  // uniform in [-0.5, 0.5), a 64-bit LCG: the test needs no quality
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return float((state >> 11) * (1.0 / 9007199254740992.0)) - 0.5f;
+    };
+    auto renders = [&](int K, float sigma, float offset) {
+        std::vector<Image> out;
+        for (int k = 0; k < K; ++k) {
+            Image img(W, H);
+            for (size_t i = 0; i < img.rgb.size(); ++i) {
+                const bool band = (i / 3) % W < size_t(W / 4);
+                img.rgb[i] = 1.0f + (band ? offset : 0.0f) + sigma * noise();
+            }
+            out.push_back(img);
+        }
+        return out;
+    };
+    const std::vector<Image> path = renders(6, 0.6f, 0.0f);
+    const double none = squaredBias(renders(2, 0.2f, 0.0f), path, {});
+    const double offset = squaredBias(renders(2, 0.2f, 0.1f), path, {});
+    // The band's pixels alone: all of the offset.
+    std::vector<bool> keep(size_t(W) * H);
+    for (size_t p = 0; p < keep.size(); ++p) keep[p] = p % W < size_t(W / 4);
+    const double inBand = squaredBias(renders(2, 0.2f, 0.1f), path, keep);
+    const double expect = 0.25 * 0.01 / (1.05 * 1.05 + 0.01);  // m = (1.1 + 1) / 2 in the band
+    std::printf("[figure] squaredBias: equal means %.2e, a 10 %% offset on a quarter %.3e (expected %.3e), in "
+                "the band %.3e (expected %.3e)\n",
+                none, offset, expect, inBand, 4 * expect);
+    EXPECT_EQ(none, 0.0);
+    EXPECT_NEAR(offset, expect, 0.3 * expect);
+    EXPECT_NEAR(inBand, 4 * expect, 0.3 * expect);
 }
 
 // Without --time the winner spends what fg's default passes would take, as the pilot predicts:
@@ -76,7 +129,8 @@ TEST(AutoMethod, MotionDofIsACloseCallBetweenFgAndThePathTracer) {
 // pixel gets 2500 samples, an fg split at 1.25 s a pass 4 passes, fg itself its 10.
 TEST(AutoMethod, WithoutATimeBudgetTheWinnerGetsFgsDefaultTime) {
     AutoMethodChoice c;
-    c.candidates = {{"fg", {}, 1.0, 0.5, 0, {}}, {"fg 6x6x2", {}, 1.0, 1.25, 0, {}}, {"path", {}, 1.0, 0.002, 0, {}}};
+    c.candidates = {
+        {"fg", {}, 1.0, 0.5, 0, 0, {}}, {"fg 6x6x2", {}, 1.0, 1.25, 0, 0, {}}, {"path", {}, 1.0, 0.002, 0, 0, {}}};
     c.fgDefaultPassSeconds = 0.5;
     EXPECT_DOUBLE_EQ(c.fgBudgetSeconds(256, 256), 5.0);
     const uint32_t expected[] = {10, 4, 2500};
