@@ -170,7 +170,7 @@ std::string AutoMethodChoice::log() const {
     }
     char tail[160];
     std::snprintf(tail, sizeof tail,
-                  "; the lowest relMSE at %.0f s wins: relMSE x seconds / %.0f + fg's squared bias against the path "
+                  "; the lowest relMSE at %.1f s wins: relMSE x seconds / %.1f + fg's squared bias against the path "
                   "tracer)\n",
                   budgetSeconds, budgetSeconds);
     return out + tail;

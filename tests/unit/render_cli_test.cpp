@@ -238,28 +238,36 @@ TEST_F(RenderCliTest, BufferCapKeepsTheImageBits) {
     EXPECT_EQ(same.status, 0) << same.output;
 }
 
-// --method auto: the pilot logs its figures and its choice (the method with the lower relMSE ×
-// seconds), the render then uses it (the metadata names it) within the time budget; with
+// --method auto: the pilot logs its figures and its choice (the method with the lower relMSE
+// predicted at the budget: relMSE × seconds / T, plus fg's squared bias), the render then uses it
+// (the metadata names it) within the time budget; with
 // --device ref it is refused, since the pilot times fg on an OpenCL device.
 TEST_F(RenderCliTest, AutoMethodRendersWithThePilotsChoice) {
     const fs::path out = dir / "auto.exr";
     Result r =
         run("render " + scene("cornell-box.json") + " --method auto --width 32 --time 4 --seed 3 -o " + out.string());
     ASSERT_EQ(r.status, 0) << r.output;
-    // "method auto: fg (pilot 1.2 s: relMSE x seconds at full size fg 0.0151 (2.840 s a pass), path
-    // 0.0413 (0.048 s a sample per pixel); …)": the choice is the candidate with the lowest product.
+    // "method auto: fg (pilot 1.2 s: relMSE x seconds at full size fg 0.0151 (2.840 s a pass) + bias
+    // 0, path 0.0413 (0.048 s a sample per pixel); the lowest relMSE at 4.0 s wins: …)": the choice
+    // is the candidate with the lowest product / T + bias.
     std::smatch m;
-    ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(method auto: ([\w ]+?) \(pilot [0-9.]+ s: (.*); fg)")))
+    ASSERT_TRUE(std::regex_search(
+        r.output, m, std::regex(R"(method auto: ([\w ]+?) \(pilot [0-9.]+ s: (.*); the lowest relMSE at ([0-9.]+) s)")))
         << r.output;
     const std::string chosen = m[1].str(), figures = m[2].str();
+    const double T = std::stod(m[3].str());
+    EXPECT_GT(T, 0.0) << r.output;
     std::string best;
-    double bestProduct = INFINITY;
-    const std::regex candidate(R"((fg 6x6x2|fg|path) ([0-9.e+-]+) \()");
+    double bestPredicted = INFINITY;
+    const std::regex candidate(R"((fg 6x6x2|fg|path) ([0-9.e+-]+) \([^)]*\)( \+ bias ([0-9.e+-]+))?)");
     for (auto it = std::sregex_iterator(figures.begin(), figures.end(), candidate); it != std::sregex_iterator();
          ++it) {
         const double product = std::stod((*it)[2]);
+        const double bias = (*it)[4].matched ? std::stod((*it)[4]) : 0.0;
         EXPECT_TRUE(std::isfinite(product) && product > 0) << r.output;
-        if (product < bestProduct) bestProduct = product, best = (*it)[1].str();
+        EXPECT_TRUE(std::isfinite(bias) && bias >= 0) << r.output;
+        const double predicted = product / T + bias;
+        if (predicted < bestPredicted) bestPredicted = predicted, best = (*it)[1].str();
     }
     EXPECT_EQ(chosen, best) << r.output;
     pcl::ImageMetadata meta;

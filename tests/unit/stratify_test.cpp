@@ -17,6 +17,23 @@
 
 namespace {
 
+// χ² of 2^16 draws of (u, v) (draw(k, &u, &v)) over an 8 × 8 grid of [0,1)², 63 degrees of
+// freedom: 99.9 % of uniform draws stay below 103.4.
+template <typename Draw>
+double chiSquareOverTheGrid(Draw draw) {
+    const int draws = 1 << 16, G = 8;
+    std::vector<int> hist(G * G, 0);
+    for (int k = 0; k < draws; ++k) {
+        float u, v;
+        draw(uint32_t(k), &u, &v);
+        ++hist[int(v * G) * G + int(u * G)];
+    }
+    const double expect = double(draws) / (G * G);
+    double chi2 = 0;
+    for (int h : hist) chi2 += (h - expect) * (h - expect) / expect;
+    return chi2;
+}
+
 TEST(Stratify, PermuteIsABijection) {
     for (uint32_t l : {1u, 2u, 3u, 7u, 16u, 37u, 144u, 1000u}) {
         for (uint32_t p : {0u, 1u, 0xdeadbeefu, 12345u}) {
@@ -59,23 +76,15 @@ TEST(Stratify, EveryPatternIsAStratification) {
     }
 }
 
-// One sample index over 2^16 patterns (as the pixels and passes draw them): χ² over an 8 × 8
-// grid of [0,1)², 63 degrees of freedom: 99.9 % of uniform draws stay below 103.4.
+// One sample index over 2^16 patterns (as the pixels and passes draw them): uniform (χ²).
 TEST(Stratify, ASampleIsUniformOverPatterns) {
     for (uint32_t N : {8u, 144u}) {
         for (uint32_t s : {0u, N / 3, N - 1}) {
-            const int draws = 1 << 16, G = 8;
-            std::vector<int> hist(G * G, 0);
-            for (int k = 0; k < draws; ++k) {
+            const double chi2 = chiSquareOverTheGrid([&](uint32_t k, float* u, float* v) {
                 uint32_t w[4];
-                rng_block(7, uint32_t(k), 0xFFFFFFFFu, 0, PCL_RNG_STREAM_TEST, w);
-                float u, v;
-                stratify_cmj(s, N, w[0], rng_u01(w[1]), rng_u01(w[2]), &u, &v);
-                ++hist[int(v * G) * G + int(u * G)];
-            }
-            const double expect = double(draws) / (G * G);
-            double chi2 = 0;
-            for (int h : hist) chi2 += (h - expect) * (h - expect) / expect;
+                rng_block(7, k, 0xFFFFFFFFu, 0, PCL_RNG_STREAM_TEST, w);
+                stratify_cmj(s, N, w[0], rng_u01(w[1]), rng_u01(w[2]), u, v);
+            });
             std::printf("[figure] stratify N %u sample %u: chi2 %.1f over 63 dof\n", N, s, chi2);
             EXPECT_LT(chi2, 103.4) << "N " << N << " sample " << s;
         }
@@ -123,19 +132,12 @@ TEST(Stratify, AShiftedSampleIsUniformOverShifts) {
         for (uint32_t s : {0u, N / 3, N - 1}) {
             uint32_t a, b;
             stratify_cmj_cell(s, N, 0x1234567u, &a, &b);
-            const int draws = 1 << 16, G = 8;
-            std::vector<int> hist(G * G, 0);
-            for (int k = 0; k < draws; ++k) {
+            const double chi2 = chiSquareOverTheGrid([&](uint32_t k, float* u, float* v) {
                 uint32_t w[4];
-                rng_block(11, uint32_t(k), 0xFFFFFFFFu, 0, PCL_RNG_STREAM_TEST, w);
-                float u, v;
+                rng_block(11, k, 0xFFFFFFFFu, 0, PCL_RNG_STREAM_TEST, w);
                 stratify_shifted(a, b, stratify_cells(N), N, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), rng_u01(w[3]),
-                                 &u, &v);
-                ++hist[int(v * G) * G + int(u * G)];
-            }
-            const double expect = double(draws) / (G * G);
-            double chi2 = 0;
-            for (int h : hist) chi2 += (h - expect) * (h - expect) / expect;
+                                 u, v);
+            });
             std::printf("[figure] stratify shifted N %u sample %u: chi2 %.1f over 63 dof\n", N, s, chi2);
             EXPECT_LT(chi2, 103.4) << "N " << N << " sample " << s;
         }
