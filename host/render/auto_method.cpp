@@ -19,15 +19,15 @@ constexpr int kPilotShrink = 4;         // the pilot renders width/4 × height/4
 constexpr int kPilotMinWidth = 64;      // … and at least this wide (the whole image if narrower)
 constexpr uint32_t kPilotSamples = 16;  // path tracer samples per pixel per pilot render
 constexpr double kMinGatherGain = 0.9;  // change fg's gather rays only for a predicted 10 % lower error × time
-constexpr float kCausticShare = 0.05f;
+constexpr float kCausticShare = 0.05f;  // pixels whose caustic light exceeds this share are left out of fg's bias
 // fg's bias is not measured where caustic fireflies make up more than this share of the path
 // tracer's pilot variance: its mean then lacks the (indirect) caustic light its few samples have
 // not found, about the caustic share of the light, which would read as fg's bias (cornell-spheres,
 // 49 % fireflies: 2.6e-3, where fg's whole relMSE at 60 s is 8.3e-4). Such a path tracer does not
 // win anyway (cornell-spheres, cornell-glossy, the courtyard: 70-99 %).
-constexpr double kBiasFireflyShare = 0.4;  // pixels whose caustic light exceeds this share are left out of fg's bias
-constexpr int kPathPilotRenders = 6;       // the path tracer's pilot renders: its fireflies need more than
-                                           // two for a steady variance (fg's passes are dearer: two)
+constexpr double kBiasFireflyShare = 0.4;
+constexpr int kPathPilotRenders = 6;  // the path tracer's pilot renders: its fireflies need more than
+                                      // two for a steady variance (fg's passes are dearer: two)
 
 // dst += 0.5 src (dst empty: 0.5 src).
 void accumulateHalf(Image& dst, const Image& src) {
