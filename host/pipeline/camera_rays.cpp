@@ -63,10 +63,9 @@ PclCameraParams cameraParams(const Camera& camera, const RenderPlan& plan, uint6
 cl::Event generateCameraRays(Device& device, const PclCameraParams& params, cl::Buffer& rays) {
     auto kernel = device.kernel<PclCameraParams, cl::Buffer, cl::Buffer>("camera", "camera_rays");
     // Two patterns: the lens points', then the shutter times'.
-    const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
-    const cl::Buffer strata = device.upload(passStrata(seed, PCL_RNG_STREAM_CAMERA, PCL_CAMERA_PATTERN_BOUNCE, 2,
-                                                       params.strata * params.strata),
-                                            CL_MEM_READ_ONLY, "camera: the pass's strata");
+    const cl::Buffer strata = uploadPassStrata(device, params.seedLo, params.seedHi, PCL_RNG_STREAM_CAMERA,
+                                               PCL_CAMERA_PATTERN_BOUNCE, 2, params.strata * params.strata,
+                                               "camera: the pass's strata");
     return device.launchLocal("camera", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, rays, strata);
 }

@@ -46,10 +46,9 @@ cl::Event directLight(Device& device, const DeviceScene& scene, const DeviceArea
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "direct_light", "direct_light", scene.geometry.programOptions() + (scene.textured ? " -DPCL_TEXTURED=1" : ""));
     // Two patterns: the triangle lights' points, then the sky's directions.
-    const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
-    const cl::Buffer strata = device.upload(passStrata(seed, PCL_RNG_STREAM_LIGHT, PCL_LIGHT_PATTERN_BOUNCE, 2,
-                                                       params.samplesPerPixel * params.lightSamples),
-                                            CL_MEM_READ_ONLY, "direct light: the pass's strata");
+    const cl::Buffer strata =
+        uploadPassStrata(device, params.seedLo, params.seedHi, PCL_RNG_STREAM_LIGHT, PCL_LIGHT_PATTERN_BOUNCE, 2,
+                         params.samplesPerPixel * params.lightSamples, "direct light: the pass's strata");
     return device.launchLocal("direct_light", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
                               params, hits, scene.geometry.nodes, scene.geometry.packets, scene.geometry.spheres,
                               scene.primInfo, scene.materials, scene.lights, lights.cdf, histograms, scene.media,

@@ -66,10 +66,9 @@ cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const Device
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, PclEnvironment, cl::Buffer,
                                 cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
         "final_gather", "final_gather_trace", scene.programOptions());
-    const uint64_t seed = uint64_t(params.seedLo) | uint64_t(params.seedHi) << 32;
-    const cl::Buffer strata = device.upload(passStrata(seed, PCL_RNG_STREAM_GATHER, PCL_GATHER_PATTERN_BOUNCE, 1,
-                                                       params.samplesPerPixel * params.gatherRays),
-                                            CL_MEM_READ_ONLY, "final gather: the pass's strata");
+    const cl::Buffer strata = uploadPassStrata(device, params.seedLo, params.seedHi, PCL_RNG_STREAM_GATHER,
+                                               PCL_GATHER_PATTERN_BOUNCE, 1, params.samplesPerPixel * params.gatherRays,
+                                               "final gather: the pass's strata");
     return device.launchLocal("final_gather", kernel, photonGlobalRange(gatherRayCount(params)),
                               cl::NDRange(kPhotonGroup), params, hits, scene.geometry.nodes, scene.geometry.packets,
                               scene.geometry.spheres, scene.primInfo, scene.materials, scene.lights, lights.lightOfPrim,

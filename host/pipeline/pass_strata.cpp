@@ -27,4 +27,10 @@ std::vector<uint32_t> passStrata(uint64_t seed, uint32_t stream, uint32_t bounce
     return cells;
 }
 
+cl::Buffer uploadPassStrata(Device& device, uint32_t seedLo, uint32_t seedHi, uint32_t stream, uint32_t bounce,
+                            uint32_t patterns, uint32_t count, const std::string& what) {
+    const uint64_t seed = uint64_t(seedLo) | uint64_t(seedHi) << 32;
+    return device.upload(passStrata(seed, stream, bounce, patterns, count), CL_MEM_READ_ONLY, what);
+}
+
 }  // namespace pcl

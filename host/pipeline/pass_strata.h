@@ -5,10 +5,17 @@
 // sample themselves, so the table is checked with every stage cross-check.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
+
+#include "device/device.h"
 
 namespace pcl {
 
 std::vector<uint32_t> passStrata(uint64_t seed, uint32_t stream, uint32_t bounce, uint32_t patterns, uint32_t count);
+
+// The same table on the device (read-only), for the pass whose seed is (seedLo, seedHi).
+cl::Buffer uploadPassStrata(Device& device, uint32_t seedLo, uint32_t seedHi, uint32_t stream, uint32_t bounce,
+                            uint32_t patterns, uint32_t count, const std::string& what);
 
 }  // namespace pcl

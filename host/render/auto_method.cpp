@@ -238,10 +238,10 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
                 renderPhotonMapped(device, pilot, prepared.geometry, prepared.buffers, prepared.plan, s);
             img.push_back(r.film.resolve());
             indirect.push_back(r.aovs.indirect.resolve());
-            if (first) {
+            if (first) {  // the bias's caustic mask; the albedo only for the fireflies
                 accumulateHalf(fgMean, img.back());
                 accumulateHalf(fgCaustic, r.aovs.caustic.resolve());
-                accumulateHalf(fgAlbedo, r.aovs.albedo.resolve());
+                if (measureFireflies) accumulateHalf(fgAlbedo, r.aovs.albedo.resolve());
             }
             fixed += 0.5 * (r.times.photons + r.times.maps);
             scaled += 0.5 * (r.times.total - r.times.photons - r.times.maps);
@@ -299,14 +299,15 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
     // fg's bias against the path tracer's pilot, where fg's caustic light is under a twentieth
     // of the pixel: there the path tracer's few samples rarely find the caustic and its mean
     // and variance are unsteady (they would read as fg's bias).
-    std::vector<bool> keep(size_t(fgMean.width) * fgMean.height, true);
-    for (size_t p = 0; p < keep.size(); ++p) {
-        const float* m = &fgMean.rgb[3 * p];
-        const float* k = &fgCaustic.rgb[3 * p];
-        keep[p] = !(k[0] + k[1] + k[2] > kCausticShare * (m[0] + m[1] + m[2]));
-    }
-    if (path.fireflyShare <= kBiasFireflyShare)
+    if (path.fireflyShare <= kBiasFireflyShare) {
+        std::vector<bool> keep(size_t(fgMean.width) * fgMean.height, true);
+        for (size_t p = 0; p < keep.size(); ++p) {
+            const float* m = &fgMean.rgb[3 * p];
+            const float* k = &fgCaustic.rgb[3 * p];
+            keep[p] = !(k[0] + k[1] + k[2] > kCausticShare * (m[0] + m[1] + m[2]));
+        }
         for (size_t i = 0; i < fgImages.size(); ++i) c.candidates[i].biasSquared = squaredBias(fgImages[i], img, keep);
+    }
     c.candidates.push_back(path);
 
     // The lowest relMSE predicted at the budget (without one, at fg's default time).

@@ -90,13 +90,6 @@ PCL_INLINE void stratify_cell_sample(pcl_u32 a, pcl_u32 b, pcl_u32 cells, pcl_u3
     *v = y < below1 ? y : below1;
 }
 
-/* Sample s of N (s < N) of pattern p, jittered within its cell by jx, jy in [0, 1). */
-PCL_INLINE void stratify_cmj(pcl_u32 s, pcl_u32 N, pcl_u32 p, pcl_f32 jx, pcl_f32 jy, pcl_f32* u, pcl_f32* v) {
-    pcl_u32 a, b;
-    stratify_cmj_cell(s, N, p, &a, &b);
-    stratify_cell_sample(a, b, stratify_cells(N), N, jx, jy, u, v);
-}
-
 /* One pass's pattern shared by every pixel, each pixel's copy shifted on the torus by its own
  * (su, sv) in [0, 1) (Cranley–Patterson rotation): the cell (a, b) of sample s of N (cells =
  * stratify_cells(N), computed once by the caller) comes from a

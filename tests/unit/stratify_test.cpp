@@ -17,6 +17,14 @@
 
 namespace {
 
+// Sample s of N of pattern p, jittered within its cell by (jx, jy): Kensler's `cmj`, as the
+// cell table and the shift-free sample compose it.
+void cmj(uint32_t s, uint32_t N, uint32_t p, float jx, float jy, float* u, float* v) {
+    uint32_t a, b;
+    stratify_cmj_cell(s, N, p, &a, &b);
+    stratify_cell_sample(a, b, stratify_cells(N), N, jx, jy, u, v);
+}
+
 // χ² of 2^16 draws of (u, v) (draw(k, &u, &v)) over an 8 × 8 grid of [0,1)², 63 degrees of
 // freedom: 99.9 % of uniform draws stay below 103.4.
 template <typename Draw>
@@ -59,7 +67,7 @@ TEST(Stratify, EveryPatternIsAStratification) {
                 uint32_t w[4];
                 rng_block(99, p, s, 0, PCL_RNG_STREAM_TEST, w);
                 float u, v;
-                stratify_cmj(s, N, p, rng_u01(w[0]), rng_u01(w[1]), &u, &v);
+                cmj(s, N, p, rng_u01(w[0]), rng_u01(w[1]), &u, &v);
                 ASSERT_GE(u, 0.0f);
                 ASSERT_LT(u, 1.0f);
                 ASSERT_GE(v, 0.0f);
@@ -83,7 +91,7 @@ TEST(Stratify, ASampleIsUniformOverPatterns) {
             const double chi2 = chiSquareOverTheGrid([&](uint32_t k, float* u, float* v) {
                 uint32_t w[4];
                 rng_block(7, k, 0xFFFFFFFFu, 0, PCL_RNG_STREAM_TEST, w);
-                stratify_cmj(s, N, w[0], rng_u01(w[1]), rng_u01(w[2]), u, v);
+                cmj(s, N, w[0], rng_u01(w[1]), rng_u01(w[2]), u, v);
             });
             std::printf("[figure] stratify N %u sample %u: chi2 %.1f over 63 dof\n", N, s, chi2);
             EXPECT_LT(chi2, 103.4) << "N " << N << " sample " << s;
