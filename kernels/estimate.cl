@@ -20,6 +20,9 @@
  *                                    used; found = counts[i]. r² = 0 gives exactly 0.
  *                                    r² is the kNN's radius2, or min(query maxRadius2,
  *                                    maxSearchRadius2) when 0 < found < k and that is finite.
+ *                                    nondirect: RGBE of the same sum over the photons of bounce
+ *                                    > 0 alone; a query with PCL_QUERY_NONDIRECT in k gets that
+ *                                    sum (in float) as its E.
  *
  * Tests per neighbour (in this order): w_p·n_q > 0 (incoming direction on the shaded side),
  * n_p·n_q ≥ minNormalCos, and with visibility no hit in (0, 1) along the segment from
@@ -42,7 +45,7 @@ __kernel void estimate_knn_queries(const PclEstimateParams params, const float m
     k.y = q.y;
     k.z = q.z;
     k.maxRadius2 = min(q.maxRadius2, maxSearchRadius2);
-    k.k = min(q.k, params.stride);
+    k.k = min(q.k & PCL_QUERY_K_MASK, params.stride);
     k.pad0 = k.pad1 = k.pad2 = 0u;
     knnQueries[i] = k;
 }
@@ -82,8 +85,9 @@ __kernel void estimate_irradiance(const PclEstimateParams params, __global const
      * radius's, not the farthest photon's (dividing by the farthest photon's r² reads high by
      * about 1/found: +6 % in a furnace of 1 000 photons, where r_max capped the search). */
     const float cap2 = min(q.maxRadius2, params.maxSearchRadius2);
-    const float r2 = (found > 0u && found < min(q.k, params.stride) && isfinite(cap2)) ? cap2 : radius2[i];
+    const float r2 = (found > 0u && found < min(q.k & PCL_QUERY_K_MASK, params.stride) && isfinite(cap2)) ? cap2 : radius2[i];
     float sr = 0.0f, sg = 0.0f, sb = 0.0f;
+    float nr = 0.0f, ng = 0.0f, nb = 0.0f; /* the photons of bounce > 0 alone */
     uint used = 0u;
     if (r2 > 0.0f) {
         const float h = params.rayEpsilon + params.liftFraction * sqrt(r2);
@@ -107,21 +111,29 @@ __kernel void estimate_irradiance(const PclEstimateParams params, __global const
             sr += wt * pr;
             sg += wt * pg;
             sb += wt * pb;
+            if (((p.packed >> PCL_PHOTON_BOUNCE_SHIFT) & 255u) != 0u) {
+                nr += wt * pr;
+                ng += wt * pg;
+                nb += wt * pb;
+            }
             ++used;
         }
     }
     PclEstimate e;
+    e.nondirect = 0u;
     if (used > 0u) {
         const float denom = (params.norm * PCL_PI_F) * r2;
-        e.r = sr / denom;
-        e.g = sg / denom;
-        e.b = sb / denom;
+        const bool nondirect = (q.k & PCL_QUERY_NONDIRECT) != 0u;
+        e.r = (nondirect ? nr : sr) / denom;
+        e.g = (nondirect ? ng : sg) / denom;
+        e.b = (nondirect ? nb : sb) / denom;
+        e.nondirect = photon_rgbe_encode(nr / denom, ng / denom, nb / denom);
     } else {
         e.r = e.g = e.b = 0.0f;
     }
     e.radius2 = r2;
     e.used = used;
     e.found = found;
-    e.pad0 = e.pad1 = 0u;
+    e.pad0 = 0u;
     results[params.firstQuery + i] = e;
 }

@@ -8,8 +8,12 @@
  *      hits[i]                 PclEyeHit (eye_paths)
  *      nodes, packets, spheres the BVH; primInfo, materials, lights[]
  *      lightOfPrim[prim]       light index of an emitting triangle, PCL_NO_HIT otherwise
+ *      areaCdf[l]              the triangle lights' cumulative choice probability (direct_light's)
  * out: queries[j]              PclEstimateQuery at the gather hit (viewer-side normal, k,
- *                              maxRadius2), or maxRadius2 = 0 at the origin when there is none
+ *                              maxRadius2), or maxRadius2 = 0 at the origin when there is none;
+ *                              a hit closer than params.closeDistance straight from the eye hit
+ *                              asks PCL_QUERY_NONDIRECT and adds its direct light to emitted
+ *                              (gather_direct: weight × E_direct)
  *      gathered[j]             PclGatherHit: weight (chain throughput × ρd/π / P_d) and emitted
  *                              (chain throughput × Le × MIS weight)
  *      env, envData[]          the sky (shared/environment.h): a gather ray that leaves the
@@ -35,17 +39,70 @@
 #include "shared/sampling.h"
 #include "shared/bvh.h"
 #include "shared/eye.h"
+#include "shared/eye_medium.h"
+#include "shared/light_sample.h"
 #include "shared/environment.h"
 #include "shared/texture.h"
 #include "shared/shading_frame.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
+/* The direct irradiance at a close gather hit p (facing normals nf, sf; o = p lifted): every
+ * delta light exactly, one triangle-light sample and one sky sample (blocks PCL_GATHER_DIRECT_BLOCK
+ * and + 1), each weighted 1: the map's answer there leaves out the photons straight from a light,
+ * and no BSDF-sampled ray leaves p, so nothing else counts this light. */
+inline void gather_direct(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
+                          __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,
+                          __global const PclMaterial* materials, __global const PclLight* lights,
+                          __global const float* areaCdf, const LightTextures lt, const PclEnvironment env,
+                          __global const float* envData, const PclGatherParams* params, ulong seed, uint pixel,
+                          uint bounceWord, float tau, PclV3 p, PclV3 nf, PclV3 sf, float E[3]) {
+    const float eps = params->rayEpsilon;
+    const PclV3 o = eye_add_scaled(p, nf, eps);
+    const EyeMedia em = eye_media(primInfo, materials, (__global const PclMedium*)0,
+                                  (__global const PclPrimMedium*)0, params->triangleCount, 0u, eps);
+    for (int c = 0; c < 3; ++c) E[c] = 0.0f;
+    for (uint l = 0u; l < params->lightCount; ++l) {
+        const PclLight L = lights[l];
+        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
+        PclV3 wi;
+        float tr[3];
+        const float g = light_delta(nodes, packets, spheres, em, PCL_NO_MEDIUM, L, p, nf, sf, o, tau, &wi, tr);
+        if (!(g > 0.0f)) continue;
+        for (int c = 0; c < 3; ++c) E[c] = E[c] + L.power[c] * g * tr[c];
+    }
+    uint w[4];
+    if (params->areaPowerTotal > 0.0f) {
+        rng_block(seed, pixel, bounceWord, PCL_GATHER_DIRECT_BLOCK, PCL_RNG_STREAM_GATHER, w);
+        PclV3 wi;
+        float pdfL, cosS, le[3];
+        if (light_area_sample(nodes, packets, spheres, em, PCL_NO_MEDIUM, primInfo, materials, lt, lights, areaCdf,
+                              params->lightCount, params->areaPowerTotal, p, nf, sf, o, eps, tau, rng_u01(w[0]),
+                              rng_u01(w[1]), rng_u01(w[2]), &wi, &pdfL, &cosS, le)) {
+            const float f = cosS / pdfL;
+            for (int c = 0; c < 3; ++c) E[c] = E[c] + le[c] * f;
+        }
+    }
+    if (env_active(env)) {
+        rng_block(seed, pixel, bounceWord, PCL_GATHER_DIRECT_BLOCK + 1u, PCL_RNG_STREAM_GATHER, w);
+        PclV3 wi;
+        float Lsky[3], tr[3];
+        const float pdfL = env_sample(env, envData, rng_u01(w[0]), rng_u01(w[1]), &wi, Lsky);
+        const float cosS = sampling_dot(sf, wi);
+        if (pdfL > 0.0f && cosS > 0.0f && sampling_dot(nf, wi) > 0.0f &&
+            light_shadow(nodes, packets, spheres, em, PCL_NO_MEDIUM, o, wi, INFINITY, tau, tr)) {
+            const float f = cosS / pdfL;
+            for (int c = 0; c < 3; ++c) E[c] = E[c] + Lsky[c] * tr[c] * f;
+        }
+    }
+}
+
 __kernel void final_gather_trace(const PclGatherParams params, __global const PclEyeHit* hits,
                                  __global const PclBvhNode* nodes, __global const PclTriPacket* packets,
                                  __global const PclSphere* spheres, __global const PclPrimInfo* primInfo,
                                  __global const PclMaterial* materials, __global const PclLight* lights,
-                                 __global const uint* lightOfPrim, __global const float* histograms,
+                                 __global const uint* lightOfPrim, __global const float* areaCdf,
+                                 __global const float* histograms,
                                  __global PclEstimateQuery* queries, __global PclGatherHit* gathered,
                                  const PclEnvironment env, __global const float* envData,
                                  __global const PclMaterialTextures* materialTextures, __global const float* texels,
@@ -167,6 +224,20 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
             q.nx = nf.x; q.ny = nf.y; q.nz = nf.z;
             q.maxRadius2 = params.maxRadius2;
             for (int c = 0; c < 3; ++c) out.weight[c] = T[c] * (M.rhoD[c] / PCL_PI_F) / pd;
+            if (b == 0u && hit.t < params.closeDistance) {
+                /* A short gather ray: the map's estimate blurs light over a disc as wide as the
+                 * ray is long (shadow edges, contact shadows next to the eye hit). Its direct part
+                 * by shadow rays, the map for the rest. */
+                const PclV3 ns = shading_normal(triangleNormals, triangleTangents, normalMaps, texels, triangleUvs, mat,
+                                                hit.prim, params.triangleCount, hit.u, hit.v, n);
+                const PclV3 sf = dn < 0.0f ? ns : sampling_v3(-ns.x, -ns.y, -ns.z);
+                float E[3];
+                gather_direct(nodes, packets, spheres, primInfo, materials, lights, areaCdf,
+                              light_textures(materialTextures, texels, triangleUvs, params.triangleCount), env,
+                              envData, &params, seed, h.pixel, bounceWord, tau, p, nf, sf, E);
+                for (int c = 0; c < 3; ++c) Le[c] = Le[c] + out.weight[c] * E[c];
+                q.k = params.k | PCL_QUERY_NONDIRECT;
+            }
             break;
         }
         if (b == params.maxSpecular) break;

@@ -15,27 +15,33 @@
  *                                     scale = (float)m / (float)(m − 1), coverScale2 = f² (f: the
  *                                     cover radius over the estimate's radius)
  *                                out: points[j].r, g, b = estimate · scale; cover[j] =
- *                                     coverScale2 · the estimate's r² (∞ when coverScale2 is ∞)
+ *                                     coverScale2 · the estimate's r² (∞ when coverScale2 is ∞);
+ *                                     nondirect[j] = the estimate's nondirect RGBE decoded · scale
+ *                                     (the photons of bounce > 0 alone)
  * precomputed_irradiance_as_photons  in: points[n]  out: photons[n] with the points' x, y, z and
  *                                     normal (rgbe, packed 0): what the kd-tree builder sorts
  * precomputed_irradiance_pack    in:  the kd-tree of those photons (heap order, split axis in bits
- *                                     27..28 of packed), index[h] (heap position → point), points, cover
+ *                                     27..28 of packed), index[h] (heap position → point), points, cover,
+ *                                     nondirect
  *                                out: nodes[h] = points[index[h]], split axis in bits 30..31 of
- *                                     photon; nodeCover[h] = cover[index[h]]
+ *                                     photon; nodeCover[h] = cover[index[h]]; nodeNondirect[h] =
+ *                                     nondirect[index[h]]
  * precomputed_irradiance_buckets in: nodes[n], nodeCover[n], bucketFirst (pipeline/knn.h
  *                                     knnBucketFirst)
  *                                out: buckets: the tree's last three levels by subtree as in
  *                                     knn.cl (shared/kd_buckets.h), nine rows per bucket: x, y,
  *                                     z, cover, decoded normal x, y, z, then photon index and
  *                                     heap node (uint bits)
- * precomputed_irradiance_lookup  in:  nodes[n], nodeCover[n] (the packed tree), bucketFirst,
+ * precomputed_irradiance_lookup  in:  nodes[n], nodeCover[n], nodeNondirect[n] (the packed tree), bucketFirst,
  *                                     buckets, queries[q], minNormalCos, zeroRadiusIsNone (1: a
  *                                     query with maxRadius2 = 0 is no query, answered "none"
  *                                     without a search: the final gather's rays without a
  *                                     diffuse hit, a third of cornell-box's; 0: it finds a point
  *                                     at d² = 0)
  *                                out: irradiance[q] = (r, g, b, d²) of the nearest node within
- *                                     maxRadius2 that covers the query and whose normal agrees,
+ *                                     maxRadius2 that covers the query and whose normal agrees
+ *                                     (r, g, b from nodeNondirect when the query's k has
+ *                                     PCL_QUERY_NONDIRECT),
  *                                     (0, 0, 0, 0) when none; chosen[q] = its photon index,
  *                                     PCL_NO_HIT when none
  *
@@ -96,7 +102,8 @@ __kernel void precomputed_irradiance_unselected(__global const PclPhoton* photon
 
 __kernel void precomputed_irradiance_store(__global const PclEstimate* estimates, __global const uint* order,
                                            float scale, float coverScale2, uint count,
-                                           __global PclIrradiancePoint* points, __global float* cover) {
+                                           __global PclIrradiancePoint* points, __global float* cover,
+                                           __global float4* nondirect) {
     const uint s = (uint)get_global_id(0);
     if (s >= count) return;
     const uint j = order[s];
@@ -105,6 +112,9 @@ __kernel void precomputed_irradiance_store(__global const PclEstimate* estimates
     points[j].g = e.g * scale;
     points[j].b = e.b * scale;
     cover[j] = isinf(coverScale2) ? INFINITY : coverScale2 * e.radius2;
+    float nr, ng, nb;
+    photon_rgbe_decode(e.nondirect, &nr, &ng, &nb);
+    nondirect[j] = (float4)(nr * scale, ng * scale, nb * scale, 0.0f);
 }
 
 __kernel void precomputed_irradiance_as_photons(__global const PclIrradiancePoint* points, uint n,
@@ -122,7 +132,8 @@ __kernel void precomputed_irradiance_as_photons(__global const PclIrradiancePoin
 
 __kernel void precomputed_irradiance_pack(__global const PclPhoton* treePhotons, __global const uint* treeIndex,
                                           __global const PclIrradiancePoint* points, __global const float* cover,
-                                          uint n, __global PclIrradiancePoint* nodes, __global float* nodeCover) {
+                                          __global const float4* nondirect, uint n, __global PclIrradiancePoint* nodes,
+                                          __global float* nodeCover, __global float4* nodeNondirect) {
     const uint h = (uint)get_global_id(0);
     if (h >= n) return;
     const uint axis = (treePhotons[h].packed & PCL_PHOTON_AXIS_MASK) >> PCL_PHOTON_AXIS_SHIFT;
@@ -131,6 +142,7 @@ __kernel void precomputed_irradiance_pack(__global const PclPhoton* treePhotons,
     s.photon = (s.photon & PCL_IRRADIANCE_INDEX_MASK) | (axis << PCL_IRRADIANCE_AXIS_SHIFT);
     nodes[h] = s;
     nodeCover[h] = cover[i];
+    nodeNondirect[h] = nondirect[i];
 }
 
 inline float irradiance_dist2(float px, float py, float pz, float qx, float qy, float qz) {
@@ -156,7 +168,7 @@ __kernel void precomputed_irradiance_buckets(__global const PclIrradiancePoint* 
 }
 
 __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* nodes, __global const float* nodeCover,
-                                            uint n, uint bucketFirst, __global const float* buckets,
+                                            __global const float4* nodeNondirect, uint n, uint bucketFirst, __global const float* buckets,
                                             __global const PclEstimateQuery* queries, uint queryCount,
                                             float minNormalCos, uint zeroRadiusIsNone,
                                             __global float4* irradiance, __global uint* chosen) {
@@ -251,7 +263,12 @@ __kernel void precomputed_irradiance_lookup(__global const PclIrradiancePoint* n
         chosen[qi] = PCL_NO_HIT;
     } else {
         const PclIrradiancePoint p = nodes[best];
-        irradiance[qi] = (float4)(p.r, p.g, p.b, bestD2);
+        if (q.k & PCL_QUERY_NONDIRECT) {
+            const float4 e = nodeNondirect[best];
+            irradiance[qi] = (float4)(e.x, e.y, e.z, bestD2);
+        } else {
+            irradiance[qi] = (float4)(p.r, p.g, p.b, bestD2);
+        }
         chosen[qi] = bestPhoton;
     }
 }

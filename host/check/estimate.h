@@ -50,6 +50,7 @@ struct EstimateCheckRow {
     size_t radiusMismatches = 0;  // queries whose r² differs
     size_t nans = 0;              // non-finite values from either side
     double maxRelError = 0.0;     // irradiance, per channel: |d − t| / max(|d|, |t|)
+    double nondirectError = 0.0;  // nondirect part decoded: max channel |d − t| / the larger max channel
     double deviceSeconds = 0.0;   // kNN + estimate kernels
     bool passed() const;
 };
@@ -63,6 +64,9 @@ struct EstimateCheckReport {
 
 // Relative tolerance on irradiance between the device and the twin.
 constexpr double kEstimateTolerance = 1e-5;
+// The nondirect part (PclEstimate::nondirect, RGBE: 8 mantissa bits under a shared exponent):
+// sums an ulp apart may round to neighbouring mantissas, one step of the largest channel's 2^e.
+constexpr double kNondirectTolerance = 1.0 / 128.0;
 
 EstimateCheckReport checkEstimate(Device& device, const Scene& scene, const EstimateCheckOptions& options = {});
 // The same on built geometry and buffers (projection maps included if a caustic map is wanted).

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "check/camera_surface_hits.h"
+#include "check/estimate.h"
 #include "check/on_device.h"
 #include "core/clock.h"
 #include "pipeline/photon_pass.h"
@@ -86,8 +87,9 @@ double IrradianceCheckReport::speedUp() const { return lookupSeconds > 0.0 ? est
 
 bool IrradianceCheckReport::passed() const {
     return points > 0 && selectionMismatches == 0 && storedCompared > 0 &&
-           storedMaxError <= kIrradianceStoredTolerance && coverMismatches == 0 && lookupCompared > 0 &&
-           choiceMismatches == 0 && valueMismatches == 0 && exactCompared > 0 && exactFailures == 0;
+           storedMaxError <= kIrradianceStoredTolerance && nondirectMaxError <= kNondirectTolerance &&
+           coverMismatches == 0 && lookupCompared > 0 && choiceMismatches == 0 && valueMismatches == 0 &&
+           exactCompared > 0 && exactFailures == 0;
 }
 
 bool IrradianceCheckReport::accurate() const {
@@ -103,8 +105,9 @@ std::string IrradianceCheckReport::table() const {
     std::snprintf(line, sizeof line, "  selection  %zu points differ from the twin's\n", selectionMismatches);
     out += line;
     std::snprintf(line, sizeof line,
-                  "  stored     %zu points re-estimated by the twin, max relative difference %.2e, %zu covers differ\n",
-                  storedCompared, storedMaxError, coverMismatches);
+                  "  stored     %zu points re-estimated by the twin, max relative difference %.2e (nondirect part "
+                  "%.2e), %zu covers differ\n",
+                  storedCompared, storedMaxError, nondirectMaxError, coverMismatches);
     out += line;
     std::snprintf(line, sizeof line,
                   "  lookup     %zu queries (%zu with no agreeing point): %zu choices and %zu values differ from the "
@@ -178,6 +181,7 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
                                irr.timing.estimate.estimateSeconds + irr.timing.treeSeconds;
     const std::vector<PclIrradiancePoint> points = downloadIrradiancePoints(device, irr);
     const std::vector<float> cover = downloadIrradianceCover(device, irr);
+    const std::vector<cl_float4> nondirect = device.download<cl_float4>(irr.nondirect, irr.count);
     report.points = points.size();
 
     // Selection: every field but the irradiance, bit for bit.
@@ -202,8 +206,8 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
         sampleAt.push_back(t * twin.size() / nTwin);
         sample.push_back(twin[sampleAt.back()]);
     }
-    std::vector<float> sampleCover;
-    referenceEstimateIrradiancePoints(map, sample, po, geometry, 0, &sampleCover);
+    std::vector<float> sampleCover, sampleNondirect;
+    referenceEstimateIrradiancePoints(map, sample, po, geometry, 0, &sampleCover, &sampleNondirect);
     const double floor = std::max(1e-3 * meanStored, 1e-30);
     for (size_t t = 0; t < sample.size(); ++t) {
         const PclIrradiancePoint& d = points[sampleAt[t]];
@@ -213,6 +217,12 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
             report.storedMaxError = std::max(report.storedMaxError, std::isfinite(err) ? err : INFINITY);
         }
         report.coverMismatches += !sameBits(cover[sampleAt[t]], sampleCover[t]);
+        const float* tn = &sampleNondirect[4 * t];
+        const double top = std::max({double(tn[0]), double(tn[1]), double(tn[2]), floor});
+        for (int c = 0; c < 3; ++c) {
+            const double err = std::fabs(double(nondirect[sampleAt[t]].s[c]) - double(tn[c])) / top;
+            report.nondirectMaxError = std::max(report.nondirectMaxError, std::isfinite(err) ? err : INFINITY);
+        }
         ++report.storedCompared;
     }
 

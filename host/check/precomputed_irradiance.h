@@ -53,8 +53,10 @@ struct IrradianceCheckReport {
     size_t selectionMismatches = 0;  // points differing from the twin's in position, normal or photon
     // stored irradiance vs the estimate twin
     size_t storedCompared = 0;
-    double storedMaxError = 0.0;  // max |device − twin| / max(|twin|, 1e-3 × mean stored), per channel
-    size_t coverMismatches = 0;   // covers not bit-equal to the twin's
+    double storedMaxError = 0.0;     // max |device − twin| / max(|twin|, 1e-3 × mean stored), per channel
+    size_t coverMismatches = 0;      // covers not bit-equal to the twin's
+    double nondirectMaxError = 0.0;  // stored nondirect irradiance: max |device − twin| over the larger of
+                                     // the twin's largest channel and 1e-3 × mean stored (RGBE-rounded)
     // lookup vs brute force (random, surface)
     size_t lookupCompared = 0, choiceMismatches = 0, valueMismatches = 0, lookupEmpty = 0;
     // exact points

@@ -283,6 +283,9 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
         auto source = estimateIrradianceSource(global, o.k, es, &deviceScene);
         PclGatherParams gp = gatherParams(dp, o.gatherRays, o.k, rMax * rMax);
         gp.causticMapRead = maps.caustic.empty() ? 0u : 1u;  // as the renderer: LS+D left to the caustic map
+        // Gather hits within r_max take their direct light by shadow rays and the map's other
+        // photons (the renderer's --close-gather reaches a few r_k): both halves checked.
+        gp.closeDistance = rMax;
         cl::Buffer gathered = device.allocate<PclRadiance>(n, CL_MEM_READ_WRITE, "check render: gather");
         const GatherTiming gt = finalGather(device, deviceScene, deviceLights, gp, hits, *source, gathered);
         dGather = device.download<PclRadiance>(gathered, n);
@@ -306,10 +309,14 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
         const std::vector<PclRadiance> dPre = device.download<PclRadiance>(gathered, n);
         const std::vector<PclIrradiancePoint> points = downloadIrradiancePoints(device, irr);
         const std::vector<float> cover = device.download<float>(irr.cover, irr.count);
+        const std::vector<cl_float4> later = device.download<cl_float4>(irr.nondirect, irr.count);
+        std::vector<float> nondirect;
+        for (const cl_float4& v : later) nondirect.insert(nondirect.end(), {v.s[0], v.s[1], v.s[2], v.s[3]});
         t0 = Clock::now();
         const std::vector<PclRadiance> tPre =
             referenceFinalGather(geometry, buffers, dHits, gp, [&](const std::vector<PclEstimateQuery>& q) {
-                const ReferenceIrradianceLookup l = referenceLookupIrradiance(points, cover, q, irr.minNormalCos);
+                const ReferenceIrradianceLookup l =
+                    referenceLookupIrradiance(points, cover, q, irr.minNormalCos, 0, nondirect);
                 std::vector<Vec3> e(q.size());
                 for (size_t j = 0; j < q.size(); ++j)
                     e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1], l.irradiance[4 * j + 2]);
@@ -340,7 +347,7 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
                     geometry, buffers, dHits, ip,
                     [&](const std::vector<PclEstimateQuery>& q) {
                         const ReferenceIrradianceLookup l =
-                            referenceLookupIrradiance(points, cover, q, irr.minNormalCos);
+                            referenceLookupIrradiance(points, cover, q, irr.minNormalCos, 0, nondirect);
                         std::vector<Vec3> e(q.size());
                         for (size_t j = 0; j < q.size(); ++j)
                             e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1], l.irradiance[4 * j + 2]);

@@ -425,6 +425,11 @@ Run addRenderCommand(CLI::App& app) {
                     "one lookup per ray) or estimate (the full k-nearest estimate)")
         ->check(CLI::IsMember({"precomputed", "estimate"}))
         ->capture_default_str();
+    sub->add_option("--close-gather", o->request.closeGather,
+                    "fg: a gather ray whose hit lies within F times the radius of k photons at the mean density "
+                    "takes the direct light there by shadow rays and reads only the map's other photons (the "
+                    "map's blur hurts most next to the eye hit: contact shadows, shadow edges); 0: off")
+        ->check(CLI::Range(0.0f, 100.0f));
     sub->add_option("--gather-importance", o->request.gatherImportance,
                     "fg: G > 0 importance-samples the gather rays by the incident flux of the k nearest global "
                     "photons on a GxG histogram (Jensen 1995), mixed with the cosine density; 0: cosine only")
@@ -481,6 +486,7 @@ Run addRenderCommand(CLI::App& app) {
                                  "--light-samples",
                                  "--gather-source",
                                  "--gather-importance",
+                                 "--close-gather",
                                  "--visibility",
                                  "--filter",
                                  "--structure",

@@ -62,19 +62,22 @@ cl::Event traceGatherRays(Device& device, const DeviceScene& scene, const Device
     if (params.histogramCells > PCL_GATHER_MAX_CELLS)
         throw InternalError("final gather: histogramCells " + std::to_string(params.histogramCells) +
                             ": expected 0..16");
-    auto kernel = device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, PclEnvironment, cl::Buffer,
-                                cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
-        "final_gather", "final_gather_trace", scene.programOptions());
+    if (!(params.closeDistance >= 0.0f))
+        throw InternalError("final gather: closeDistance " + std::to_string(params.closeDistance) + ": expected ≥ 0");
+    auto kernel =
+        device.kernel<PclGatherParams, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer,
+                      cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, PclEnvironment,
+                      cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer>(
+            "final_gather", "final_gather_trace", scene.programOptions());
     const cl::Buffer strata = uploadPassStrata(device, params.seedLo, params.seedHi, PCL_RNG_STREAM_GATHER,
                                                PCL_GATHER_PATTERN_BOUNCE, 1, params.samplesPerPixel * params.gatherRays,
                                                "final gather: the pass's strata");
     return device.launchLocal("final_gather", kernel, photonGlobalRange(gatherRayCount(params)),
                               cl::NDRange(kPhotonGroup), params, hits, scene.geometry.nodes, scene.geometry.packets,
                               scene.geometry.spheres, scene.primInfo, scene.materials, scene.lights, lights.lightOfPrim,
-                              histograms, queries, gathered, scene.sky, scene.skyData, scene.materialTextures,
-                              scene.texels, scene.triangleUvs, scene.triangleNormals, scene.normalMaps,
-                              scene.triangleTangents, strata);
+                              lights.cdf, histograms, queries, gathered, scene.sky, scene.skyData,
+                              scene.materialTextures, scene.texels, scene.triangleUvs, scene.triangleNormals,
+                              scene.normalMaps, scene.triangleTangents, strata);
 }
 
 cl::Buffer buildGatherHistograms(Device& device, const PhotonMapOnDevice& global, const PclGatherParams& params,

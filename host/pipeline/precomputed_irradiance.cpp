@@ -30,6 +30,7 @@ std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, u
         {"precomputed irradiance: points", count, sizeof(PclIrradiancePoint)},
         {"precomputed irradiance: estimate queries", count, sizeof(PclEstimateQuery)},
         {"precomputed irradiance: covers", count, sizeof(float)},
+        {"precomputed irradiance: nondirect irradiance", count, sizeof(cl_float4)},
         {"precomputed irradiance: other photons", records - count, sizeof(PclPhoton)},
         {"precomputed irradiance: estimates", count, sizeof(PclEstimate)},
         {"query order: keys", count, sizeof(uint32_t)},
@@ -37,6 +38,7 @@ std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, u
         {"query order: sorted queries", count, sizeof(PclEstimateQuery)},
         {"precomputed irradiance: tree nodes", count, sizeof(PclIrradiancePoint)},
         {"precomputed irradiance: tree covers", count, sizeof(float)},
+        {"precomputed irradiance: tree nondirect irradiance", count, sizeof(cl_float4)},
         {"precomputed irradiance: tree buckets", irradianceBucketFloats(count), sizeof(float)},
         {"precomputed irradiance: tree input", count, sizeof(PclPhoton)},
     };
@@ -63,6 +65,8 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
     cl::Buffer queries =
         device.allocate<PclEstimateQuery>(count, CL_MEM_READ_WRITE, "precomputed irradiance: estimate queries");
     cl::Buffer cover = device.allocate<float>(count, CL_MEM_READ_WRITE, "precomputed irradiance: covers");
+    cl::Buffer nondirect =
+        device.allocate<cl_float4>(count, CL_MEM_READ_WRITE, "precomputed irradiance: nondirect irradiance");
     cl::Buffer otherPhotons =
         device.allocate<PclPhoton>(others, CL_MEM_READ_WRITE, "precomputed irradiance: other photons");
     auto select = device.kernel<cl::Buffer, cl_uint, cl_uint, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
@@ -93,12 +97,14 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const cl::Buffer& photo
             estimateBuffers(device, otherMap, order.sorted, count, options.k, options.estimate, scene, estimates);
         const float scale = float(options.every) / float(options.every - 1);
         const float coverScale2 = options.coverFactor * options.coverFactor;
-        auto store = device.kernel<cl::Buffer, cl::Buffer, cl_float, cl_float, cl_uint, cl::Buffer, cl::Buffer>(
-            kStage, "precomputed_irradiance_store");
+        auto store =
+            device.kernel<cl::Buffer, cl::Buffer, cl_float, cl_float, cl_uint, cl::Buffer, cl::Buffer, cl::Buffer>(
+                kStage, "precomputed_irradiance_store");
         device.launchLocal(kStage, store, wholeWorkGroups(count), workGroup(), estimates, order.order, cl_float(scale),
-                           cl_float(coverScale2), cl_uint(count), points, cover);
+                           cl_float(coverScale2), cl_uint(count), points, cover, nondirect);
     }
-    DeviceIrradianceMap map = buildIrradianceTree(device, points, cover, count, options.estimate.minNormalCos);
+    DeviceIrradianceMap map =
+        buildIrradianceTree(device, points, cover, nondirect, count, options.estimate.minNormalCos);
     timing.treeSeconds = map.timing.treeSeconds;
     map.timing = timing;
     return map;
@@ -115,8 +121,8 @@ DeviceIrradianceMap precomputeIrradiance(Device& device, const std::vector<PclPh
     return precomputeIrradiance(device, device.upload(map), map.size(), options, scene, lo);
 }
 
-DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, const cl::Buffer& cover, size_t count,
-                                        float minNormalCos) {
+DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, const cl::Buffer& cover,
+                                        const cl::Buffer& nondirect, size_t count, float minNormalCos) {
     if (count >= (size_t(1) << 30))
         throw InputError("precomputed irradiance: " + std::to_string(count) +
                          " points exceed the 2^30 of the stored photon index");
@@ -125,10 +131,13 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
     DeviceIrradianceMap map;
     map.points = points;
     map.cover = cover;
+    map.nondirect = nondirect;
     map.count = count;
     map.minNormalCos = minNormalCos;
     map.nodes = device.allocate<PclIrradiancePoint>(count, CL_MEM_READ_WRITE, "precomputed irradiance: tree nodes");
     map.nodeCover = device.allocate<float>(count, CL_MEM_READ_WRITE, "precomputed irradiance: tree covers");
+    map.nodeNondirect =
+        device.allocate<cl_float4>(count, CL_MEM_READ_WRITE, "precomputed irradiance: tree nondirect irradiance");
     if (count) {
         // The photon kd-tree builder orders the points (it reads only position; the normal word
         // rides along), then the pack copies each point into its heap slot with the split axis.
@@ -137,10 +146,10 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
         auto toPhotons = device.kernel<cl::Buffer, cl_uint, cl::Buffer>(kStage, "precomputed_irradiance_as_photons");
         device.launchLocal(kStage, toPhotons, wholeWorkGroups(count), workGroup(), points, cl_uint(count), asPhotons);
         const DeviceKdTree tree = buildKdTree(device, asPhotons, count);
-        auto pack = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer, cl::Buffer>(
-            kStage, "precomputed_irradiance_pack");
+        auto pack = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl::Buffer,
+                                  cl::Buffer, cl::Buffer>(kStage, "precomputed_irradiance_pack");
         device.launchLocal(kStage, pack, wholeWorkGroups(count), workGroup(), tree.photons, tree.index, points, cover,
-                           cl_uint(count), map.nodes, map.nodeCover);
+                           nondirect, cl_uint(count), map.nodes, map.nodeCover, map.nodeNondirect);
     }
     map.bucketFirst = knnBucketFirst(count);
     map.buckets = device.allocate<float>(irradianceBucketFloats(count), CL_MEM_READ_WRITE,
@@ -157,13 +166,21 @@ DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points
 }
 
 DeviceIrradianceMap uploadIrradiancePoints(Device& device, const std::vector<PclIrradiancePoint>& points,
-                                           float minNormalCos, const std::vector<float>& cover) {
+                                           float minNormalCos, const std::vector<float>& cover,
+                                           const std::vector<cl_float4>& nondirect) {
     if (!cover.empty() && cover.size() != points.size())
         throw InternalError("precomputed irradiance: " + std::to_string(cover.size()) + " covers for " +
                             std::to_string(points.size()) + " points");
+    if (!nondirect.empty() && nondirect.size() != points.size())
+        throw InternalError("precomputed irradiance: " + std::to_string(nondirect.size()) +
+                            " nondirect irradiances for " + std::to_string(points.size()) + " points");
     const std::vector<float> unlimited(cover.empty() ? points.size() : 0, INFINITY);
+    std::vector<cl_float4> whole;
+    if (nondirect.empty())
+        for (const PclIrradiancePoint& p : points) whole.push_back(cl_float4{{p.r, p.g, p.b, 0.0f}});
     return buildIrradianceTree(device, device.upload(points, CL_MEM_READ_WRITE),
-                               device.upload(cover.empty() ? unlimited : cover, CL_MEM_READ_WRITE), points.size(),
+                               device.upload(cover.empty() ? unlimited : cover, CL_MEM_READ_WRITE),
+                               device.upload(nondirect.empty() ? whole : nondirect, CL_MEM_READ_WRITE), points.size(),
                                minNormalCos);
 }
 
@@ -183,12 +200,12 @@ double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl
         out.queries = queryCount;
     }
     if (queryCount == 0) return 0.0;
-    auto k = device.kernel<cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl_uint, cl_float, cl_uint,
-                           cl::Buffer, cl::Buffer>(kStage, "precomputed_irradiance_lookup");
+    auto k = device.kernel<cl::Buffer, cl::Buffer, cl::Buffer, cl_uint, cl_uint, cl::Buffer, cl::Buffer, cl_uint,
+                           cl_float, cl_uint, cl::Buffer, cl::Buffer>(kStage, "precomputed_irradiance_lookup");
     cl::Event e = device.launchLocal(kStage, k, wholeWorkGroups(queryCount), workGroup(), map.nodes, map.nodeCover,
-                                     cl_uint(map.count), cl_uint(map.bucketFirst), map.buckets, queries,
-                                     cl_uint(queryCount), cl_float(map.minNormalCos), cl_uint(zeroRadiusIsNone ? 1 : 0),
-                                     out.irradiance, out.chosen);
+                                     map.nodeNondirect, cl_uint(map.count), cl_uint(map.bucketFirst), map.buckets,
+                                     queries, cl_uint(queryCount), cl_float(map.minNormalCos),
+                                     cl_uint(zeroRadiusIsNone ? 1 : 0), out.irradiance, out.chosen);
     e.wait();
     return Device::elapsedSeconds(e);
 }

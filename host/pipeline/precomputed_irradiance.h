@@ -52,9 +52,12 @@ struct IrradianceTiming {
 struct DeviceIrradianceMap {
     cl::Buffer points;         // PclIrradiancePoint[count] in selection order: point j is photon j·m
     cl::Buffer cover;          // float[count], selection order: (f r)², r² each point's estimate's
+    cl::Buffer nondirect;      // float4[count], selection order: the irradiance of the photons of
+                               // bounce > 0 alone (what a PCL_QUERY_NONDIRECT lookup answers)
     cl::Buffer nodes;          // the same points in left-balanced heap order (node h's children
                                // 2h+1, 2h+2), split axis in bits 30..31 of `photon`
     cl::Buffer nodeCover;      // float[count], heap order
+    cl::Buffer nodeNondirect;  // float4[count], heap order
     cl::Buffer buckets;        // the last three levels by subtree, 9 rows per bucket (the lookup's
                                // float8 tests; kernels/precomputed_irradiance.cl)
     uint32_t bucketFirst = 0;  // the first heap node stored in a bucket (knnBucketFirst)
@@ -90,14 +93,16 @@ struct IrradianceBufferSize {
 std::vector<IrradianceBufferSize> precomputedIrradianceBuffers(size_t records, uint32_t every,
                                                                size_t lookupQueries = 0);
 
-// (c) alone: the lookup tree over `count` points and their covers (squared radii) already on
-// the device (irradiance filled in, `photon` below 2^30 and distinct: it breaks ties). The map
-// keeps both buffers.
-DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, const cl::Buffer& cover, size_t count,
-                                        float minNormalCos);
-// Upload and build; an empty `cover` lets every point answer any query within its radius (∞).
+// (c) alone: the lookup tree over `count` points, their covers (squared radii) and nondirect
+// irradiance (float4) already on the device (irradiance filled in, `photon` below 2^30 and
+// distinct: it breaks ties). The map keeps the three buffers.
+DeviceIrradianceMap buildIrradianceTree(Device& device, const cl::Buffer& points, const cl::Buffer& cover,
+                                        const cl::Buffer& nondirect, size_t count, float minNormalCos);
+// Upload and build; an empty `cover` lets every point answer any query within its radius (∞);
+// an empty `nondirect` makes it each point's irradiance (no direct part told apart).
 DeviceIrradianceMap uploadIrradiancePoints(Device& device, const std::vector<PclIrradiancePoint>& points,
-                                           float minNormalCos, const std::vector<float>& cover = {});
+                                           float minNormalCos, const std::vector<float>& cover = {},
+                                           const std::vector<cl_float4>& nondirect = {});
 
 // The points in selection order, and the tree nodes in heap order, downloaded.
 std::vector<PclIrradiancePoint> downloadIrradiancePoints(Device& device, const DeviceIrradianceMap& map);
@@ -110,7 +115,8 @@ struct DeviceIrradianceLookup {
     size_t queries = 0;
 };
 
-// For each of `queryCount` PclEstimateQuery (x, y, z, maxRadius2, unit normal; k unused) the
+// For each of `queryCount` PclEstimateQuery (x, y, z, maxRadius2, unit normal; of k only the
+// PCL_QUERY_NONDIRECT bit, which answers with the point's nondirect irradiance) the
 // nearest stored point within maxRadius2 (usually the estimate's r_max²) whose cover holds the
 // query and whose normal agrees. Allocates `out` (reused when it
 // already holds queryCount); returns the kernel's device seconds. zeroRadiusIsNone: a query

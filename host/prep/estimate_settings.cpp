@@ -93,8 +93,9 @@ uint32_t estimateMaxK(const std::vector<PclEstimateQuery>& queries) {
     uint32_t maxK = 1;
     for (size_t i = 0; i < queries.size(); ++i) {
         const PclEstimateQuery& q = queries[i];
-        if (q.k == 0 || q.k > PCL_KNN_MAX_K)
-            throw InternalError("estimate: query " + std::to_string(i) + " asks k = " + std::to_string(q.k) +
+        const uint32_t k = q.k & ~PCL_QUERY_NONDIRECT;
+        if (k == 0 || k > PCL_KNN_MAX_K)
+            throw InternalError("estimate: query " + std::to_string(i) + " asks k = " + std::to_string(k) +
                                 ", expected 1.." + std::to_string(PCL_KNN_MAX_K));
         if (!(q.maxRadius2 >= 0.0f))
             throw InternalError("estimate: query " + std::to_string(i) +
@@ -102,7 +103,7 @@ uint32_t estimateMaxK(const std::vector<PclEstimateQuery>& queries) {
         if (!std::isfinite(q.nx) || !std::isfinite(q.ny) || !std::isfinite(q.nz))
             throw InternalError("estimate: query " + std::to_string(i) +
                                 " has a non-finite normal, expected a unit vector");
-        maxK = std::max(maxK, q.k);
+        maxK = std::max(maxK, k);
     }
     return maxK;
 }

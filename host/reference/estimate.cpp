@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/math.h"
 #include "reference/parallel_for.h"
+#include "shared/sampling.h"
 
 namespace pcl {
 namespace {
@@ -70,7 +71,7 @@ PclEstimate referenceEstimateFromNeighbours(const std::vector<PclPhoton>& map, c
     if (settings.visibility && !geometry)
         throw InternalError("estimate (reference): the visibility test needs the scene geometry, got none");
     const PclEstimateParams p = estimateParams(settings, 0, 1, count);
-    float sum[3] = {0.0f, 0.0f, 0.0f};
+    float sum[3] = {0.0f, 0.0f, 0.0f}, later[3] = {0.0f, 0.0f, 0.0f};  // later: photons of bounce > 0
     uint32_t used = 0;
     const float r2 = radius2;
     if (r2 > 0.0f) {
@@ -96,15 +97,19 @@ PclEstimate referenceEstimateFromNeighbours(const std::vector<PclPhoton>& map, c
             float c[3];
             decodeRgbe(ph.rgbe, c);
             for (int i = 0; i < 3; ++i) sum[i] += w * c[i];
+            if (((ph.packed >> PCL_PHOTON_BOUNCE_SHIFT) & 255u) != 0u)
+                for (int i = 0; i < 3; ++i) later[i] += w * c[i];
             ++used;
         }
     }
     PclEstimate e{};
     if (used > 0) {
         const float denom = (p.norm * kPi) * r2;
-        e.r = sum[0] / denom;
-        e.g = sum[1] / denom;
-        e.b = sum[2] / denom;
+        const float* E = (q.k & PCL_QUERY_NONDIRECT) ? later : sum;
+        e.r = E[0] / denom;
+        e.g = E[1] / denom;
+        e.b = E[2] / denom;
+        e.nondirect = photon_rgbe_encode(later[0] / denom, later[1] / denom, later[2] / denom);
     }
     e.radius2 = r2;
     e.used = used;
@@ -116,7 +121,7 @@ std::vector<PclKnnQuery> estimateKnnQueries(const std::vector<PclEstimateQuery>&
     std::vector<PclKnnQuery> out(queries.size());
     for (size_t i = 0; i < queries.size(); ++i) {
         const PclEstimateQuery& q = queries[i];
-        out[i] = PclKnnQuery{q.x, q.y, q.z, q.maxRadius2, q.k, 0, 0, 0};
+        out[i] = PclKnnQuery{q.x, q.y, q.z, q.maxRadius2, q.k & PCL_QUERY_K_MASK, 0, 0, 0};
     }
     return out;
 }
@@ -132,14 +137,13 @@ std::vector<PclEstimate> referenceEstimateWithKnn(const std::vector<PclPhoton>& 
     std::vector<PclEstimate> out(queries.size());
     referenceParallelFor(queries.size(), threads, [&](size_t i) {
         // The first k slots of a larger stride are the answer for k (the order is total).
-        const uint32_t count = std::min(knn.counts[i], queries[i].k);
+        const uint32_t k = queries[i].k & PCL_QUERY_K_MASK;
+        const uint32_t count = std::min(knn.counts[i], k);
         const size_t base = i * knn.stride;
         // Fewer than k found: the disc is the search radius's (as estimate.cl; the hash grid's own
         // limit is not known here, the query's radius is).
         const float cap2 = queries[i].maxRadius2;
-        const float r2 = count == 0                                    ? 0.0f
-                         : count < queries[i].k && std::isfinite(cap2) ? cap2
-                                                                       : knn.dist2[base + count - 1];
+        const float r2 = count == 0 ? 0.0f : count < k && std::isfinite(cap2) ? cap2 : knn.dist2[base + count - 1];
         out[i] = referenceEstimateFromNeighbours(map, queries[i], knn.indices.data() + base, knn.dist2.data() + base,
                                                  count, r2, settings, geometry);
     });

@@ -7,6 +7,7 @@
 #include "reference/estimate.h"
 #include "reference/eye_scatter.h"
 #include "reference/knn.h"
+#include "reference/light_sample.h"
 #include "reference/parallel_for.h"
 #include "reference/sky.h"
 #include "reference/textured_material.h"
@@ -37,6 +38,45 @@ Vec3 decodePhotonDirection(uint32_t packed) {
     const float phi = (float(ps) + 0.5f) * (kPi / 128.0f);
     const float st = std::sin(theta);
     return {st * std::cos(phi), st * std::sin(phi), std::cos(theta)};
+}
+
+// The direct irradiance at a close gather hit (final_gather.cl, gather_direct): every delta light,
+// one triangle-light sample and one sky sample, each weighted 1.
+Vec3 gatherDirect(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
+                  const PclGatherParams& params, uint64_t seed, uint32_t pixel, uint32_t bounceWord, float tau, Vec3 p,
+                  Vec3 nf, Vec3 sf) {
+    const float eps = params.rayEpsilon;
+    const Vec3 o = p + nf * eps;
+    const ShadowMedium sm;  // fg renders no media
+    Vec3 E(0.0f);
+    for (uint32_t l = 0; l < params.lightCount; ++l) {
+        const PclLight& L = buffers.lights[l];
+        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
+        Vec3 wi, tr;
+        const float g = lightDelta(geometry, buffers, sm, L, p, nf, sf, o, tau, wi, tr);
+        if (g > 0.0f) E = E + eyeVec(L.power) * g * tr;
+    }
+    uint32_t w[4];
+    if (params.areaPowerTotal > 0.0f) {
+        rng_block(seed, pixel, bounceWord, PCL_GATHER_DIRECT_BLOCK, PCL_RNG_STREAM_GATHER, w);
+        Vec3 wi, le;
+        float pdfL, cosS;
+        if (lightAreaSample(geometry, buffers, table, sm, params.lightCount, params.areaPowerTotal, p, nf, sf, o, eps,
+                            tau, rng_u01(w[0]), rng_u01(w[1]), rng_u01(w[2]), wi, pdfL, cosS, le))
+            E = E + le * (cosS / pdfL);
+    }
+    if (skyActive(buffers)) {
+        rng_block(seed, pixel, bounceWord, PCL_GATHER_DIRECT_BLOCK + 1, PCL_RNG_STREAM_GATHER, w);
+        Vec3 wi, Lsky;
+        const float pdfL = skySample(buffers, rng_u01(w[0]), rng_u01(w[1]), wi, Lsky);
+        const float cosS = dot(sf, wi);
+        if (pdfL > 0.0f && cosS > 0.0f && dot(nf, wi) > 0.0f) {
+            const Vec3 tr = eyeShadowTransmittance(geometry, buffers, false, PCL_NO_MEDIUM, o, wi,
+                                                   std::numeric_limits<float>::infinity(), tau);
+            if (maxComponent(tr) > 0.0f) E = E + Lsky * tr * (cosS / pdfL);
+        }
+    }
+    return E;
 }
 
 }  // namespace
@@ -82,8 +122,9 @@ std::vector<float> referenceGatherHistograms(const std::vector<PclPhoton>& map, 
     return out;
 }
 
-void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffers, const PclGatherParams& params,
-                        const PclEyeHit& h, uint32_t g, PclEstimateQuery& q, PclGatherHit& out, const float* cdf) {
+void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
+                        const PclGatherParams& params, const PclEyeHit& h, uint32_t g, PclEstimateQuery& q,
+                        PclGatherHit& out, const float* cdf) {
     q = PclEstimateQuery{};
     q.nz = 1.0f;
     q.k = params.k;
@@ -169,6 +210,15 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
             out.weight[0] = wt.x;
             out.weight[1] = wt.y;
             out.weight[2] = wt.z;
+            if (b == 0 && hit.t < params.closeDistance) {
+                // A short gather ray: its direct part by shadow rays, the map for the rest.
+                const Vec3 ns = eyeShadingNormal(buffers, params.triangleCount, hit, n);
+                const Vec3 sf = dn < 0.0f ? ns : -ns;
+                const Vec3 E =
+                    gatherDirect(geometry, buffers, table, params, seed, h.pixel, bounceWord, tau, p, nf, sf);
+                Le = Le + wt * E;
+                q.k = params.k | PCL_QUERY_NONDIRECT;
+            }
             break;
         }
         if (b == params.maxSpecular) break;
@@ -215,13 +265,15 @@ ReferenceGather referenceFinalGather(const SceneGeometry& geometry, const SceneB
                                      const std::vector<PclEyeHit>& hits, const PclGatherParams& params,
                                      const ReferenceIrradiance& irradiance, const std::vector<float>* histograms) {
     ReferenceGather r;
+    const AreaLightTable table = buildAreaLightTable(buffers, geometry.primitiveCount());
     const size_t N = params.gatherRays, n = hits.size() * N;
     r.queries.resize(n);
     r.gathered.resize(n);
     parallelForEveryThread(n, [&](size_t j) {
         const size_t C = size_t(params.histogramCells) * params.histogramCells;
         const float* cdf = (C > 0 && histograms) ? histograms->data() + (j / N) * C : nullptr;
-        referenceGatherRay(geometry, buffers, params, hits[j / N], uint32_t(j % N), r.queries[j], r.gathered[j], cdf);
+        referenceGatherRay(geometry, buffers, table, params, hits[j / N], uint32_t(j % N), r.queries[j], r.gathered[j],
+                           cdf);
     });
     r.irradiance = irradiance(r.queries);
     r.radiance = referenceResolveGather(params, hits, r.gathered, r.irradiance);

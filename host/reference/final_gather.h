@@ -28,10 +28,11 @@ std::vector<float> referenceGatherHistograms(const std::vector<PclPhoton>& map, 
                                              const PclGatherParams& params);
 
 // Gather ray j = i·N + g: the query and what it gathered. cdf: record i's histogram table
-// (G² floats) when params.histogramCells > 0.
-void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffers, const PclGatherParams& params,
-                        const PclEyeHit& h, uint32_t g, PclEstimateQuery& query, PclGatherHit& gathered,
-                        const float* cdf = nullptr);
+// (G² floats) when params.histogramCells > 0; table: the triangle lights' choice (the close hits'
+// direct light, params.closeDistance > 0).
+void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffers, const AreaLightTable& table,
+                        const PclGatherParams& params, const PclEyeHit& h, uint32_t g, PclEstimateQuery& query,
+                        PclGatherHit& gathered, const float* cdf = nullptr);
 
 struct ReferenceGather {
     std::vector<PclEstimateQuery> queries;

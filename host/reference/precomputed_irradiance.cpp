@@ -4,6 +4,7 @@
 
 #include "reference/estimate.h"
 #include "reference/parallel_for.h"
+#include "shared/sampling.h"
 
 namespace pcl {
 
@@ -46,7 +47,7 @@ PclEstimateQuery referenceIrradianceEstimateQuery(const PclIrradiancePoint& poin
 
 void referenceEstimateIrradiancePoints(const std::vector<PclPhoton>& map, std::vector<PclIrradiancePoint>& points,
                                        const PrecomputedIrradianceOptions& options, const SceneGeometry* geometry,
-                                       unsigned threads, std::vector<float>* cover) {
+                                       unsigned threads, std::vector<float>* cover, std::vector<float>* nondirect) {
     // The others: every photon whose index is not a multiple of m, in map order.
     std::vector<PclPhoton> others;
     for (size_t i = 0; i < map.size(); ++i)
@@ -65,21 +66,30 @@ void referenceEstimateIrradiancePoints(const std::vector<PclPhoton>& map, std::v
         const float f2 = options.coverFactor * options.coverFactor;
         for (size_t j = 0; j < points.size(); ++j) (*cover)[j] = std::isinf(f2) ? INFINITY : f2 * e[j].radius2;
     }
+    if (nondirect) {
+        nondirect->assign(points.size() * 4, 0.0f);
+        for (size_t j = 0; j < points.size(); ++j) {
+            float c[3];
+            photon_rgbe_decode(e[j].nondirect, &c[0], &c[1], &c[2]);
+            for (int i = 0; i < 3; ++i) (*nondirect)[4 * j + i] = c[i] * scale;
+        }
+    }
 }
 
 std::vector<PclIrradiancePoint> referencePrecomputeIrradiance(const std::vector<PclPhoton>& map,
                                                               const PrecomputedIrradianceOptions& options,
                                                               const SceneGeometry* geometry, unsigned threads,
-                                                              std::vector<float>* cover) {
+                                                              std::vector<float>* cover,
+                                                              std::vector<float>* nondirect) {
     std::vector<PclIrradiancePoint> points = referenceSelectIrradiancePoints(map, options.every);
-    referenceEstimateIrradiancePoints(map, points, options, geometry, threads, cover);
+    referenceEstimateIrradiancePoints(map, points, options, geometry, threads, cover, nondirect);
     return points;
 }
 
 ReferenceIrradianceLookup referenceLookupIrradiance(const std::vector<PclIrradiancePoint>& points,
                                                     const std::vector<float>& cover,
                                                     const std::vector<PclEstimateQuery>& queries, float minNormalCos,
-                                                    unsigned threads) {
+                                                    unsigned threads, const std::vector<float>& nondirect) {
     ReferenceIrradianceLookup r;
     r.irradiance.assign(queries.size() * 4, 0.0f);
     r.chosen.assign(queries.size(), PCL_NO_HIT);
@@ -107,9 +117,10 @@ ReferenceIrradianceLookup referenceLookupIrradiance(const std::vector<PclIrradia
         }
         if (bestPhoton == PCL_NO_HIT) return;
         r.chosen[qi] = bestPhoton;
-        r.irradiance[4 * qi + 0] = points[best].r;
-        r.irradiance[4 * qi + 1] = points[best].g;
-        r.irradiance[4 * qi + 2] = points[best].b;
+        const bool later = (q.k & PCL_QUERY_NONDIRECT) && !nondirect.empty();
+        r.irradiance[4 * qi + 0] = later ? nondirect[4 * best + 0] : points[best].r;
+        r.irradiance[4 * qi + 1] = later ? nondirect[4 * best + 1] : points[best].g;
+        r.irradiance[4 * qi + 2] = later ? nondirect[4 * best + 2] : points[best].b;
         r.irradiance[4 * qi + 3] = bestD2;
     });
     return r;

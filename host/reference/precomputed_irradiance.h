@@ -27,17 +27,20 @@ void referenceDecodeNormal(uint32_t word, float n[3]);
 
 // Fills r, g, b of each point (any subset of a selection) with m/(m − 1) (in float) times the
 // estimate twin's irradiance (referenceEstimate: brute-force kNN) at its query in the map of the
-// photons whose index is not a multiple of m, and each cover (when `cover` is given) with f²
-// times that estimate's r². geometry: needed with visibility.
+// photons whose index is not a multiple of m, each cover (when `cover` is given) with f²
+// times that estimate's r², and (when `nondirect` is given, 4 floats per point: r, g, b, 0) the
+// estimate's nondirect RGBE decoded times m/(m − 1). geometry: needed with visibility.
 void referenceEstimateIrradiancePoints(const std::vector<PclPhoton>& map, std::vector<PclIrradiancePoint>& points,
                                        const PrecomputedIrradianceOptions& options, const SceneGeometry* geometry,
-                                       unsigned threads = 0, std::vector<float>* cover = nullptr);
+                                       unsigned threads = 0, std::vector<float>* cover = nullptr,
+                                       std::vector<float>* nondirect = nullptr);
 
 // Selection and estimates: the twin of precomputeIrradiance's points and covers (selection order).
 std::vector<PclIrradiancePoint> referencePrecomputeIrradiance(const std::vector<PclPhoton>& map,
                                                               const PrecomputedIrradianceOptions& options,
                                                               const SceneGeometry* geometry, unsigned threads = 0,
-                                                              std::vector<float>* cover = nullptr);
+                                                              std::vector<float>* cover = nullptr,
+                                                              std::vector<float>* nondirect = nullptr);
 
 struct ReferenceIrradianceLookup {
     std::vector<float> irradiance;  // queries × 4: r, g, b, d² of the chosen point; 0s when none
@@ -45,10 +48,11 @@ struct ReferenceIrradianceLookup {
 };
 
 // Brute force over `points` (any order; `photon` below 2^30) with their covers (empty: no limit).
-// Query normals are used as given.
+// Query normals are used as given. A query with PCL_QUERY_NONDIRECT in k gets the chosen point's
+// `nondirect` (4 floats per point; empty: its irradiance).
 ReferenceIrradianceLookup referenceLookupIrradiance(const std::vector<PclIrradiancePoint>& points,
                                                     const std::vector<float>& cover,
                                                     const std::vector<PclEstimateQuery>& queries, float minNormalCos,
-                                                    unsigned threads = 0);
+                                                    unsigned threads = 0, const std::vector<float>& nondirect = {});
 
 }  // namespace pcl

@@ -362,6 +362,10 @@ ChunkParts PhotonRenderer::shadeFinalGather(const PassMapSpec& m, const PclEyePa
     if (gather) {
         gp = gatherParams(dp, s_.gatherRays, s_.globalK, maxRadius_ * maxRadius_, kDefaultGatherSpecular);
         gp.causticMapRead = maps_.caustic ? 1u : 0u;
+        // r_k: the radius that holds k photons at the pass's mean density.
+        const double stored = double(m.global.photons ? m.global.photons->size() : 0);
+        if (s_.closeGather > 0.0f && stored > 0.0)
+            gp.closeDistance = float(s_.closeGather * std::sqrt(double(s_.globalK) * area_ / (kPiD * stored)));
         if (m.histogramPhotons) {
             gp.histogramCells = dp.histogramCells = s_.histogramCells;
             timed(stages_, t.indirect, [&] { stages_.gatherHistograms(gp); });
@@ -594,26 +598,37 @@ void PhotonRenderer::eyePass(uint32_t pass, const PassMapSpec& maps, Film& passF
     }
 }
 
+namespace {
+std::string exact3(float v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g", double(v));
+    return b;
+}
+}  // namespace
+
 std::string PhotonRenderer::summary() const {
     const PhotonRenderSettings& s = s_;
     const bool fg = s.method == RenderMethod::FinalGather;
     char line[512];
-    std::snprintf(line, sizeof line,
-                  "method %s, %u pass(es)%s, %u spp/pass, global %s, caustic %s, k %u/%u, %s%u gather rays%s, "
-                  "%u light samples, r_max %.4g, %s%s, seed %llu",
-                  renderMethodName(s.method), s.passes, s.seconds > 0 ? " or time budget" : "", spp_,
-                  maps_.global ? std::to_string(s.globalPhotons).c_str() : "none",
-                  maps_.caustic ? std::to_string(s.causticPhotons).c_str() : "none", s.globalK, s.causticK,
-                  fg ? (s.gatherSource == GatherSource::Precomputed && !s.visibility ? "precomputed irradiance, "
-                                                                                     : "full estimate, ")
-                     : "",
-                  fg ? s.gatherRays : 0u,
-                  fg && s.histogramCells ? (" (importance " + std::to_string(s.histogramCells) + "x" +
-                                            std::to_string(s.histogramCells) + ")")
-                                               .c_str()
-                                         : "",
-                  s.lightSamples, maxRadius_, knnStructureName(s.structure), s.visibility ? ", visibility test" : "",
-                  static_cast<unsigned long long>(s.seed));
+    std::snprintf(
+        line, sizeof line,
+        "method %s, %u pass(es)%s, %u spp/pass, global %s, caustic %s, k %u/%u, %s%u gather rays%s%s, "
+        "%u light samples, r_max %.4g, %s%s, seed %llu",
+        renderMethodName(s.method), s.passes, s.seconds > 0 ? " or time budget" : "", spp_,
+        maps_.global ? std::to_string(s.globalPhotons).c_str() : "none",
+        maps_.caustic ? std::to_string(s.causticPhotons).c_str() : "none", s.globalK, s.causticK,
+        fg ? (s.gatherSource == GatherSource::Precomputed && !s.visibility ? "precomputed irradiance, "
+                                                                           : "full estimate, ")
+           : "",
+        fg ? s.gatherRays : 0u,
+        fg && s.histogramCells
+            ? (" (importance " + std::to_string(s.histogramCells) + "x" + std::to_string(s.histogramCells) + ")")
+                  .c_str()
+            : "",
+        fg && s.closeGather > 0.0f ? (" (direct light by shadow rays within " + exact3(s.closeGather) + " r_k)").c_str()
+                                   : "",
+        s.lightSamples, maxRadius_, knnStructureName(s.structure), s.visibility ? ", visibility test" : "",
+        static_cast<unsigned long long>(s.seed));
     return line;
 }
 

@@ -232,6 +232,8 @@ ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan&
     if (q.strata && s.method != RenderMethod::PathTracing) s.strata = q.strata;
     if (q.gatherRays && s.method == RenderMethod::FinalGather) s.gatherRays = q.gatherRays;
     if (q.volumeK) s.volumeK = q.volumeK;
+    if (s.method == RenderMethod::FinalGather)
+        s.closeGather = q.closeGather >= 0.0f ? q.closeGather : kDefaultCloseGather;
     if (s.method == RenderMethod::FinalGather) s.emitterStrata = q.emitterStrata >= 0 ? uint32_t(q.emitterStrata) : 16u;
     if (!q.volumeRadii.empty()) {
         if (q.volumeRadii != "fixed" && q.volumeRadii != "photon")
@@ -357,6 +359,7 @@ std::vector<SettingsField> settingsFields(const PhotonRenderSettings& s, const R
         add("radius", exact(s.initialRadius));
         if (s.emitterStrata && s.method == RenderMethod::FinalGather)
             add("emitterStrata", std::to_string(s.emitterStrata));  // only when on, as below
+        if (s.closeGather > 0.0f && s.method == RenderMethod::FinalGather) add("closeGather", exact(s.closeGather));
         if (s.causticConnections && s.method == RenderMethod::FinalGather && maps.caustic)
             add("causticConnections", "1");  // only when on, so other renders' settings stay as they were
         if (maps.volume) {  // only with media, so the other scenes' settings (and hashes) stay as they were

@@ -68,6 +68,12 @@ struct PhotonRenderSettings {
     // the pass's (PhotonRenderResult::emitterStrata). 0: off.
     uint32_t emitterStrata = 0;
     GatherSource gatherSource = GatherSource::Precomputed;
+    // fg: a gather ray whose diffuse hit lies within closeGather × r_k of the eye hit (r_k: the
+    // radius that holds globalK photons at the pass's mean density) takes the direct light
+    // there by shadow rays and reads only the map's other photons: the map's estimate blurs
+    // light over a disc as wide as such a ray is long (Jensen's remedy for short gather rays,
+    // its direct part). 0: off.
+    float closeGather = 0.0f;
     // fg: G > 0 importance-samples the gather rays from a G × G histogram of the incident flux of
     // the globalK photons nearest each eye hit (Jensen 1995; pipeline/final_gather.h), mixed with
     // the cosine density; direct light's MIS weights use the same density. 0: cosine only.
@@ -102,6 +108,9 @@ struct PhotonRenderSettings {
     bool log = false;  // one line per pass on stderr
 };
 
+// fg's closeGather when the request leaves it out (README, "Equal time at 256²").
+constexpr float kDefaultCloseGather = 2.0f;
+
 // InputError when a setting is out of its range (strata 1..16, k 1..PCL_KNN_MAX_K, gather rays
 // ≥ 1, α in (0, 1)), or neither a pass count nor a time budget is given.
 void validateRenderSettings(const PhotonRenderSettings& s);
@@ -122,6 +131,7 @@ struct RenderRequest {
     uint64_t seed = 0;
     bool visibility = false;
     uint32_t gatherImportance = 0;  // G of --gather-importance
+    float closeGather = -1.0f;      // --close-gather; negative: the default
     float radius = 0.0f, alpha = 2.0f / 3.0f, maxRadius = 0.0f;
     uint32_t passes = 0;   // 0: defaultPasses (unless seconds is given)
     double seconds = 0.0;  // time budget instead of a pass count

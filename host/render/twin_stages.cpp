@@ -46,10 +46,11 @@ void TwinRenderStages::buildMaps(const PassMapSpec& spec) {
     spec_ = spec;
     points_.clear();
     cover_.clear();
+    nondirect_.clear();
     // (The k-nearest readers search by brute force: nothing to build.)
     for (const MapSpec* m : {&spec.global, &spec.caustic})
         if (m->reader == MapReader::Precomputed)
-            points_ = referencePrecomputeIrradiance(*m->photons, m->precomputed, &geometry_, 0, &cover_);
+            points_ = referencePrecomputeIrradiance(*m->photons, m->precomputed, &geometry_, 0, &cover_, &nondirect_);
 }
 
 std::vector<Vec3> TwinRenderStages::irradiance(const MapSpec& m, const std::vector<PclEstimateQuery>& queriesIn) const {
@@ -57,14 +58,14 @@ std::vector<Vec3> TwinRenderStages::irradiance(const MapSpec& m, const std::vect
     if (m.reader == MapReader::None) throw std::logic_error("render (twin): a map the pass does not read was read");
     if (m.reader == MapReader::Precomputed) {
         const ReferenceIrradianceLookup l =
-            referenceLookupIrradiance(points_, cover_, queriesIn, m.precomputed.estimate.minNormalCos);
+            referenceLookupIrradiance(points_, cover_, queriesIn, m.precomputed.estimate.minNormalCos, 0, nondirect_);
         for (size_t i = 0; i < E.size(); ++i)
             E[i] = Vec3(l.irradiance[4 * i], l.irradiance[4 * i + 1], l.irradiance[4 * i + 2]);
         return E;
     }
     // As the device's estimate: a query's k above maxK is searched with maxK.
     std::vector<PclEstimateQuery> queries = queriesIn;
-    for (PclEstimateQuery& q : queries) q.k = std::min(q.k, m.maxK);
+    for (PclEstimateQuery& q : queries) q.k = std::min(q.k & PCL_QUERY_K_MASK, m.maxK) | (q.k & PCL_QUERY_NONDIRECT);
     std::vector<PclEstimate> e = referenceEstimate(*m.photons, queries, m.estimate, &geometry_);
     for (size_t i = 0; i < E.size(); ++i) {
         if (m.reader == MapReader::FixedRadius) rescaleToFixedRadius(e[i], queries[i], m.maxK, spec_.radius2);

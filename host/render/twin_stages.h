@@ -46,6 +46,7 @@ private:
     PassMapSpec spec_;
     std::vector<PclIrradiancePoint> points_;  // precomputed irradiance: the points and their covers
     std::vector<float> cover_;
+    std::vector<float> nondirect_;  // 4 floats per point: the irradiance of the photons of bounce > 0
     std::vector<PclRay> rays_;
     std::vector<PclEyeHit> hits_;
     EyeVolumeSegments segments_;  // media: the records' medium segments (eyePaths)

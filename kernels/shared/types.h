@@ -248,9 +248,14 @@ PCL_STATIC_ASSERT(sizeof(PclKnnQuery) == 32, PclKnnQuery_size);
 typedef struct PclEstimateQuery {
     pcl_f32 x, y, z, maxRadius2;
     pcl_f32 nx, ny, nz;
-    pcl_u32 k;            /* 1 .. PCL_KNN_MAX_K */
+    pcl_u32 k;            /* 1 .. PCL_KNN_MAX_K, or'ed with PCL_QUERY_NONDIRECT */
 } PclEstimateQuery;
 PCL_STATIC_ASSERT(sizeof(PclEstimateQuery) == 32, PclEstimateQuery_size);
+/* In PclEstimateQuery.k: the estimate (and the precomputed lookup) answers with the irradiance of
+ * the photons that did not come straight from a light (bounce > 0): final_gather's short gather
+ * rays add the direct part by shadow rays instead. The k nearest are searched as without it. */
+#define PCL_QUERY_NONDIRECT 0x80000000u
+#define PCL_QUERY_K_MASK 0x0000FFFFu
 
 #define PCL_FILTER_BOX 0u
 #define PCL_FILTER_CONE 1u
@@ -281,7 +286,9 @@ typedef struct PclEstimate {
     pcl_f32 radius2;       /* r^2: the kNN's squared distance to its last photon (0 if none) */
     pcl_u32 used;          /* photons that passed the rejection tests */
     pcl_u32 found;         /* photons the kNN returned */
-    pcl_u32 pad0, pad1;
+    pcl_u32 nondirect;     /* RGBE (photon_rgbe_encode) of E over the photons of bounce > 0 alone,
+                              the same disc and weights (PCL_QUERY_NONDIRECT) */
+    pcl_u32 pad0;
 } PclEstimate;
 PCL_STATIC_ASSERT(sizeof(PclEstimate) == 32, PclEstimate_size);
 
@@ -436,6 +443,10 @@ typedef struct PclGatherParams {
     pcl_u32 causticMapRead;   /* 1: the caustic map is read at the eye hits, so light a gather ray
                                  reaches after a specular bounce (LS+D seen from the eye hit) is
                                  left to it, not counted twice */
+    pcl_f32 closeDistance;    /* a gather ray whose diffuse hit lies nearer than this (straight from
+                                 the eye hit) takes the direct light there by shadow rays and reads
+                                 the map's other photons (PCL_QUERY_NONDIRECT); 0: none */
+    pcl_u32 pad0, pad1, pad2;
 } PclGatherParams;
 /* The bounce word of the Philox block whose words 0 and 1 shift a pixel's copy of the pass's
  * gather pattern (stratify_shifted): above every k·N + g (n² ≤ 256, N ≤ 4096). */
@@ -447,7 +458,11 @@ typedef struct PclGatherParams {
 #define PCL_PASS_PATTERN_PATH 0xFFFFFFFFu
 #define PCL_GATHER_UNIFORM_MIX 0.25f  /* the cosine share of the importance histogram's density */
 #define PCL_GATHER_MAX_CELLS 16u      /* G ≤ 16 */
-PCL_STATIC_ASSERT(sizeof(PclGatherParams) == 64, PclGatherParams_size);
+PCL_STATIC_ASSERT(sizeof(PclGatherParams) == 80, PclGatherParams_size);
+/* The block words of a close gather hit's light samples (stream GATHER, path = pixel, bounce =
+ * k·N + g): block PCL_GATHER_DIRECT_BLOCK u0 light choice, (u1, u2) its point; the next block
+ * (u0, u1) the sky's direction. Above every b + 1 of the specular chain. */
+#define PCL_GATHER_DIRECT_BLOCK 0xFFFFFF00u
 
 /* What one gather ray found (final_gather_trace): its radiance toward the eye hit is
  * weight × E(query) + emitted. */

@@ -113,6 +113,7 @@ void expectSame(const std::vector<PclEstimate>& twin, const std::vector<PclEstim
     EXPECT_EQ(row.radiusMismatches, 0u) << what;
     EXPECT_EQ(row.nans, 0u) << what;
     EXPECT_LE(row.maxRelError, kEstimateTolerance) << what;
+    EXPECT_LE(row.nondirectError, kNondirectTolerance) << what;
     EXPECT_GT(row.nonzero, twin.size() / 10) << what << ": too few nonzero estimates to compare";
     *maxErr = std::max(*maxErr, row.maxRelError);
 }
@@ -130,6 +131,7 @@ TEST(Estimate, MatchesTwinOnRandomMapForEveryFilterAndStructure) {
         const Vec3 n = nearAxis(axes[rng() % 6]);
         const Vec3 w = normalize(n + Vec3(g(rng), g(rng), g(rng)) * 0.7f);
         p = makePhoton(Vec3(u(rng), u(rng), u(rng)), w, n, Vec3(u(rng) + 0.01f, u(rng) * 3.0f, 0.5f * u(rng)));
+        p.packed |= uint32_t(rng() % 3) << PCL_PHOTON_BOUNCE_SHIFT;  // a third straight from a light
     }
     const float rMax = 0.08f;
     std::vector<PclEstimateQuery> qs(3000);
@@ -138,6 +140,7 @@ TEST(Estimate, MatchesTwinOnRandomMapForEveryFilterAndStructure) {
                       1 + rng() % 100);
     }
     qs[0].maxRadius2 = 0.0f;  // finds nothing (or only photons exactly there): exactly 0
+    for (size_t i = 1; i < qs.size(); i += 3) qs[i].k |= PCL_QUERY_NONDIRECT;  // the photons that bounced alone
     const ReferenceKnn brute = referenceKnnBruteForce(map, estimateKnnQueries(qs));
     double maxErr = 0.0;
     for (KnnStructure s : kStructures) {
@@ -155,6 +158,54 @@ TEST(Estimate, MatchesTwinOnRandomMapForEveryFilterAndStructure) {
     }
     std::printf("[figure] estimate vs twin, random map (30k photons, 3000 queries, k 1..100): max rel diff %.2e\n",
                 maxErr);
+}
+
+// PCL_QUERY_NONDIRECT: the estimate of the photons that bounced alone, over the same disc. Two
+// photons at each point of a plane, one straight from a light (power 1), one after a bounce
+// (0.25): the flagged estimate reads 0.25 / 1.25 of the full one, and the full estimate's
+// nondirect word says the same (RGBE); device and twin alike.
+TEST(Estimate, NondirectQueriesCountOnlyThePhotonsThatBounced) {
+    Device& device = test::testDevice();
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<PclPhoton> map;
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3 p(u(rng), 0.0f, u(rng));
+        map.push_back(makePhoton(p, Vec3(0, 1, 0), Vec3(0, 1, 0), Vec3(1.0f)));
+        map.push_back(makePhoton(p, Vec3(0, 1, 0), Vec3(0, 1, 0), Vec3(0.25f)));
+        map.back().packed |= 1u << PCL_PHOTON_BOUNCE_SHIFT;
+    }
+    std::vector<PclEstimateQuery> qs;
+    for (int i = 0; i < 200; ++i) {
+        qs.push_back(makeQuery(Vec3(0.2f + 0.6f * u(rng), 0.0f, 0.2f + 0.6f * u(rng)), Vec3(0, 1, 0), 0.1f, 50));
+        qs.push_back(qs.back());
+        qs.back().k |= PCL_QUERY_NONDIRECT;
+    }
+    const PhotonMapOnDevice built(device, map, KnnStructure::KdTree, 0.1f);
+    EstimateSettings settings;
+    settings.filter = EstimateFilter::Box;
+    const EstimateResult dev = estimateOnDevice(device, built, qs, settings, nullptr);
+    const std::vector<PclEstimate> twin = referenceEstimate(map, qs, settings, nullptr);
+    double worst = 0.0, worstWord = 0.0;
+    for (size_t i = 0; i < qs.size(); i += 2) {
+        for (const std::vector<PclEstimate>* e : {&dev.values, &twin}) {
+            const PclEstimate &all = (*e)[i], &later = (*e)[i + 1];
+            ASSERT_GT(all.r, 0.0f);
+            EXPECT_EQ(all.used, later.used);  // the same photons found and tested
+            worst = std::max(worst, std::fabs(later.r / all.r - 0.2));
+            float r, g, b;
+            photon_rgbe_decode(all.nondirect, &r, &g, &b);
+            worstWord = std::max(worstWord, std::fabs(r / later.r - 1.0));
+        }
+    }
+    std::printf("[figure] nondirect estimate: flagged / full within %.4f of 0.2 (pairs split at the k-th), RGBE word "
+                "within %.4f of the flagged estimate\n",
+                worst, worstWord);
+    EXPECT_LT(worst, 0.2 / 25.0);  // one photon of 50 on the wrong side of the k-th distance
+    EXPECT_LT(worstWord, 1.0 / 128.0);
+    EstimateCheckRow row;
+    compareEstimates(twin, dev.values, row);
+    EXPECT_TRUE(row.passed()) << row.maxRelError << " " << row.nondirectError;
 }
 
 // The lower-level call on buffers already on the device gives what the convenience gives.

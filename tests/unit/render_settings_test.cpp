@@ -236,8 +236,9 @@ TEST(RenderSettings, TextIsTheBatchShardFormat) {
                                         q.gatherRays = 64;
                                         q.lightSamples = 16;
                                         q.causticK = 50;
-                                        q.caustics = "map";   // the only kind then
-                                        q.emitterStrata = 0;  // none then
+                                        q.caustics = "map";    // the only kind then
+                                        q.emitterStrata = 0;   // none then
+                                        q.closeGather = 0.0f;  // none then
                                     }).settings;
     EXPECT_EQ(settingsText(fg, spheres, 64, 48, 7),
               "method=fg;width=64;height=48;passes=7;seed=0;strata=1;globalPhotons=200000;causticPhotons=100000;"
