@@ -83,15 +83,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
     }
 
     /* Delta lights: exact. */
-    for (uint l = 0u; l < params.lightCount; ++l) {
-        const PclLight L = lights[l];
-        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
-        PclV3 wi;
-        float tr[3];
-        const float g = light_delta(nodes, packets, spheres, em, medium, L, p, nf, sf, o, tau, &wi, tr);
-        if (!(g > 0.0f)) continue;
-        for (int c = 0; c < 3; ++c) sum[c] = sum[c] + L.power[c] * g * tr[c];
-    }
+    light_delta_irradiance(nodes, packets, spheres, em, medium, lights, params.lightCount, p, nf, sf, o, tau, sum);
 
     /* Triangle lights: M samples by area, MIS (power heuristic) against N cosine samples. The
      * pixel's n² M points of this pass are stratified together (shared/stratify.h), as are its

@@ -62,15 +62,7 @@ inline void gather_direct(__global const PclBvhNode* nodes, __global const PclTr
     const EyeMedia em = eye_media(primInfo, materials, (__global const PclMedium*)0,
                                   (__global const PclPrimMedium*)0, params->triangleCount, 0u, eps);
     for (int c = 0; c < 3; ++c) E[c] = 0.0f;
-    for (uint l = 0u; l < params->lightCount; ++l) {
-        const PclLight L = lights[l];
-        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
-        PclV3 wi;
-        float tr[3];
-        const float g = light_delta(nodes, packets, spheres, em, PCL_NO_MEDIUM, L, p, nf, sf, o, tau, &wi, tr);
-        if (!(g > 0.0f)) continue;
-        for (int c = 0; c < 3; ++c) E[c] = E[c] + L.power[c] * g * tr[c];
-    }
+    light_delta_irradiance(nodes, packets, spheres, em, PCL_NO_MEDIUM, lights, params->lightCount, p, nf, sf, o, tau, E);
     uint w[4];
     if (params->areaPowerTotal > 0.0f) {
         rng_block(seed, pixel, bounceWord, PCL_GATHER_DIRECT_BLOCK, PCL_RNG_STREAM_GATHER, w);

@@ -314,14 +314,9 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
         for (const cl_float4& v : later) nondirect.insert(nondirect.end(), {v.s[0], v.s[1], v.s[2], v.s[3]});
         t0 = Clock::now();
         const std::vector<PclRadiance> tPre =
-            referenceFinalGather(geometry, buffers, dHits, gp, [&](const std::vector<PclEstimateQuery>& q) {
-                const ReferenceIrradianceLookup l =
-                    referenceLookupIrradiance(points, cover, q, irr.minNormalCos, 0, nondirect);
-                std::vector<Vec3> e(q.size());
-                for (size_t j = 0; j < q.size(); ++j)
-                    e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1], l.irradiance[4 * j + 2]);
-                return e;
-            }).radiance;
+            referenceFinalGather(geometry, buffers, dHits, gp,
+                                 referencePrecomputedIrradiance(points, cover, irr.minNormalCos, nondirect))
+                .radiance;
         timed(compareRadiance("final gather (precomp.)", dPre, tPre, o.tolerance, o.worstShown),
               pt.traceSeconds + pt.irradianceSeconds + pt.resolveSeconds, since(t0));
 
@@ -343,17 +338,8 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
             const std::vector<PclRadiance> dImp = device.download<PclRadiance>(gathered, n);
             t0 = Clock::now();
             const std::vector<PclRadiance> tImp =
-                referenceFinalGather(
-                    geometry, buffers, dHits, ip,
-                    [&](const std::vector<PclEstimateQuery>& q) {
-                        const ReferenceIrradianceLookup l =
-                            referenceLookupIrradiance(points, cover, q, irr.minNormalCos, 0, nondirect);
-                        std::vector<Vec3> e(q.size());
-                        for (size_t j = 0; j < q.size(); ++j)
-                            e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1], l.irradiance[4 * j + 2]);
-                        return e;
-                    },
-                    &dHist)
+                referenceFinalGather(geometry, buffers, dHits, ip,
+                                     referencePrecomputedIrradiance(points, cover, irr.minNormalCos, nondirect), &dHist)
                     .radiance;
             timed(compareRadiance("final gather (import.)", dImp, tImp, o.tolerance, o.worstShown),
                   it.traceSeconds + it.irradianceSeconds + it.resolveSeconds, since(t0));

@@ -28,14 +28,7 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
         const Vec3 n = eyeNormalAt(buffers, h.prim, params.triangleCount, p, tau);
         sm.medium = dot(nf, n) > 0.0f ? buffers.primMedia[h.prim].outside : buffers.primMedia[h.prim].inside;
     }
-    Vec3 sum(0.0f);
-    for (uint32_t l = 0; l < params.lightCount; ++l) {
-        const PclLight& L = buffers.lights[l];
-        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
-        Vec3 wi, tr;
-        const float g = lightDelta(geometry, buffers, sm, L, p, nf, sf, o, tau, wi, tr);
-        if (g > 0.0f) sum = sum + eyeVec(L.power) * g * tr;
-    }
+    Vec3 sum = lightDeltaIrradiance(geometry, buffers, sm, params.lightCount, p, nf, sf, o, tau, Vec3(0.0f));
     const uint32_t M = params.lightSamples;
     // The pixel's n² M light points and sky directions of this pass, each stratified together:
     // the pass's two patterns, shifted for the pixel. The kernel reads their cells from a table;

@@ -9,6 +9,7 @@
 #include "reference/knn.h"
 #include "reference/light_sample.h"
 #include "reference/parallel_for.h"
+#include "reference/precomputed_irradiance.h"
 #include "reference/sky.h"
 #include "reference/textured_material.h"
 #include "reference/trace_photons.h"
@@ -23,6 +24,19 @@ ReferenceIrradiance referenceEstimateIrradiance(const std::vector<PclPhoton>& ma
         std::vector<PclEstimate> e = referenceEstimate(map, queries, settings, geometry);
         std::vector<Vec3> out(e.size());
         for (size_t i = 0; i < e.size(); ++i) out[i] = Vec3(e[i].r, e[i].g, e[i].b);
+        return out;
+    };
+}
+
+ReferenceIrradiance referencePrecomputedIrradiance(const std::vector<PclIrradiancePoint>& points,
+                                                   const std::vector<float>& cover, float minNormalCos,
+                                                   const std::vector<float>& nondirect) {
+    return [&points, &cover, minNormalCos, &nondirect](const std::vector<PclEstimateQuery>& queries) {
+        const ReferenceIrradianceLookup l =
+            referenceLookupIrradiance(points, cover, queries, minNormalCos, 0, nondirect);
+        std::vector<Vec3> out(queries.size());
+        for (size_t j = 0; j < queries.size(); ++j)
+            out[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1], l.irradiance[4 * j + 2]);
         return out;
     };
 }
@@ -48,14 +62,7 @@ Vec3 gatherDirect(const SceneGeometry& geometry, const SceneBuffers& buffers, co
     const float eps = params.rayEpsilon;
     const Vec3 o = p + nf * eps;
     const ShadowMedium sm;  // fg renders no media
-    Vec3 E(0.0f);
-    for (uint32_t l = 0; l < params.lightCount; ++l) {
-        const PclLight& L = buffers.lights[l];
-        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
-        Vec3 wi, tr;
-        const float g = lightDelta(geometry, buffers, sm, L, p, nf, sf, o, tau, wi, tr);
-        if (g > 0.0f) E = E + eyeVec(L.power) * g * tr;
-    }
+    Vec3 E = lightDeltaIrradiance(geometry, buffers, sm, params.lightCount, p, nf, sf, o, tau, Vec3(0.0f));
     uint32_t w[4];
     if (params.areaPowerTotal > 0.0f) {
         rng_block(seed, pixel, bounceWord, PCL_GATHER_DIRECT_BLOCK, PCL_RNG_STREAM_GATHER, w);

@@ -17,6 +17,12 @@ namespace pcl {
 // E rgb at each query (a query with maxRadius2 = 0 gives 0).
 using ReferenceIrradiance = std::function<std::vector<Vec3>(const std::vector<PclEstimateQuery>&)>;
 
+// The brute-force lookup of precomputed irradiance points (their covers and nondirect parts,
+// reference/precomputed_irradiance.h) as a ReferenceIrradiance.
+ReferenceIrradiance referencePrecomputedIrradiance(const std::vector<PclIrradiancePoint>& points,
+                                                   const std::vector<float>& cover, float minNormalCos,
+                                                   const std::vector<float>& nondirect);
+
 // The twin estimate (brute-force kNN) on `map` as a ReferenceIrradiance.
 ReferenceIrradiance referenceEstimateIrradiance(const std::vector<PclPhoton>& map, const EstimateSettings& settings,
                                                 const SceneGeometry* geometry);

@@ -62,6 +62,20 @@ inline float lightDelta(const SceneGeometry& geometry, const SceneBuffers& buffe
     return scale * cosS / d2;
 }
 
+// Every point, spot and directional light of the first lightCount seen from p (lightDelta):
+// Σ Φ g tr in light order (shared/light_sample.h, light_delta_irradiance), added to E.
+inline Vec3 lightDeltaIrradiance(const SceneGeometry& geometry, const SceneBuffers& buffers, ShadowMedium sm,
+                                 uint32_t lightCount, Vec3 p, Vec3 nf, Vec3 sf, Vec3 o, float tau, Vec3 E) {
+    for (uint32_t l = 0; l < lightCount; ++l) {
+        const PclLight& L = buffers.lights[l];
+        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
+        Vec3 wi, tr;
+        const float g = lightDelta(geometry, buffers, sm, L, p, nf, sf, o, tau, wi, tr);
+        if (g > 0.0f) E = E + eyeVec(L.power) * g * tr;
+    }
+    return E;
+}
+
 // The radiance triangle light L emits at barycentrics (bu, bv): its material's emission times
 // its emission texel there (shared/texture.h's lookup on the same buffers).
 inline Vec3 lightEmissionAt(const SceneBuffers& buffers, uint32_t triangleCount, const PclLight& L, float bu,

@@ -57,11 +57,8 @@ std::vector<Vec3> TwinRenderStages::irradiance(const MapSpec& m, const std::vect
     std::vector<Vec3> E(queriesIn.size(), Vec3(0.0f));
     if (m.reader == MapReader::None) throw std::logic_error("render (twin): a map the pass does not read was read");
     if (m.reader == MapReader::Precomputed) {
-        const ReferenceIrradianceLookup l =
-            referenceLookupIrradiance(points_, cover_, queriesIn, m.precomputed.estimate.minNormalCos, 0, nondirect_);
-        for (size_t i = 0; i < E.size(); ++i)
-            E[i] = Vec3(l.irradiance[4 * i], l.irradiance[4 * i + 1], l.irradiance[4 * i + 2]);
-        return E;
+        return referencePrecomputedIrradiance(points_, cover_, m.precomputed.estimate.minNormalCos,
+                                              nondirect_)(queriesIn);
     }
     // As the device's estimate: a query's k above maxK is searched with maxK.
     std::vector<PclEstimateQuery> queries = queriesIn;

@@ -117,6 +117,23 @@ inline float light_delta(__global const PclBvhNode* nodes, __global const PclTri
     return scale * cosS / d2;
 }
 
+/* Every point, spot and directional light of lights[0 .. lightCount) seen from p (light_delta):
+ * E[c] += Φ_c g tr_c, in light order (the irradiance the BRDF then weighs). */
+inline void light_delta_irradiance(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
+                                   __global const PclSphere* spheres, const EyeMedia em, int medium,
+                                   __global const PclLight* lights, uint lightCount, PclV3 p, PclV3 nf, PclV3 sf,
+                                   PclV3 o, float tau, float E[3]) {
+    for (uint l = 0u; l < lightCount; ++l) {
+        const PclLight L = lights[l];
+        if (L.type == PCL_LIGHT_TRIANGLE || L.type == PCL_LIGHT_ENVIRONMENT) continue;
+        PclV3 wi;
+        float tr[3];
+        const float g = light_delta(nodes, packets, spheres, em, medium, L, p, nf, sf, o, tau, &wi, tr);
+        if (!(g > 0.0f)) continue;
+        for (int c = 0; c < 3; ++c) E[c] = E[c] + L.power[c] * g * tr[c];
+    }
+}
+
 /* Triangle light choice and point: u0 chooses the light (the first l with u0 < areaCdf[l]),
  * (u1, u2) a point *q uniform in its area (at shutter time tau), at barycentrics (*bu, *bv)
  * (q = p0 + bu e1 + bv e2); false when the entry chosen is not a triangle light. */

@@ -113,14 +113,8 @@ TEST(FinalGather, CloseHitsMatchTheTwinUnderAreaPointAndSkyLight) {
         for (const cl_float4& v : test::testDevice().download<cl_float4>(irr.nondirect, irr.count))
             later.insert(later.end(), {v.s[0], v.s[1], v.s[2], v.s[3]});
         const ReferenceGather tp =
-            referenceFinalGather(b.geometry, b.buffers, s.hits, s.gp, [&](const std::vector<PclEstimateQuery>& q) {
-                const ReferenceIrradianceLookup l =
-                    referenceLookupIrradiance(points, cover, q, irr.minNormalCos, 0, later);
-                std::vector<Vec3> e(q.size());
-                for (size_t j = 0; j < q.size(); ++j)
-                    e[j] = Vec3(l.irradiance[4 * j], l.irradiance[4 * j + 1], l.irradiance[4 * j + 2]);
-                return e;
-            });
+            referenceFinalGather(b.geometry, b.buffers, s.hits, s.gp,
+                                 referencePrecomputedIrradiance(points, cover, irr.minNormalCos, later));
         const StageComparison cp = compareRadiance("gather (precomp.)", dp.radiance, tp.radiance, 1e-3, 3);
         std::printf("[figure] close gather hits, %s 32x24 N=8, closeDistance %.3f: %zu of %zu rays close; radiance "
                     "%.4f %% (estimate) and %.4f %% (precomputed) within 1e-3 of the twin, NaN/Inf %zu\n",
