@@ -19,7 +19,8 @@
  *      env, envData[]          the sky (shared/environment.h): a gather ray that leaves the
  *                              scene straight from the eye hit adds its radiance with the MIS
  *                              weight against direct_light's M sky samples; after a specular
- *                              bounce in full, or not at all when the caustic map is read
+ *                              bounce in full, or not at all when the caustic map is read and
+ *                              holds the sky's photons (causticSky)
  *      strata[2s], [2s + 1]     the cell of sample s of the pass's pattern of n²N (stratify.h,
  *                              stratify_cmj_cell; word 0 of (PCL_PASS_PATTERN_PATH,
  *                              PCL_GATHER_PATTERN_BOUNCE, block 0) its pattern)
@@ -167,7 +168,7 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
         const PclRay ray = bvh_ray(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY, tau);
         PclHit hit;
         if (!bvh_trace(nodes, packets, spheres, ray, false, &hit)) {
-            if (env_active(env) && !(afterSpecular && params.causticMapRead != 0u)) {
+            if (env_active(env) && !(afterSpecular && params.causticMapRead != 0u && params.causticSky != 0u)) {
                 float Lsky[3];
                 const float pdfL = env_radiance(env, envData, d, Lsky);
                 const float wMis = !afterSpecular && params.lightSamples > 0u

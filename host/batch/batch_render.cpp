@@ -54,7 +54,7 @@ BatchScene loadBatchScene(const BatchJob& job) {
     b.scene = loadScene(job.scene);
     b.scene.camera.width = job.width;
     b.scene.camera.height = job.height;
-    PreparedScene prepared = prepareScene(b.scene);
+    PreparedScene prepared = prepareScene(b.scene, planSettingsFor(job.method));
     b.geometry = std::move(prepared.geometry);
     b.buffers = std::move(prepared.buffers);
     b.plan = std::move(prepared.plan);

@@ -283,6 +283,7 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
         auto source = estimateIrradianceSource(global, o.k, es, &deviceScene);
         PclGatherParams gp = gatherParams(dp, o.gatherRays, o.k, rMax * rMax);
         gp.causticMapRead = maps.caustic.empty() ? 0u : 1u;  // as the renderer: LS+D left to the caustic map
+        gp.causticSky = skySendsCausticPhotons(buffers) ? 1u : 0u;
         // Gather hits within r_max take their direct light by shadow rays and the map's other
         // photons (the renderer's --close-gather reaches a few r_k): both halves checked.
         gp.closeDistance = rMax;

@@ -327,7 +327,7 @@ int runRender(const RenderOptions& given) {
     // The plan (photoncl analyze) decides which maps and samplers a render uses. The path
     // tracer builds no photon maps; its lens and time samplers follow the camera and the motion
     // in the scene exactly as the plan's do.
-    const PreparedScene prepared = prepareScene(scene);
+    const PreparedScene prepared = prepareScene(scene, planSettingsFor(q.method));
     if (!o.quiet)
         std::fprintf(stderr, "scene %s: %zu triangles, %zu spheres, %zu lights; BVH %zu nodes in %.2fs\n",
                      o.scene.c_str(), scene.triangleCount(), scene.spheres.size(), scene.lights.size(),

@@ -49,6 +49,14 @@ EnvironmentMap::EnvironmentMap(const Environment& environment) {
         rowCdf_[size_t(y) + 1] = rowCdf_[size_t(y)] + row / total;
     }
     rowCdf_.back() = 1.0;
+    // Texel shares p_i = Y_i Ω_i / Σ: ∫ Y² dω / (∫ Y dω)² = Σ p_i² / Ω_i.
+    double squares = 0.0;
+    for (int y = 0; y < height_; ++y)
+        for (int x = 0; x < width_; ++x) {
+            const double p = weight[size_t(y) * size_t(width_) + size_t(x)] / total;
+            squares += p * p / rowSolidAngle(y);
+        }
+    effectiveSolidAngle_ = squares > 0.0 ? 1.0 / squares : 0.0;
 }
 
 float EnvironmentMap::rowSolidAngle(int y) const {
@@ -120,6 +128,11 @@ void refuseEnvironmentInMediaWithoutPathTracer(const Scene& scene, const std::st
                   " (the photon methods do not carry the sky through media; --method path renders both)",
               (scene.environment.imagePath.empty() ? "a constant sky" : "the sky " + scene.environment.imagePath) +
                   " and " + std::to_string(scene.media.size()) + " medium(s)");
+}
+
+bool skyCausticsByEyeRays(const Scene& scene) {
+    const EnvironmentMap sky(scene.environment);
+    return sky.active() && sky.effectiveSolidAngle() >= kSpreadSkySolidAngle;
 }
 
 }  // namespace pcl

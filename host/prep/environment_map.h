@@ -33,6 +33,9 @@ public:
     float pdf(Vec3 w) const;
     // ∫ L dω over the sphere, per channel (4π L for a constant sky).
     Vec3 integral() const { return integral_; }
+    // (∫ Y dω)² / ∫ Y² dω in sr, Y the luminance: how much of the sphere the sky's light is spread
+    // over (4π for a constant sky, about a sun's solid angle when a sun dominates); 0 inactive.
+    double effectiveSolidAngle() const { return effectiveSolidAngle_; }
 
 private:
     Vec3 toLocal(Vec3 w) const;
@@ -49,7 +52,16 @@ private:
     std::vector<double> columnCdf_;  // per row, width + 1 entries, 0 .. 1
     std::vector<float> texelProbability_;
     Vec3 integral_{0.0f};
+    double effectiveSolidAngle_ = 0.0;
 };
+
+// A sky whose light is spread over at least this solid angle (EnvironmentMap::
+// effectiveSolidAngle, sr) is found well by rays from the eye side, through specular surfaces
+// too: with PlanSettings::skyCaustics false it sends no caustic photons. A sky whose sun holds
+// its light (the courtyard's: its caustic through the glass ball is a firefly to a gather ray)
+// keeps them.
+constexpr double kSpreadSkySolidAngle = 1.0;
+bool skyCausticsByEyeRays(const Scene& scene);
 
 // The photon methods and the device stages read the sky (its photons, eye rays that escape,
 // direct light by its map: kernels/shared/environment.h) but do not carry it through

@@ -1,5 +1,7 @@
 #include "prep/plan.h"
 
+#include "prep/environment_map.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -121,7 +123,10 @@ LightPaths classifyLightPaths(const Scene& scene, const SceneGeometry& geometry,
         lp.pureSpecularPrims += p.pureSpecular;
         lp.glossyPrims += p.glossy;
     }
-    for (const PclLight& l : buffers.lights) lp.markedCells += l.projCount;
+    for (const PclLight& l : buffers.lights) {
+        lp.markedCells += l.projCount;
+        if (l.type == PCL_LIGHT_ENVIRONMENT) lp.skyCells += l.projCount;
+    }
     auto diffuse = [](const Prim& p) { return p.diffuse; };
     auto specular = [](const Prim& p) { return p.specular; };
     lp.diffuseSeesDiffuse = canSee(prims, scale, diffuse, diffuse);
@@ -226,9 +231,14 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
     // trace_photons step 1), so every LS+D path the scene allows ends in the caustic map: a
     // light reaching any specular surface (pure or mixed) that sees a diffuse one (a mixed
     // surface counts as diffuse when another specular surface sees it).
-    plan.causticMap = lp.caustics;
+    const bool skyOnly = lp.caustics && !settings.skyCaustics && lp.markedCells == lp.skyCells &&
+                         skyCausticsByEyeRays(scene);
+    plan.causticMap = lp.caustics && !skyOnly;
     plan.causticPhotons = plan.causticMap ? settings.causticPhotons : 0;
-    if (plan.causticMap)
+    if (skyOnly)
+        plan.reasons.push_back("caustics (LS+DE) come from the sky alone: the gather rays find them through the "
+                               "specular surfaces, no caustic map");
+    else if (plan.causticMap)
         plan.reasons.push_back("caustics (LS+DE): lights reach specular surfaces (" + std::to_string(lp.markedCells) +
                                " projection-map cells) that see diffuse ones");
     else if (lp.specularPrims == 0) plan.reasons.push_back("no specular surfaces");

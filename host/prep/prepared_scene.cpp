@@ -11,6 +11,8 @@ PreparedScene prepareScene(const Scene& scene, const PlanSettings& settings) {
     buildProjectionMaps(scene, p.geometry, p.buffers);
     p.paths = classifyLightPaths(scene, p.geometry, p.buffers);
     p.plan = makePlan(scene, p.paths, settings);
+    // After the paths: the sky is still seen in the specular surfaces (LS+E).
+    if (!settings.skyCaustics) clearSpreadSkyProjection(scene, p.buffers);
     return p;
 }
 

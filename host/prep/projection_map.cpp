@@ -24,7 +24,9 @@
 //    ball iff its footprint on the disc plane comes within ρ of the ball centre's projection; the
 //    footprint is covered by a circle found the same way as the cones.
 #include "prep/projection_map.h"
+
 #include "core/math.h"
+#include "prep/environment_map.h"
 
 #include <algorithm>
 #include <cmath>
@@ -450,6 +452,18 @@ void buildProjectionMaps(const Scene& scene, const SceneGeometry& geometry, Scen
             light.e1[3] = std::nextafter(float(target.r), std::numeric_limits<float>::infinity());
         }
     }
+}
+
+bool skySendsCausticPhotons(const SceneBuffers& buffers) {
+    for (const PclLight& l : buffers.lights)
+        if (l.type == PCL_LIGHT_ENVIRONMENT && l.projCount > 0) return true;
+    return false;
+}
+
+void clearSpreadSkyProjection(const Scene& scene, SceneBuffers& buffers) {
+    if (!skyCausticsByEyeRays(scene)) return;
+    for (PclLight& l : buffers.lights)
+        if (l.type == PCL_LIGHT_ENVIRONMENT) l.projCount = 0;
 }
 
 LightSampleRay warpLightSample(const PclLight& light, double s1, double s2, double u1, double u2, double time) {

@@ -27,6 +27,15 @@ bool isDiffuse(const PclMaterial& m);  // max ρd > 0
 // projCount 0 everywhere. buffers must come from buildSceneBuffers(scene, geometry).
 void buildProjectionMaps(const Scene& scene, const SceneGeometry& geometry, SceneBuffers& buffers);
 
+// Whether the sky sends caustic photons (its projection map is not empty; PlanSettings::skyCaustics
+// clears it): fg's gather rays then leave the sky they reach through specular surfaces to the
+// caustic map (PclGatherParams::causticSky).
+bool skySendsCausticPhotons(const SceneBuffers& buffers);
+
+// Clears the sky's projection map when its light is spread (skyCausticsByEyeRays): it then sends
+// no caustic photons (PlanSettings::skyCaustics false; prepareScene calls it after the plan).
+void clearSpreadSkyProjection(const Scene& scene, SceneBuffers& buffers);
+
 bool isPureSpecular(const PclMaterial& m);  // specular with ρd = 0
 
 // The light's warp of kernels/README.md "emit" in double precision: the direction of sample

@@ -175,7 +175,7 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
         PclHit hit;
         if (!geometry.intersect(eyeRay(o, d, std::numeric_limits<float>::infinity(), tau), hit)) {
             // The sky: the gather half of the MIS pair with direct light's sky samples.
-            if (skyActive(buffers) && !(afterSpecular && params.causticMapRead)) {
+            if (skyActive(buffers) && !(afterSpecular && params.causticMapRead && params.causticSky)) {
                 float pdfL;
                 const Vec3 Lsky = skyRadiance(buffers, d, &pdfL);
                 const float wMis =

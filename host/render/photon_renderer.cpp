@@ -15,6 +15,7 @@
 #include "pipeline/direct_light.h"
 #include "pipeline/eye_paths.h"
 #include "pipeline/final_gather.h"
+#include "prep/projection_map.h"
 #include "prep/volume_estimate_settings.h"
 #include "render/device_stages.h"
 #include "render/render_stages.h"
@@ -362,6 +363,7 @@ ChunkParts PhotonRenderer::shadeFinalGather(const PassMapSpec& m, const PclEyePa
     if (gather) {
         gp = gatherParams(dp, s_.gatherRays, s_.globalK, maxRadius_ * maxRadius_, kDefaultGatherSpecular);
         gp.causticMapRead = maps_.caustic ? 1u : 0u;
+        gp.causticSky = skySendsCausticPhotons(buffers_) ? 1u : 0u;
         // r_k: the radius that holds k photons at the pass's mean density.
         const double stored = double(m.global.photons ? m.global.photons->size() : 0);
         if (s_.closeGather > 0.0f && stored > 0.0)

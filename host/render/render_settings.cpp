@@ -200,6 +200,12 @@ constexpr const char* kVolumeKReason = "about 32 volume photons in the first rad
 
 // The defaults below were measured on the 2-core PoCL machine (README, "Commands"):
 // cornell-spheres at 256×256 renders in under a minute with them.
+PlanSettings planSettingsFor(const std::string& method) {
+    PlanSettings p;
+    p.skyCaustics = method != "fg" && method != "auto";
+    return p;
+}
+
 ResolvedSettings resolveRenderSettings(const RenderRequest& q, const RenderPlan& plan, int width, int height) {
     ResolvedSettings r;
     PhotonRenderSettings& s = r.settings;

@@ -108,6 +108,10 @@ struct PhotonRenderSettings {
     bool log = false;  // one line per pass on stderr
 };
 
+// What prepareScene needs to know of the method: fg (and auto, whose pilot may pick it) leaves
+// the sky's caustics to its gather rays (PlanSettings::skyCaustics); the others keep its photons.
+PlanSettings planSettingsFor(const std::string& method);
+
 // fg's closeGather when the request leaves it out (README, "Equal time at 256²").
 constexpr float kDefaultCloseGather = 2.0f;
 

@@ -446,7 +446,10 @@ typedef struct PclGatherParams {
     pcl_f32 closeDistance;    /* a gather ray whose diffuse hit lies nearer than this (straight from
                                  the eye hit) takes the direct light there by shadow rays and reads
                                  the map's other photons (PCL_QUERY_NONDIRECT); 0: none */
-    pcl_u32 pad0, pad1, pad2;
+    pcl_u32 causticSky;       /* 1: the caustic map holds the sky's photons too, so with causticMapRead
+                                 a gather ray's sky after a specular bounce is left to it; 0: the sky
+                                 sent no caustic photons (PlanSettings::skyCaustics): counted here */
+    pcl_u32 pad0, pad1;
 } PclGatherParams;
 /* The bounce word of the Philox block whose words 0 and 1 shift a pixel's copy of the pass's
  * gather pattern (stratify_shifted): above every k·N + g (n² ≤ 256, N ≤ 4096). */

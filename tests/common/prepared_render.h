@@ -29,7 +29,8 @@ struct Prepared {
     RenderPlan plan;
 };
 
-inline std::unique_ptr<Prepared> prepare(Scene scene) {
+// settings.skyCaustics false: as render prepares a scene for fg (prepareScene).
+inline std::unique_ptr<Prepared> prepare(Scene scene, const PlanSettings& settings = {}) {
     auto p = std::make_unique<Prepared>();
     p->scene = std::move(scene);
     addMissingTangents(p->scene);  // what validateScene does for a loaded scene
@@ -37,13 +38,15 @@ inline std::unique_ptr<Prepared> prepare(Scene scene) {
     p->buffers = buildSceneBuffers(p->scene, *p->geometry);
     buildProjectionMaps(p->scene, *p->geometry, p->buffers);
     p->paths = classifyLightPaths(p->scene, *p->geometry, p->buffers);
-    p->plan = makePlan(p->scene, p->paths);
+    p->plan = makePlan(p->scene, p->paths, settings);
+    if (!settings.skyCaustics) clearSpreadSkyProjection(p->scene, p->buffers);
     return p;
 }
 
 // A shipped scene (scenes/NAME) at width × height.
-inline std::unique_ptr<Prepared> prepareFile(const std::string& name, int width, int height) {
-    return prepare(accuracy::loadSceneAt(name, width, height));
+inline std::unique_ptr<Prepared> prepareFile(const std::string& name, int width, int height,
+                                             const PlanSettings& settings = {}) {
+    return prepare(accuracy::loadSceneAt(name, width, height), settings);
 }
 
 inline PhotonRenderResult render(const Prepared& p, const PhotonRenderSettings& s) {

@@ -160,6 +160,26 @@ TEST(EnvironmentMap, ConstantSkyIsUniform) {
     EXPECT_FALSE(EnvironmentMap(Environment{}).active());
 }
 
+// How widely the sky's light is spread: 4π sr for a constant sky; one bright texel among dim
+// ones reads close to that texel's solid angle (its share of Y dω squared over its Ω, summed).
+TEST(EnvironmentMap, EffectiveSolidAngleIsTheSpreadOfTheLight) {
+    Environment constant;
+    constant.scale = Vec3(0.6f, 0.8f, 1.0f);
+    EXPECT_NEAR(EnvironmentMap(constant).effectiveSolidAngle(), 4.0 * kPiD, 1e-6);
+    const int W = 64, H = 32;
+    Image img(W, H);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) img.set(x, y, Vec3(1.0f));
+    EXPECT_NEAR(EnvironmentMap(mapOf(img, 0.0f)).effectiveSolidAngle(), 4.0 * kPiD, 1e-3);
+    img.set(10, 8, Vec3(1e6f));  // a sun: Ω of its row's texels, 2π/W (cos θ0 − cos θ1)
+    const double omega = 2.0 * kPiD / W * (std::cos(kPiD * 8 / H) - std::cos(kPiD * 9 / H));
+    const double spread = EnvironmentMap(mapOf(img, 0.0f)).effectiveSolidAngle();
+    std::printf("[figure] effective solid angle: constant 4π, sun texel %.3e sr against its Ω %.3e sr\n", spread,
+                omega);
+    EXPECT_NEAR(spread / omega, 1.0, 0.01);
+    EXPECT_FALSE(skyCausticsByEyeRays(Scene{}));  // no sky at all
+}
+
 // ---- The JSON key -------------------------------------------------------------------------
 
 namespace {

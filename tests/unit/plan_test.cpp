@@ -8,6 +8,7 @@
 #include <string>
 
 #include "common/test_scenes.h"
+#include "prep/environment_map.h"
 #include "prep/prepared_scene.h"
 #include "run_photoncl.h"
 #include "scene/load_scene.h"
@@ -36,6 +37,12 @@ PreparedScene analyzeFile(const std::string& name) {
 using test_scenes::addQuad;
 using test_scenes::addSphere;
 using test_scenes::pointLight;
+
+PlanSettings planSettingsForFg() {
+    PlanSettings p;
+    p.skyCaustics = false;
+    return p;
+}
 
 // Materials here have Phong exponent 40.
 int addMaterial(Scene& s, Vec3 rhoD, Vec3 rhoS = Vec3(0.0f), SpecularKind kind = SpecularKind::None,
@@ -128,6 +135,27 @@ TEST(PlanShipped, MotionDof) {
     EXPECT_TRUE(a.plan.globalMap);
     EXPECT_TRUE(a.plan.glossySampling);  // gold
     EXPECT_TRUE(a.plan.areaLightSampling);
+}
+
+// fg leaves a spread sky's caustics to its gather rays (PlanSettings::skyCaustics): sky-spheres'
+// only caustic light is its constant sky, so fg needs no caustic map there and the sky sends no
+// caustic photons; the courtyard's sky holds a sun (its caustic through the glass ball would be
+// a firefly to a gather ray), so it keeps them. progressive (the default settings) keeps both.
+TEST(PlanShipped, FgLeavesASpreadSkysCausticsToTheGatherRays) {
+    for (const char* name : {"sky-spheres.json", "courtyard/courtyard.json"}) {
+        const Scene s = loadScene(scenePath(name));
+        const PreparedScene fg = prepareScene(s, planSettingsForFg());
+        const PreparedScene other = prepareScene(s);
+        uint32_t skyCells = 0;
+        for (const PclLight& l : fg.buffers.lights)
+            if (l.type == PCL_LIGHT_ENVIRONMENT) skyCells += l.projCount;
+        const bool spread = std::string(name) == "sky-spheres.json";
+        EXPECT_EQ(skyCausticsByEyeRays(s), spread) << name;
+        EXPECT_EQ(fg.plan.causticMap, !spread) << name;
+        EXPECT_EQ(skyCells > 0, !spread) << name;
+        EXPECT_TRUE(other.plan.causticMap) << name;
+        EXPECT_TRUE(path(fg.paths, "LS+E")) << name << ": the sky is still seen in the mirror";
+    }
 }
 
 #if PHOTONCL_HAVE_GLTF
