@@ -280,10 +280,10 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
     }
     cam.width = reference.width;
     cam.height = reference.height;
-    const PreparedScene prepared = prepareScene(scene);
-    const SceneGeometry& geometry = prepared.geometry;
-    const SceneBuffers& buffers = prepared.buffers;
-    const RenderPlan& plan = prepared.plan;
+    // As render prepares them: fg and auto leave a spread sky's caustics to the gather rays,
+    // direct and progressive keep its photons (planSettingsFor).
+    const PreparedScene forOthers = prepareScene(scene, planSettingsFor("progressive"));
+    const PreparedScene forFg = prepareScene(scene, planSettingsFor("fg"));
     const std::string sceneName = fs::path(o.scenePath).stem().string();
 
     std::unique_ptr<Device> device;
@@ -308,6 +308,11 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
 
     for (const Curve& curve : curves) {
         const bool path = curve.method == RenderMethod::PathTracing;
+        const PreparedScene& prepared = curve.method == RenderMethod::FinalGather || curve.autoMethod ? forFg
+                                                                                                      : forOthers;
+        const SceneGeometry& geometry = prepared.geometry;
+        const SceneBuffers& buffers = prepared.buffers;
+        const RenderPlan& plan = prepared.plan;
         PhotonRenderSettings base = methodDefaults(curve.method, plan, cam.width, cam.height, o.quick);
         if (!path) {
             curve.tweak(base);
