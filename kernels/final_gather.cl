@@ -29,7 +29,8 @@
  * 0 and 1 of (pixel, PCL_GATHER_PATTERN_BOUNCE, block 0) (stratify_shifted; with importance
  * histograms that sample's v picks the cell: see below); block b + 1 at gather
  * hit b: u0 lobe, u1 reflect/refract, (u2, u3) glossy direction (drawn only where the hit has a
- * specular lobe).
+ * specular lobe); at a close hit, block PCL_GATHER_DIRECT_BLOCK: u0 the triangle light, (u1, u2)
+ * its point, and block PCL_GATHER_DIRECT_BLOCK + 1: (u0, u1) the sky direction (gather_direct).
  *
  * final_gather_resolve — one eye record per work-item:
  * in:  hits, gathered, irradiance (params.irradianceStride floats per query, rgb first)
