@@ -181,7 +181,7 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
                                irr.timing.estimate.estimateSeconds + irr.timing.treeSeconds;
     const std::vector<PclIrradiancePoint> points = downloadIrradiancePoints(device, irr);
     const std::vector<float> cover = downloadIrradianceCover(device, irr);
-    const std::vector<cl_float4> nondirect = device.download<cl_float4>(irr.nondirect, irr.count);
+    const std::vector<float> nondirect = downloadIrradianceNondirect(device, irr);
     report.points = points.size();
 
     // Selection: every field but the irradiance, bit for bit.
@@ -220,7 +220,7 @@ IrradianceCheckReport checkPrecomputedIrradianceOnMap(Device& device, const std:
         const float* tn = &sampleNondirect[4 * t];
         const double top = std::max({double(tn[0]), double(tn[1]), double(tn[2]), floor});
         for (int c = 0; c < 3; ++c) {
-            const double err = std::fabs(double(nondirect[sampleAt[t]].s[c]) - double(tn[c])) / top;
+            const double err = std::fabs(double(nondirect[4 * sampleAt[t] + c]) - double(tn[c])) / top;
             report.nondirectMaxError = std::max(report.nondirectMaxError, std::isfinite(err) ? err : INFINITY);
         }
         ++report.storedCompared;

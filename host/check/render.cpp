@@ -310,9 +310,7 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
         const std::vector<PclRadiance> dPre = device.download<PclRadiance>(gathered, n);
         const std::vector<PclIrradiancePoint> points = downloadIrradiancePoints(device, irr);
         const std::vector<float> cover = device.download<float>(irr.cover, irr.count);
-        const std::vector<cl_float4> later = device.download<cl_float4>(irr.nondirect, irr.count);
-        std::vector<float> nondirect;
-        for (const cl_float4& v : later) nondirect.insert(nondirect.end(), {v.s[0], v.s[1], v.s[2], v.s[3]});
+        const std::vector<float> nondirect = downloadIrradianceNondirect(device, irr);
         t0 = Clock::now();
         const std::vector<PclRadiance> tPre =
             referenceFinalGather(geometry, buffers, dHits, gp,

@@ -192,6 +192,10 @@ std::vector<float> downloadIrradianceCover(Device& device, const DeviceIrradianc
     return device.download<float>(map.cover, map.count);
 }
 
+std::vector<float> downloadIrradianceNondirect(Device& device, const DeviceIrradianceMap& map) {
+    return device.download<float>(map.nondirect, 4 * map.count);
+}
+
 double lookupIrradiance(Device& device, const DeviceIrradianceMap& map, const cl::Buffer& queries, size_t queryCount,
                         DeviceIrradianceLookup& out, bool zeroRadiusIsNone) {
     if (out.queries != queryCount || queryCount == 0) {

@@ -107,6 +107,8 @@ DeviceIrradianceMap uploadIrradiancePoints(Device& device, const std::vector<Pcl
 // The points in selection order, and the tree nodes in heap order, downloaded.
 std::vector<PclIrradiancePoint> downloadIrradiancePoints(Device& device, const DeviceIrradianceMap& map);
 std::vector<float> downloadIrradianceCover(Device& device, const DeviceIrradianceMap& map);  // selection order
+// The nondirect irradiance, selection order, 4 floats per point (r, g, b, 0: the twin's layout).
+std::vector<float> downloadIrradianceNondirect(Device& device, const DeviceIrradianceMap& map);
 
 // (d) lookups on the device.
 struct DeviceIrradianceLookup {

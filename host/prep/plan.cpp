@@ -127,6 +127,7 @@ LightPaths classifyLightPaths(const Scene& scene, const SceneGeometry& geometry,
         lp.markedCells += l.projCount;
         if (l.type == PCL_LIGHT_ENVIRONMENT) lp.skyCells += l.projCount;
     }
+    lp.skySpread = skyCausticsByEyeRays(scene);
     auto diffuse = [](const Prim& p) { return p.diffuse; };
     auto specular = [](const Prim& p) { return p.specular; };
     lp.diffuseSeesDiffuse = canSee(prims, scale, diffuse, diffuse);
@@ -231,9 +232,9 @@ RenderPlan makePlan(const Scene& scene, const LightPaths& lp, const PlanSettings
     // trace_photons step 1), so every LS+D path the scene allows ends in the caustic map: a
     // light reaching any specular surface (pure or mixed) that sees a diffuse one (a mixed
     // surface counts as diffuse when another specular surface sees it).
-    const bool skyOnly = lp.caustics && !settings.skyCaustics && lp.markedCells == lp.skyCells &&
-                         skyCausticsByEyeRays(scene);
-    plan.causticMap = lp.caustics && !skyOnly;
+    plan.skyCausticPhotons = lp.skyCells > 0 && (settings.skyCaustics || !lp.skySpread);
+    plan.causticMap = lp.caustics && (lp.markedCells > lp.skyCells || plan.skyCausticPhotons);
+    const bool skyOnly = lp.caustics && !plan.causticMap;
     plan.causticPhotons = plan.causticMap ? settings.causticPhotons : 0;
     if (skyOnly)
         plan.reasons.push_back("caustics (LS+DE) come from the sky alone: the gather rays find them through the "

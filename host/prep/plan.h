@@ -48,6 +48,7 @@ struct LightPaths {
     size_t lights = 0, areaTriangles = 0, diffusePrims = 0, specularPrims = 0, pureSpecularPrims = 0, glossyPrims = 0;
     uint32_t markedCells = 0;  // projection-map cells over all lights (specular surfaces, mixed included)
     uint32_t skyCells = 0;     // of those, the sky's
+    bool skySpread = false;    // the sky's light is spread over ≥ kSpreadSkySolidAngle (skyCausticsByEyeRays)
     bool diffuseSeesDiffuse = false, diffuseSeesSpecular = false;
     size_t media = 0, scatteringMedia = 0;  // media in use (global or in a shape), those with σs > 0
     std::vector<LightPath> list;            // the classes above, in order, with reasons
@@ -56,9 +57,9 @@ struct LightPaths {
 struct PlanSettings {
     uint32_t globalPhotons = 200000;   // photons emitted in the global pass when one is needed
     uint32_t causticPhotons = 100000;  // photons emitted in the caustic pass when one is needed
-    // false: a spread sky (prep/prepared_scene.h, skyCausticsByEyeRays) sends no caustic photons
-    // (prepareScene clears its projection map), so its caustics are left to the eye side; fg's gather rays then find them through the specular
-    // surfaces, as a path tracer does (a large, smooth light: sky-spheres' caustic part held 99 %
+    // false: a spread sky (LightPaths::skySpread) sends no caustic photons (RenderPlan::
+    // skyCausticPhotons; prepareScene clears its projection map), so its caustics are left to the
+    // eye side; fg's gather rays then find them through the specular surfaces, as a path tracer does (a large, smooth light: sky-spheres' caustic part held 99 %
     // of fg's variance as photons). progressive and direct read caustics from the map only and
     // keep the sky's photons.
     bool skyCaustics = true;
@@ -72,6 +73,9 @@ struct RenderPlan {
     // so volumePhotons is the global pass's photon count. progressive and direct read them; fg
     // refuses media (prep/media_support.h).
     bool volumeMap = false;
+    // The sky sends caustic photons (it reaches specular surfaces, and PlanSettings::skyCaustics or
+    // its light is not spread); false: prepareScene clears its projection map.
+    bool skyCausticPhotons = false;
     uint32_t globalPhotons = 0, causticPhotons = 0, volumePhotons = 0;
     // One reason per decision, in the order of the fields above: global map, caustic map, final
     // gather, lens, time, area light, glossy, volume map.

@@ -12,7 +12,7 @@ PreparedScene prepareScene(const Scene& scene, const PlanSettings& settings) {
     p.paths = classifyLightPaths(scene, p.geometry, p.buffers);
     p.plan = makePlan(scene, p.paths, settings);
     // After the paths: the sky is still seen in the specular surfaces (LS+E).
-    if (!settings.skyCaustics) clearSpreadSkyProjection(scene, p.buffers);
+    if (!p.plan.skyCausticPhotons) clearSkyProjection(p.buffers);
     return p;
 }
 

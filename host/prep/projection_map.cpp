@@ -24,9 +24,7 @@
 //    ball iff its footprint on the disc plane comes within ρ of the ball centre's projection; the
 //    footprint is covered by a circle found the same way as the cones.
 #include "prep/projection_map.h"
-
 #include "core/math.h"
-#include "prep/environment_map.h"
 
 #include <algorithm>
 #include <cmath>
@@ -460,8 +458,7 @@ bool skySendsCausticPhotons(const SceneBuffers& buffers) {
     return false;
 }
 
-void clearSpreadSkyProjection(const Scene& scene, SceneBuffers& buffers) {
-    if (!skyCausticsByEyeRays(scene)) return;
+void clearSkyProjection(SceneBuffers& buffers) {
     for (PclLight& l : buffers.lights)
         if (l.type == PCL_LIGHT_ENVIRONMENT) l.projCount = 0;
 }

@@ -32,9 +32,9 @@ void buildProjectionMaps(const Scene& scene, const SceneGeometry& geometry, Scen
 // caustic map (PclGatherParams::causticSky).
 bool skySendsCausticPhotons(const SceneBuffers& buffers);
 
-// Clears the sky's projection map when its light is spread (skyCausticsByEyeRays): it then sends
-// no caustic photons (PlanSettings::skyCaustics false; prepareScene calls it after the plan).
-void clearSpreadSkyProjection(const Scene& scene, SceneBuffers& buffers);
+// Clears the sky's projection map: it then sends no caustic photons (prepareScene, where the
+// plan says so: RenderPlan::skyCausticPhotons).
+void clearSkyProjection(SceneBuffers& buffers);
 
 bool isPureSpecular(const PclMaterial& m);  // specular with ρd = 0
 

@@ -39,7 +39,7 @@ inline std::unique_ptr<Prepared> prepare(Scene scene, const PlanSettings& settin
     buildProjectionMaps(p->scene, *p->geometry, p->buffers);
     p->paths = classifyLightPaths(p->scene, *p->geometry, p->buffers);
     p->plan = makePlan(p->scene, p->paths, settings);
-    if (!settings.skyCaustics) clearSpreadSkyProjection(p->scene, p->buffers);
+    if (!p->plan.skyCausticPhotons) clearSkyProjection(p->buffers);
     return p;
 }
 

@@ -113,9 +113,7 @@ TEST(FinalGather, CloseHitsMatchTheTwinUnderAreaPointAndSkyLight) {
         const GatherResult dp = finalGatherOnDevice(test::testDevice(), b.geometry, b.buffers, s.hits, s.gp, *pre);
         const std::vector<PclIrradiancePoint> points = downloadIrradiancePoints(test::testDevice(), irr);
         const std::vector<float> cover = downloadIrradianceCover(test::testDevice(), irr);
-        std::vector<float> later;
-        for (const cl_float4& v : test::testDevice().download<cl_float4>(irr.nondirect, irr.count))
-            later.insert(later.end(), {v.s[0], v.s[1], v.s[2], v.s[3]});
+        const std::vector<float> later = downloadIrradianceNondirect(test::testDevice(), irr);
         const ReferenceGather tp =
             referenceFinalGather(b.geometry, b.buffers, s.hits, s.gp,
                                  referencePrecomputedIrradiance(points, cover, irr.minNormalCos, later));
