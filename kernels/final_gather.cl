@@ -11,7 +11,8 @@
  *      areaCdf[l]              the triangle lights' cumulative choice probability (direct_light's)
  * out: queries[j]              PclEstimateQuery at the gather hit (viewer-side normal, k,
  *                              maxRadius2), or maxRadius2 = 0 at the origin when there is none;
- *                              a hit closer than params.closeDistance straight from the eye hit
+ *                              a hit whose path from the eye hit (through mirrors and glass too)
+ *                              is shorter than params.closeDistance
  *                              asks PCL_QUERY_NONDIRECT and adds its direct light to emitted
  *                              (gather_direct: weight × E_direct)
  *      gathered[j]             PclGatherHit: weight (chain throughput × ρd/π / P_d) and emitted
@@ -164,6 +165,7 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
     PclV3 o = eye_add_scaled(p0, n0, params.rayEpsilon);
     float T[3] = {ratio, ratio, ratio}, Le[3] = {0.0f, 0.0f, 0.0f};
     bool afterSpecular = false;
+    float travelled = 0.0f;
 
     for (uint b = 0u; b <= params.maxSpecular; ++b) {
         const PclRay ray = bvh_ray(o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY, tau);
@@ -180,6 +182,7 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
             break;
         }
         const PclV3 p = eye_add_scaled(o, d, hit.t);
+        travelled += hit.t;
         const PclV3 n = eye_normal(primInfo, hit.prim, params.triangleCount, p, tau);
         const float dn = sampling_dot(d, n);
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
@@ -218,10 +221,11 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
             q.nx = nf.x; q.ny = nf.y; q.nz = nf.z;
             q.maxRadius2 = params.maxRadius2;
             for (int c = 0; c < 3; ++c) out.weight[c] = T[c] * (M.rhoD[c] / PCL_PI_F) / pd;
-            if (b == 0u && hit.t < params.closeDistance) {
-                /* A short gather ray: the map's estimate blurs light over a disc as wide as the
-                 * ray is long (shadow edges, contact shadows next to the eye hit). Its direct part
-                 * by shadow rays, the map for the rest. */
+            if (travelled < params.closeDistance) {
+                /* A short gather path: the map's estimate blurs light over a disc as wide as the
+                 * path is long (shadow edges, contact shadows next to the eye hit, and under a
+                 * mirror ball the contact shadow it reflects). Its direct part by shadow rays,
+                 * the map for the rest. */
                 const PclV3 ns = shading_normal(triangleNormals, triangleTangents, normalMaps, texels, triangleUvs, mat,
                                                 hit.prim, params.triangleCount, hit.u, hit.v, n);
                 const PclV3 sf = dn < 0.0f ? ns : sampling_v3(-ns.x, -ns.y, -ns.z);

@@ -427,6 +427,7 @@ Run addRenderCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--close-gather", o->request.closeGather,
                     "fg: a gather ray whose hit lies within F times the radius of k photons at the mean density "
+                    "(its path's length from the eye hit, through mirrors and glass too) "
                     "takes the direct light there by shadow rays and reads only the map's other photons (the "
                     "map's blur hurts most next to the eye hit: contact shadows, shadow edges); 0: off")
         ->check(CLI::Range(0.0f, 100.0f));

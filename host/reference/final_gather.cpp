@@ -171,6 +171,7 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
     Vec3 o = p0 + n0 * params.rayEpsilon;
     Vec3 T(ratio), Le(0.0f);
     bool afterSpecular = false;
+    float travelled = 0.0f;  // the path's length from the eye hit: how wide the map's blur looks
     for (uint32_t b = 0; b <= params.maxSpecular; ++b) {
         PclHit hit;
         if (!geometry.intersect(eyeRay(o, d, std::numeric_limits<float>::infinity(), tau), hit)) {
@@ -185,6 +186,7 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
             break;
         }
         const Vec3 p = o + d * hit.t;
+        travelled += hit.t;
         const Vec3 n = eyeNormalAt(buffers, hit.prim, params.triangleCount, p, tau);
         const float dn = dot(d, n);
         const Vec3 nf = dn < 0.0f ? n : -n;
@@ -217,8 +219,8 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
             out.weight[0] = wt.x;
             out.weight[1] = wt.y;
             out.weight[2] = wt.z;
-            if (b == 0 && hit.t < params.closeDistance) {
-                // A short gather ray: its direct part by shadow rays, the map for the rest.
+            if (travelled < params.closeDistance) {
+                // A short gather path (through mirrors too): its direct part by shadow rays, the map for the rest.
                 const Vec3 ns = eyeShadingNormal(buffers, params.triangleCount, hit, n);
                 const Vec3 sf = dn < 0.0f ? ns : -ns;
                 const Vec3 E =

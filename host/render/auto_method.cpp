@@ -20,6 +20,12 @@ constexpr int kPilotMinWidth = 64;      // … and at least this wide (the whole
 constexpr uint32_t kPilotSamples = 16;  // path tracer samples per pixel per pilot render
 constexpr double kMinGatherGain = 0.9;  // change fg's gather rays only for a predicted 10 % lower error × time
 constexpr float kCausticShare = 0.05f;  // pixels whose caustic light exceeds this share are left out of fg's bias
+// … and pixels whose emitted light (lamps seen directly or in mirrors, the sky) exceeds it: fg
+// finds that light by the same eye paths as the path tracer, so it holds none of fg's bias, but
+// a lamp's edge there is the noisiest light of both pilots (motion-dof: one 8×8 block holding the
+// lamp's reflection in the chrome ball read 2.0e-3 of the pilot's 2.2e-3 mean squared bias,
+// where fg's bias against the 64-px reference is 1e-4).
+constexpr float kEmittedShare = 0.05f;
 // fg's bias is not measured where caustic fireflies make up more than this share of the path
 // tracer's pilot variance: its mean then lacks the (indirect) caustic light its few samples have
 // not found, about the caustic share of the light, which would read as fg's bias (cornell-spheres,
@@ -219,7 +225,7 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
     // caustic fireflies are made of (causticFireflyVariance), when non-delta emitters send caustic photons.
     const Vec3 fireflyRadiance = causticEmitterRadiance(scene, prepared.buffers);
     const bool measureFireflies = fireflyRadiance.x > 0 || fireflyRadiance.y > 0 || fireflyRadiance.z > 0;
-    Image fgMean, fgCaustic, fgAlbedo;
+    Image fgMean, fgCaustic, fgEmitted, fgAlbedo;
     std::vector<std::vector<Image>> fgImages;  // per fg candidate, its two renders (for its bias)
     for (AutoCandidate& candidate : c.candidates) {
         const bool first = &candidate == &c.candidates.front();
@@ -241,6 +247,7 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
             if (first) {  // the bias's caustic mask; the albedo only for the fireflies
                 accumulateHalf(fgMean, img.back());
                 accumulateHalf(fgCaustic, r.aovs.caustic.resolve());
+                accumulateHalf(fgEmitted, r.aovs.emitted.resolve());
                 if (measureFireflies) accumulateHalf(fgAlbedo, r.aovs.albedo.resolve());
             }
             fixed += 0.5 * (r.times.photons + r.times.maps);
@@ -297,14 +304,16 @@ AutoMethodChoice chooseRenderMethod(Device& device, const Scene& scene, const Pr
     path.errorSeconds = (measured + fireflies) * pathSeconds * pixelRatio;
 
     // fg's bias against the path tracer's pilot, where fg's caustic light is under a twentieth
-    // of the pixel: there the path tracer's few samples rarely find the caustic and its mean
-    // and variance are unsteady (they would read as fg's bias).
+    // of the pixel (there the path tracer's few samples rarely find the caustic and its mean
+    // and variance are unsteady: they would read as fg's bias) and so is its emitted light.
     if (path.fireflyShare <= kBiasFireflyShare) {
         std::vector<bool> keep(size_t(fgMean.width) * fgMean.height, true);
         for (size_t p = 0; p < keep.size(); ++p) {
             const float* m = &fgMean.rgb[3 * p];
             const float* k = &fgCaustic.rgb[3 * p];
-            keep[p] = !(k[0] + k[1] + k[2] > kCausticShare * (m[0] + m[1] + m[2]));
+            const float* e = &fgEmitted.rgb[3 * p];
+            keep[p] = !(k[0] + k[1] + k[2] > kCausticShare * (m[0] + m[1] + m[2])) &&
+                      !(e[0] + e[1] + e[2] > kEmittedShare * (m[0] + m[1] + m[2]));
         }
         for (size_t i = 0; i < fgImages.size(); ++i) c.candidates[i].biasSquared = squaredBias(fgImages[i], img, keep);
     }

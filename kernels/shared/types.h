@@ -443,8 +443,9 @@ typedef struct PclGatherParams {
     pcl_u32 causticMapRead;   /* 1: the caustic map is read at the eye hits, so light a gather ray
                                  reaches after a specular bounce (LS+D seen from the eye hit) is
                                  left to it, not counted twice */
-    pcl_f32 closeDistance;    /* a gather ray whose diffuse hit lies nearer than this (straight from
-                                 the eye hit) takes the direct light there by shadow rays and reads
+    pcl_f32 closeDistance;    /* a gather ray whose diffuse hit lies nearer than this (the length of
+                                 its path from the eye hit, mirrors and glass included) takes the
+                                 direct light there by shadow rays and reads
                                  the map's other photons (PCL_QUERY_NONDIRECT); 0: none */
     pcl_u32 causticSky;       /* 1: the caustic map holds the sky's photons too, so with causticMapRead
                                  a gather ray's sky after a specular bounce is left to it; 0: the sky
