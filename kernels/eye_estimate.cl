@@ -2,8 +2,10 @@
  * the global map for the direct-visualisation preview (kernels/README.md, "Eye pass: estimates
  * at the eye hits").
  *
- * eye_estimate_queries — in: params (sampleCount, k, maxRadius2, minDepth), hits[i] (PclEyeHit);
- *   out: queries[i] PclEstimateQuery at the hit with its viewer-side normal; maxRadius2 = 0
+ * eye_estimate_queries — in: params (sampleCount, k, maxRadius2, minDepth, atShutterOpen), hits[i]
+ *   (PclEyeHit), primInfo (the motion of the hit's primitive, read when atShutterOpen);
+ *   out: queries[i] PclEstimateQuery at the hit (with atShutterOpen, on a moving surface, where
+ *   the surface sits at shutter open) with its viewer-side normal; maxRadius2 = 0
  *   (nothing found) at the origin for records without a diffuse hit or with fewer than
  *   minDepth specular bounces before it (caustic connections light those: connect_caustics.cl).
  * eye_estimate_resolve — in: params (irradianceStride, minDepth), hits[i], irradiance (stride
@@ -11,18 +13,21 @@
  *   query was empty. */
 #include "shared/types.h"
 #include "shared/sampling.h"
+#include "shared/shutter_open.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
 __kernel void eye_estimate_queries(const PclEyeEstimateParams params, __global const PclEyeHit* hits,
-                                   __global PclEstimateQuery* queries) {
+                                   __global const PclPrimInfo* primInfo, __global PclEstimateQuery* queries) {
     const uint i = (uint)get_global_id(0);
     if (i >= params.sampleCount) return;
     const PclEyeHit h = hits[i];
     PclEstimateQuery q;
     q.k = params.k;
     if ((h.flags & PCL_EYE_DIFFUSE) && h.depth >= params.minDepth) {
-        q.x = h.x; q.y = h.y; q.z = h.z;
+        PclV3 p = sampling_v3(h.x, h.y, h.z);
+        if (params.atShutterOpen) p = shutter_open_position(primInfo, h.prim, p, h.time);
+        q.x = p.x; q.y = p.y; q.z = p.z;
         q.nx = h.nx; q.ny = h.ny; q.nz = h.nz;
         q.maxRadius2 = params.maxRadius2;
     } else {

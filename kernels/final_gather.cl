@@ -47,6 +47,7 @@
 #include "shared/environment.h"
 #include "shared/texture.h"
 #include "shared/shading_frame.h"
+#include "shared/shutter_open.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -217,7 +218,8 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
             diffuse = rng_u01(w[0]) < pd;
         }
         if (diffuse) {
-            q.x = p.x; q.y = p.y; q.z = p.z;
+            const PclV3 pm = shutter_open_position(primInfo, hit.prim, p, tau); /* the map's place of p */
+            q.x = pm.x; q.y = pm.y; q.z = pm.z;
             q.nx = nf.x; q.ny = nf.y; q.nz = nf.z;
             q.maxRadius2 = params.maxRadius2;
             for (int c = 0; c < 3; ++c) out.weight[c] = T[c] * (M.rhoD[c] / PCL_PI_F) / pd;
@@ -271,6 +273,8 @@ __kernel void final_gather_histogram_queries(const PclGatherParams params, __glo
     if (i >= params.sampleCount) return;
     const PclEyeHit h = hits[i];
     PclKnnQuery q;
+    /* At the hit as it is: on a moving surface (photons kept at shutter open, shutter_open.h) it
+     * finds fewer photons, which tilts only the importance density toward the uniform mix. */
     q.x = h.x; q.y = h.y; q.z = h.z;
     q.maxRadius2 = (h.flags & PCL_EYE_DIFFUSE) ? params.maxRadius2 : 0.0f;
     q.k = params.k;

@@ -45,6 +45,7 @@
 #include "shared/medium.h"
 #include "shared/texture.h"
 #include "shared/shading_frame.h"
+#include "shared/shutter_open.h"
 
 #pragma OPENCL FP_CONTRACT OFF
 
@@ -192,9 +193,11 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
                 stored = (flags & PCL_PHOTON_AFTER_SPECULAR) != 0u && (flags & PCL_PHOTON_AFTER_DIFFUSE) == 0u;
             else
                 stored = params.storeGlobal != 0u;
+            /* The global map keeps a moving surface's photons where it sits at shutter open. */
             if (stored)
                 slot[(size_t)(count++) * params.batchSize] =
-                    trace_make_photon(p, nf, phi, d, b - 1u, flags | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
+                    trace_make_photon(caustic ? p : shutter_open_position(primInfo, hit.prim, p, tau), nf, phi, d,
+                                      b - 1u, flags | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
         }
         /* A caustic path that ends at this hit is STORED when it deposited here. */
         const uint endHere = (caustic && stored) ? PCL_END_STORED : PCL_END_ABSORBED;

@@ -485,17 +485,23 @@ GatherResult finalGatherOnDevice(Device& device, const SceneGeometry& geometry, 
 // ---- eye estimate -------------------------------------------------------------------------------
 
 EyeEstimateResult estimateAtEyeHitsOnDevice(Device& device, const std::vector<PclEyeHit>& hits,
-                                            const PclEyeEstimateParams& params, IrradianceSource& source) {
+                                            const PclEyeEstimateParams& params, IrradianceSource& source,
+                                            const std::vector<PclPrimInfo>& primInfo) {
     if (hits.size() != params.sampleCount)
         throw InternalError("estimateAtEyeHitsOnDevice: " + std::to_string(hits.size()) + " records for " +
                             std::to_string(params.sampleCount));
     validateEyeEstimateParams(params);
+    if (params.atShutterOpen && primInfo.empty())
+        throw InternalError("estimateAtEyeHitsOnDevice: atShutterOpen without the scene's primitives");
     PclEyeEstimateParams p = params;
     p.irradianceStride = source.strideFloats;
     cl::Buffer hitBuf = device.upload(hits, CL_MEM_READ_ONLY, "eye estimate: eye hits");
     cl::Buffer queries = device.allocate<PclEstimateQuery>(hits.size(), CL_MEM_READ_WRITE, "eye estimate: queries");
     cl::Buffer radiance = device.allocate<PclRadiance>(hits.size(), CL_MEM_READ_WRITE, "eye estimate: radiance");
-    eyeEstimateQueries(device, p, hitBuf, queries);
+    // A kernel argument even where it is not read (atShutterOpen 0): one placeholder record.
+    cl::Buffer prims = device.upload(primInfo.empty() ? std::vector<PclPrimInfo>(1) : primInfo, CL_MEM_READ_ONLY,
+                                     "eye estimate: primitives");
+    eyeEstimateQueries(device, p, hitBuf, prims, queries);
     cl::Buffer irradiance = source.evaluate(device, queries, hits.size());
     eyeEstimateResolve(device, p, hitBuf, irradiance, radiance);
     EyeEstimateResult r;

@@ -227,7 +227,9 @@ struct EyeEstimateResult {
     std::vector<PclEstimateQuery> queries;
     std::vector<PclRadiance> radiance;
 };
+// primInfo: the scene's primitives, needed with params.atShutterOpen (InternalError without).
 EyeEstimateResult estimateAtEyeHitsOnDevice(Device& device, const std::vector<PclEyeHit>& hits,
-                                            const PclEyeEstimateParams& params, IrradianceSource& source);
+                                            const PclEyeEstimateParams& params, IrradianceSource& source,
+                                            const std::vector<PclPrimInfo>& primInfo = {});
 
 }  // namespace pcl

@@ -362,14 +362,15 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
     for (int which = 0; which < 2; ++which) {
         const std::vector<PclPhoton>& map = which == 0 ? maps.caustic : maps.global;
         if (map.empty()) continue;
+        pe.atShutterOpen = which == 1 ? 1u : 0u;  // the global map's moving surfaces (shutter_open.h)
         PhotonMapOnDevice m(device, map, KnnStructure::KdTree, rMax);
         auto source = estimateIrradianceSource(m, o.k, es, &deviceScene);
         cl::Buffer out = device.allocate<PclRadiance>(n, CL_MEM_READ_WRITE, "check render: estimate at eye hits");
-        dt = estimateAtEyeHits(device, pe, hits, *source, out);
+        dt = estimateAtEyeHits(device, pe, hits, deviceScene.primInfo, *source, out);
         std::vector<PclRadiance> d = device.download<PclRadiance>(out, n);
         t0 = Clock::now();
         std::vector<PclRadiance> t =
-            referenceEstimateAtEyeHits(dHits, pe, referenceEstimateIrradiance(map, es, &geometry));
+            referenceEstimateAtEyeHits(dHits, pe, buffers.primInfo, referenceEstimateIrradiance(map, es, &geometry));
         timed(compareRadiance(which == 0 ? "caustics" : "direct visualisation", d, t, o.tolerance, o.worstShown), dt,
               since(t0));
         if (which == 0) {

@@ -6,10 +6,11 @@
 namespace pcl {
 
 cl::Event eyeEstimateQueries(Device& device, const PclEyeEstimateParams& params, const cl::Buffer& hits,
-                             cl::Buffer& queries) {
-    auto kernel = device.kernel<PclEyeEstimateParams, cl::Buffer, cl::Buffer>("eye_estimate", "eye_estimate_queries");
+                             const cl::Buffer& primInfo, cl::Buffer& queries) {
+    auto kernel =
+        device.kernel<PclEyeEstimateParams, cl::Buffer, cl::Buffer, cl::Buffer>("eye_estimate", "eye_estimate_queries");
     return device.launchLocal("eye_estimate", kernel, photonGlobalRange(params.sampleCount), cl::NDRange(kPhotonGroup),
-                              params, hits, queries);
+                              params, hits, primInfo, queries);
 }
 
 cl::Event eyeEstimateResolve(Device& device, const PclEyeEstimateParams& params, const cl::Buffer& hits,
@@ -28,14 +29,14 @@ void validateEyeEstimateParams(const PclEyeEstimateParams& p) {
         throw InternalError("eye estimate: maxRadius² " + std::to_string(p.maxRadius2) + ": expected ≥ 0");
 }
 
-double estimateAtEyeHits(Device& device, PclEyeEstimateParams params, const cl::Buffer& hits, IrradianceSource& source,
-                         cl::Buffer& radiance) {
+double estimateAtEyeHits(Device& device, PclEyeEstimateParams params, const cl::Buffer& hits,
+                         const cl::Buffer& primInfo, IrradianceSource& source, cl::Buffer& radiance) {
     validateEyeEstimateParams(params);
     params.irradianceStride = source.strideFloats;
     cl::Buffer queries =
         device.allocate<PclEstimateQuery>(params.sampleCount, CL_MEM_READ_WRITE, "eye estimate: queries");
     double seconds = 0.0;
-    cl::Event e = eyeEstimateQueries(device, params, hits, queries);
+    cl::Event e = eyeEstimateQueries(device, params, hits, primInfo, queries);
     device.finish();
     if (e()) seconds += Device::elapsedSeconds(e);
     const double before = source.seconds;

@@ -17,20 +17,21 @@
 namespace pcl {
 
 // Enqueues eye_estimate_queries: hits in, queries (PclEstimateQuery[sampleCount]) out; records
-// without a diffuse hit get maxRadius2 = 0.
+// without a diffuse hit get maxRadius2 = 0. primInfo (the scene's PclPrimInfo) is read only with
+// params.atShutterOpen (the global map: kernels/shared/shutter_open.h).
 cl::Event eyeEstimateQueries(Device& device, const PclEyeEstimateParams& params, const cl::Buffer& hits,
-                             cl::Buffer& queries);
+                             const cl::Buffer& primInfo, cl::Buffer& queries);
 // Enqueues eye_estimate_resolve: radiance = throughput × ρd/π × E.
 cl::Event eyeEstimateResolve(Device& device, const PclEyeEstimateParams& params, const cl::Buffer& hits,
                              const cl::Buffer& irradiance, cl::Buffer& radiance);
 
 // Queries, source, resolve on buffers (params.irradianceStride taken from the source); returns
 // device seconds. Used for both the caustic map and direct visualisation.
-double estimateAtEyeHits(Device& device, PclEyeEstimateParams params, const cl::Buffer& hits, IrradianceSource& source,
-                         cl::Buffer& radiance);
+double estimateAtEyeHits(Device& device, PclEyeEstimateParams params, const cl::Buffer& hits,
+                         const cl::Buffer& primInfo, IrradianceSource& source, cl::Buffer& radiance);
 inline double causticRadiance(Device& device, const PclEyeEstimateParams& params, const cl::Buffer& hits,
-                              IrradianceSource& causticMap, cl::Buffer& radiance) {
-    return estimateAtEyeHits(device, params, hits, causticMap, radiance);
+                              const cl::Buffer& primInfo, IrradianceSource& causticMap, cl::Buffer& radiance) {
+    return estimateAtEyeHits(device, params, hits, primInfo, causticMap, radiance);
 }
 
 // InternalError when params.k is outside 1..PCL_KNN_MAX_K or maxRadius2 is negative or NaN; run by

@@ -3,11 +3,13 @@
 #include <cmath>
 
 #include "reference/sampling.h"
+#include "reference/shutter_open.h"
 
 namespace pcl {
 
 std::vector<PclEstimateQuery> referenceEyeEstimateQueries(const std::vector<PclEyeHit>& hits,
-                                                          const PclEyeEstimateParams& params) {
+                                                          const PclEyeEstimateParams& params,
+                                                          const std::vector<PclPrimInfo>& primInfo) {
     std::vector<PclEstimateQuery> q(hits.size());
     for (size_t i = 0; i < hits.size(); ++i) {
         const PclEyeHit& h = hits[i];
@@ -15,9 +17,11 @@ std::vector<PclEstimateQuery> referenceEyeEstimateQueries(const std::vector<PclE
         q[i].k = params.k;
         q[i].nz = 1.0f;
         if ((h.flags & PCL_EYE_DIFFUSE) && h.depth >= params.minDepth) {
-            q[i].x = h.x;
-            q[i].y = h.y;
-            q[i].z = h.z;
+            Vec3 p(h.x, h.y, h.z);
+            if (params.atShutterOpen) p = shutterOpenPosition(primInfo.at(h.prim), p, h.time);
+            q[i].x = p.x;
+            q[i].y = p.y;
+            q[i].z = p.z;
             q[i].nx = h.nx;
             q[i].ny = h.ny;
             q[i].nz = h.nz;
@@ -47,8 +51,9 @@ std::vector<PclRadiance> referenceEyeEstimateResolve(const std::vector<PclEyeHit
 
 std::vector<PclRadiance> referenceEstimateAtEyeHits(const std::vector<PclEyeHit>& hits,
                                                     const PclEyeEstimateParams& params,
+                                                    const std::vector<PclPrimInfo>& primInfo,
                                                     const ReferenceIrradiance& irradiance) {
-    return referenceEyeEstimateResolve(hits, irradiance(referenceEyeEstimateQueries(hits, params)));
+    return referenceEyeEstimateResolve(hits, irradiance(referenceEyeEstimateQueries(hits, params, primInfo)));
 }
 
 }  // namespace pcl

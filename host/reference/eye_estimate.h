@@ -8,13 +8,16 @@
 
 namespace pcl {
 
+// primInfo (the scene's) is read only with params.atShutterOpen (the global map).
 std::vector<PclEstimateQuery> referenceEyeEstimateQueries(const std::vector<PclEyeHit>& hits,
-                                                          const PclEyeEstimateParams& params);
+                                                          const PclEyeEstimateParams& params,
+                                                          const std::vector<PclPrimInfo>& primInfo);
 std::vector<PclRadiance> referenceEyeEstimateResolve(const std::vector<PclEyeHit>& hits,
                                                      const std::vector<Vec3>& irradiance);
 // Both, with the irradiance from `irradiance`.
 std::vector<PclRadiance> referenceEstimateAtEyeHits(const std::vector<PclEyeHit>& hits,
                                                     const PclEyeEstimateParams& params,
+                                                    const std::vector<PclPrimInfo>& primInfo,
                                                     const ReferenceIrradiance& irradiance);
 
 }  // namespace pcl

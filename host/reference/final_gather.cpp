@@ -10,6 +10,7 @@
 #include "reference/light_sample.h"
 #include "reference/parallel_for.h"
 #include "reference/precomputed_irradiance.h"
+#include "reference/shutter_open.h"
 #include "reference/sky.h"
 #include "reference/textured_material.h"
 #include "reference/trace_photons.h"
@@ -208,9 +209,10 @@ void referenceGatherRay(const SceneGeometry& geometry, const SceneBuffers& buffe
         if (pd < 0.0f) break;
         rng_block(seed, h.pixel, bounceWord, b + 1, PCL_RNG_STREAM_GATHER, w);
         if (rng_u01(w[0]) < pd) {
-            q.x = p.x;
-            q.y = p.y;
-            q.z = p.z;
+            const Vec3 pm = shutterOpenPosition(buffers.primInfo[hit.prim], p, tau);  // the map's place of p
+            q.x = pm.x;
+            q.y = pm.y;
+            q.z = pm.z;
             q.nx = nf.x;
             q.ny = nf.y;
             q.nz = nf.z;

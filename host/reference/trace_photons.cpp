@@ -8,6 +8,7 @@
 #include "reference/medium.h"
 #include "reference/parallel_for.h"
 #include "reference/sampling.h"
+#include "reference/shutter_open.h"
 #include "reference/textured_material.h"
 #include "shared/rng.h"
 #include "shared/shading_frame.h"
@@ -272,7 +273,8 @@ uint32_t tracePhotonPathReference(const SceneBuffers& buffers, const SceneGeomet
         bool depositedHere = false;
         if (maxComponent(vec(m.rhoD)) > 0.0f) {
             if (!caustic) {
-                if (params.storeGlobal) deposit(p, nf, b, 0u);
+                // The global map keeps a moving surface's photons where it sits at shutter open.
+                if (params.storeGlobal) deposit(shutterOpenPosition(info, p, time), nf, b, 0u);
             } else if (b > 1 && !(flags & PCL_PHOTON_AFTER_DIFFUSE)) {
                 deposit(p, nf, b, PCL_PHOTON_CAUSTIC);
                 depositedHere = true;

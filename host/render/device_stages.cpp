@@ -140,7 +140,7 @@ void DeviceRenderStages::directLight(const PclDirectParams& params) {
 }
 
 void DeviceRenderStages::causticEstimate(const PclEyeEstimateParams& params) {
-    causticRadiance(device_, params, hits_, *maps_->causticSource, causticRad_);
+    causticRadiance(device_, params, hits_, dscene_.primInfo, *maps_->causticSource, causticRad_);
 }
 
 std::vector<PclSplat> DeviceRenderStages::connectCaustics(const PclConnectParams& params, const PclCameraParams& camera,
@@ -150,7 +150,7 @@ std::vector<PclSplat> DeviceRenderStages::connectCaustics(const PclConnectParams
 }
 
 void DeviceRenderStages::globalEstimate(const PclEyeEstimateParams& params) {
-    estimateAtEyeHits(device_, params, hits_, *maps_->globalSource, indirectRad_);
+    estimateAtEyeHits(device_, params, hits_, dscene_.primInfo, *maps_->globalSource, indirectRad_);
 }
 
 void DeviceRenderStages::finalGather(const PclGatherParams& params) {

@@ -344,11 +344,18 @@ void PhotonRenderer::specifyMaps(const PassPhotons& photons, float radius2, Pass
 // The eye hits' k-nearest estimate (eye_estimate.cl) over `count` records; records with fewer than
 // minDepth specular bounces before their hit get none.
 PclEyeEstimateParams eyeEstimateParams(uint32_t count, uint32_t k, float radius2, uint32_t minDepth = 0) {
-    PclEyeEstimateParams p{};
+    PclEyeEstimateParams p{};  // atShutterOpen 0: the caustic map's (globalEstimateParams sets it)
     p.sampleCount = count;
     p.k = k;
     p.maxRadius2 = radius2;
     p.minDepth = minDepth;
+    return p;
+}
+
+// The global map's: a moving surface's hit asks where it sits at shutter open (shutter_open.h).
+PclEyeEstimateParams globalEstimateParams(uint32_t count, uint32_t k, float radius2) {
+    PclEyeEstimateParams p = eyeEstimateParams(count, k, radius2);
+    p.atShutterOpen = 1;
     return p;
 }
 
@@ -398,7 +405,7 @@ ChunkParts PhotonRenderer::shadeDirectVisualisation(const PassMapSpec& m, uint32
         parts.caustic = true;
     }
     if (m.global.reader != MapReader::None) {
-        const PclEyeEstimateParams gq = eyeEstimateParams(count, s_.globalK, m.radius2);
+        const PclEyeEstimateParams gq = globalEstimateParams(count, s_.globalK, m.radius2);
         timed(stages_, result_.times.indirect, [&] { stages_.globalEstimate(gq); });
         parts.indirect = true;
     }
@@ -418,7 +425,7 @@ ChunkParts PhotonRenderer::shadeProgressive(const PassMapSpec& m, const PclEyePa
         parts.caustic = true;
     }
     if (m.global.reader != MapReader::None) {
-        const PclEyeEstimateParams gq = eyeEstimateParams(count, PCL_KNN_MAX_K, m.radius2);
+        const PclEyeEstimateParams gq = globalEstimateParams(count, PCL_KNN_MAX_K, m.radius2);
         timed(stages_, result_.times.indirect, [&] { stages_.globalEstimate(gq); });
         parts.indirect = true;
     }

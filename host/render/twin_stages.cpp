@@ -89,9 +89,10 @@ void TwinRenderStages::directLight(const PclDirectParams& params) {
 }
 
 void TwinRenderStages::causticEstimate(const PclEyeEstimateParams& params) {
-    caustic_ = referenceEstimateAtEyeHits(hits_, params, [&](const std::vector<PclEstimateQuery>& q) {
-        return irradiance(spec_.caustic, q);
-    });
+    caustic_ =
+        referenceEstimateAtEyeHits(hits_, params, buffers_.primInfo, [&](const std::vector<PclEstimateQuery>& q) {
+            return irradiance(spec_.caustic, q);
+        });
 }
 
 std::vector<PclSplat> TwinRenderStages::connectCaustics(const PclConnectParams& params, const PclCameraParams& camera,
@@ -101,9 +102,9 @@ std::vector<PclSplat> TwinRenderStages::connectCaustics(const PclConnectParams& 
 }
 
 void TwinRenderStages::globalEstimate(const PclEyeEstimateParams& params) {
-    indirect_ = referenceEstimateAtEyeHits(hits_, params, [&](const std::vector<PclEstimateQuery>& q) {
-        return irradiance(spec_.global, q);
-    });
+    indirect_ =
+        referenceEstimateAtEyeHits(hits_, params, buffers_.primInfo,
+                                   [&](const std::vector<PclEstimateQuery>& q) { return irradiance(spec_.global, q); });
 }
 
 void TwinRenderStages::finalGather(const PclGatherParams& params) {

@@ -484,7 +484,9 @@ typedef struct PclEyeEstimateParams {
     pcl_u32 irradianceStride; /* floats per irradiance record (8: PclEstimate, 4: float4) */
     pcl_u32 minDepth;         /* records with fewer specular bounces before their hit get no estimate
                                  (1 under caustic connections: connect_caustics.cl lights those) */
-    pcl_u32 pad0, pad1, pad2;
+    pcl_u32 atShutterOpen;    /* 1 for the global map: a hit on a moving surface asks where the surface
+                                 sits at shutter open (shared/shutter_open.h); 0 for the caustic map */
+    pcl_u32 pad1, pad2;
 } PclEyeEstimateParams;
 PCL_STATIC_ASSERT(sizeof(PclEyeEstimateParams) == 32, PclEyeEstimateParams_size);
 

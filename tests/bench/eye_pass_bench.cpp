@@ -126,9 +126,9 @@ void BM_Device(benchmark::State& state, std::string name) {
         gt += g.traceSeconds;
         gi += g.irradianceSeconds;
         gr += g.resolveSeconds;
-        if (causticSource) ca += estimateAtEyeHits(dev, pe, hits, *causticSource, caustics);
+        if (causticSource) ca += estimateAtEyeHits(dev, pe, hits, s.deviceScene->primInfo, *causticSource, caustics);
         wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        pr += estimateAtEyeHits(dev, pe, hits, *globalSource, preview);
+        pr += estimateAtEyeHits(dev, pe, hits, s.deviceScene->primInfo, *globalSource, preview);
         const GatherTiming g2 = finalGather(dev, *s.deviceScene, *s.lights, gp, hits, *preSource, gather);
         gp2 += g2.irradianceSeconds;
         auto t1 = std::chrono::steady_clock::now();

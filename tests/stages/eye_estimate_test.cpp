@@ -43,7 +43,7 @@ TEST(EyeEstimate, CausticsAndPreviewMatchTheTwinCornellSpheres) {
         auto source = estimateIrradianceSource(map, 50, es, nullptr);
         const EyeEstimateResult d = estimateAtEyeHitsOnDevice(test::testDevice(), hits, p, *source);
         const std::vector<PclRadiance> t =
-            referenceEstimateAtEyeHits(hits, p, referenceEstimateIrradiance(photons, es, nullptr));
+            referenceEstimateAtEyeHits(hits, p, {}, referenceEstimateIrradiance(photons, es, nullptr));
         const StageComparison c = compareRadiance(which == 0 ? "caustics" : "preview", d.radiance, t, 1e-3, 3);
         std::printf("[figure] %s at the eye hits, cornell-spheres 40x30 2x2, %zu photons: %.4f %% of %zu within 1e-3 "
                     "(%zu nonzero), max rel %.3e, %zu NaN/Inf\n",
