@@ -55,6 +55,38 @@ TEST(EyeEstimate, CausticsAndPreviewMatchTheTwinCornellSpheres) {
     }
 }
 
+// The global map keeps a moving surface's photons where it sits at shutter open
+// (kernels/shared/shutter_open.h): with atShutterOpen a hit on motion-dof's moving ball asks at
+// p − m τ (its own time τ), every other hit at p, device and twin alike; without, every hit at p.
+TEST(EyeEstimate, GlobalQueriesOnAMovingSurfaceAskWhereItSitsAtShutterOpen) {
+    const test::BuiltScene b = test::shippedScene("motion-dof.json", 48, 36);
+    const std::vector<PclEyeHit> hits = test::deviceEyeHits(b, 2, 8);
+    IrradianceSource e = test::constantIrradiance(1.0f);
+    for (uint32_t atShutterOpen : {0u, 1u}) {
+        PclEyeEstimateParams p = estimateParams(hits.size(), 10, 0.1f);
+        p.atShutterOpen = atShutterOpen;
+        const EyeEstimateResult d = estimateAtEyeHitsOnDevice(test::testDevice(), hits, p, e, b.buffers.primInfo);
+        const std::vector<PclEstimateQuery> t = referenceEyeEstimateQueries(hits, p, b.buffers.primInfo);
+        size_t moving = 0, wrong = 0;
+        for (size_t i = 0; i < hits.size(); ++i) {
+            const PclEyeHit& h = hits[i];
+            if (!(h.flags & PCL_EYE_DIFFUSE)) continue;
+            const PclPrimInfo& info = b.buffers.primInfo[h.prim];
+            const bool moves = info.mx != 0.0f || info.my != 0.0f || info.mz != 0.0f;
+            moving += moves;
+            const float tau = atShutterOpen ? h.time : 0.0f;
+            const float x = h.x - info.mx * tau, y = h.y - info.my * tau, z = h.z - info.mz * tau;
+            if (d.queries[i].x != x || d.queries[i].y != y || d.queries[i].z != z) ++wrong;
+            if (t[i].x != x || t[i].y != y || t[i].z != z) ++wrong;
+        }
+        std::printf("[figure] motion-dof eye hits, atShutterOpen %u: %zu of %zu on the moving ball, %zu queries "
+                    "elsewhere than expected\n",
+                    atShutterOpen, moving, hits.size(), wrong);
+        EXPECT_GT(moving, hits.size() / 50);
+        EXPECT_EQ(wrong, 0u);
+    }
+}
+
 TEST(EyeEstimate, ConstantIrradianceGivesThroughputAlbedoEOverPi) {
     const test::BuiltScene b = test::shippedScene("cornell-glossy.json", 24, 18);
     const std::vector<PclEyeHit> hits = test::deviceEyeHits(b, 1, 5);
