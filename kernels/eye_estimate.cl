@@ -26,7 +26,7 @@ __kernel void eye_estimate_queries(const PclEyeEstimateParams params, __global c
     q.k = params.k;
     if ((h.flags & PCL_EYE_DIFFUSE) && h.depth >= params.minDepth) {
         PclV3 p = sampling_v3(h.x, h.y, h.z);
-        if (params.atShutterOpen) p = shutter_open_position(primInfo, h.prim, p, h.time);
+        if (params.atShutterOpen) p = shutter_open_position(primInfo[h.prim], p, h.time);
         q.x = p.x; q.y = p.y; q.z = p.z;
         q.nx = h.nx; q.ny = h.ny; q.nz = h.nz;
         q.maxRadius2 = params.maxRadius2;

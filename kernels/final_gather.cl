@@ -187,7 +187,8 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
         const PclV3 n = eye_normal(primInfo, hit.prim, params.triangleCount, p, tau);
         const float dn = sampling_dot(d, n);
         const PclV3 nf = dn < 0.0f ? n : sampling_v3(-n.x, -n.y, -n.z);
-        const uint mat = primInfo[hit.prim].material;
+        const PclPrimInfo info = primInfo[hit.prim];
+        const uint mat = info.material;
         PclMaterial M = materials[mat];
         texture_material_at(materialTextures, texels, triangleUvs, mat, hit.prim, params.triangleCount, hit.u, hit.v,
                             &M);
@@ -218,7 +219,7 @@ __kernel void final_gather_trace(const PclGatherParams params, __global const Pc
             diffuse = rng_u01(w[0]) < pd;
         }
         if (diffuse) {
-            const PclV3 pm = shutter_open_position(primInfo, hit.prim, p, tau); /* the map's place of p */
+            const PclV3 pm = shutter_open_position(info, p, tau); /* the map's place of p */
             q.x = pm.x; q.y = pm.y; q.z = pm.z;
             q.nx = nf.x; q.ny = nf.y; q.nz = nf.z;
             q.maxRadius2 = params.maxRadius2;

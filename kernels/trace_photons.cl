@@ -196,7 +196,7 @@ inline void trace_path(const PclPhotonParams params, const bool caustic,
             /* The global map keeps a moving surface's photons where it sits at shutter open. */
             if (stored)
                 slot[(size_t)(count++) * params.batchSize] =
-                    trace_make_photon(caustic ? p : shutter_open_position(primInfo, hit.prim, p, tau), nf, phi, d,
+                    trace_make_photon(caustic ? p : shutter_open_position(info, p, tau), nf, phi, d,
                                       b - 1u, flags | (caustic ? PCL_PHOTON_CAUSTIC : 0u));
         }
         /* A caustic path that ends at this hit is STORED when it deposited here. */

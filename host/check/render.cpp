@@ -309,7 +309,7 @@ RenderCheckReport checkRender(Device& device, const Scene& sceneIn, const Prepar
         const GatherTiming pt = finalGather(device, deviceScene, deviceLights, gp, hits, *pre, gathered);
         const std::vector<PclRadiance> dPre = device.download<PclRadiance>(gathered, n);
         const std::vector<PclIrradiancePoint> points = downloadIrradiancePoints(device, irr);
-        const std::vector<float> cover = device.download<float>(irr.cover, irr.count);
+        const std::vector<float> cover = downloadIrradianceCover(device, irr);
         const std::vector<float> nondirect = downloadIrradianceNondirect(device, irr);
         t0 = Clock::now();
         const std::vector<PclRadiance> tPre =

@@ -58,9 +58,8 @@ private:
 // A sky whose light is spread over at least this solid angle (EnvironmentMap::
 // effectiveSolidAngle, sr) is found well by rays from the eye side, through specular surfaces
 // too: with PlanSettings::skyCaustics false it sends no caustic photons (LightPaths::skySpread,
-// RenderPlan::skyCausticPhotons). A sky whose sun holds
-// its light (the courtyard's: its caustic through the glass ball is a firefly to a gather ray)
-// keeps them.
+// RenderPlan::skyCausticPhotons). A sky whose sun holds its light (the courtyard's: its caustic
+// through the glass ball is a firefly to a gather ray) keeps them.
 constexpr double kSpreadSkySolidAngle = 1.0;
 bool skyCausticsByEyeRays(const Scene& scene);
 

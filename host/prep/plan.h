@@ -59,9 +59,9 @@ struct PlanSettings {
     uint32_t causticPhotons = 100000;  // photons emitted in the caustic pass when one is needed
     // false: a spread sky (LightPaths::skySpread) sends no caustic photons (RenderPlan::
     // skyCausticPhotons; prepareScene clears its projection map), so its caustics are left to the
-    // eye side; fg's gather rays then find them through the specular surfaces, as a path tracer does (a large, smooth light: sky-spheres' caustic part held 99 %
-    // of fg's variance as photons). progressive and direct read caustics from the map only and
-    // keep the sky's photons.
+    // eye side; fg's gather rays then find them through the specular surfaces, as a path tracer
+    // does (a large, smooth light: sky-spheres' caustic part held 99 % of fg's variance as
+    // photons). progressive and direct read caustics from the map only and keep the sky's photons.
     bool skyCaustics = true;
 };
 

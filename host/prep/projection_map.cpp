@@ -24,6 +24,7 @@
 //    ball iff its footprint on the disc plane comes within ρ of the ball centre's projection; the
 //    footprint is covered by a circle found the same way as the cones.
 #include "prep/projection_map.h"
+
 #include "core/math.h"
 
 #include <algorithm>

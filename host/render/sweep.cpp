@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -282,8 +283,13 @@ std::vector<SweepRow> runSweep(const SweepOptions& o, const std::function<void(c
     cam.height = reference.height;
     // As render prepares them: fg and auto leave a spread sky's caustics to the gather rays,
     // direct and progressive keep its photons (planSettingsFor).
+    // The two differ only where the sky sends caustic photons and its light is spread: only then is
+    // the scene prepared twice.
     const PreparedScene forOthers = prepareScene(scene, planSettingsFor("progressive"));
-    const PreparedScene forFg = prepareScene(scene, planSettingsFor("fg"));
+    std::optional<PreparedScene> fgOwn;
+    if (forOthers.plan.skyCausticPhotons && forOthers.paths.skySpread)
+        fgOwn.emplace(prepareScene(scene, planSettingsFor("fg")));
+    const PreparedScene& forFg = fgOwn ? *fgOwn : forOthers;
     const std::string sceneName = fs::path(o.scenePath).stem().string();
 
     std::unique_ptr<Device> device;

@@ -14,8 +14,8 @@
 #include "types.h"
 #include "sampling.h"
 
-inline PclV3 shutter_open_position(__global const PclPrimInfo* primInfo, uint prim, PclV3 p, float tau) {
-    const PclPrimInfo info = primInfo[prim];
+/* info: the primitive p lies on (the caller has loaded it already for its normal or material). */
+inline PclV3 shutter_open_position(const PclPrimInfo info, PclV3 p, float tau) {
     return sampling_v3(p.x - info.mx * tau, p.y - info.my * tau, p.z - info.mz * tau);
 }
 
