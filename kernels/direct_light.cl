@@ -133,12 +133,10 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
             stratify_shifted(strata[2u * s], strata[2u * s + 1u], cells, count, rng_u01(w[0]), rng_u01(w[1]),
                              rng_u01(shift[2]), rng_u01(shift[3]), &u0, &u1);
             PclV3 wi;
-            float Lsky[3], tr[3];
-            const float pdfL = env_sample(env, envData, u0, u1, &wi, Lsky);
-            if (!(pdfL > 0.0f)) continue;
-            const float cosS = sampling_dot(sf, wi);
-            if (!(cosS > 0.0f) || !(sampling_dot(nf, wi) > 0.0f)) continue;
-            if (!light_shadow(nodes, packets, spheres, em, medium, o, wi, INFINITY, tau, tr)) continue;
+            float pdfL, cosS, le[3];
+            if (!light_sky_sample(nodes, packets, spheres, em, medium, env, envData, nf, sf, o, tau, u0, u1, &wi, &pdfL,
+                                  &cosS, le))
+                continue;
             float pdfB = cosS / PCL_PI_F;
             if (params.histogramCells > 0u) {
                 const uint G = params.histogramCells;
@@ -147,7 +145,7 @@ __kernel void direct_light(const PclDirectParams params, __global const PclEyeHi
             }
             const float wMis = params.gatherRays == 0u ? 1.0f : eye_mis_weight(M, pdfL, params.gatherRays, pdfB);
             const float f = cosS * wMis / pdfL;
-            for (int c = 0; c < 3; ++c) sky[c] = sky[c] + Lsky[c] * tr[c] * f;
+            for (int c = 0; c < 3; ++c) sky[c] = sky[c] + le[c] * f;
         }
         for (int c = 0; c < 3; ++c) sum[c] = sum[c] + sky[c] / (float)M;
     }

@@ -309,15 +309,13 @@ __kernel void eye_paths(const PclEyeParams params, __global const PclRay* rays, 
                 uint ws[4];
                 rng_block(seed, pixel, k, v, PCL_RNG_STREAM_EYE_SKY, ws);
                 PclV3 wsky;
-                float Lsky[3], tr[3];
-                const float pdfSky = env_sample(env, envData, rng_u01(ws[0]), rng_u01(ws[1]), &wsky, Lsky);
-                const float cosSky = sampling_dot(sf, wsky);
-                if (pdfSky > 0.0f && cosSky > 0.0f && sampling_dot(nf, wsky) > 0.0f &&
-                    light_shadow(nodes, packets, spheres, em, medium, lifted, wsky, INFINITY, tau, tr)) {
+                float pdfSky, cosSky, lsky[3];
+                if (light_sky_sample(nodes, packets, spheres, em, medium, env, envData, nf, sf, lifted, tau,
+                                     rng_u01(ws[0]), rng_u01(ws[1]), &wsky, &pdfSky, &cosSky, lsky)) {
                     const float cp = eye_phong_cos_power(d, sf, wsky, e);
                     const float pdfB = (1.0f - pd) * ((e + 1.0f) / (2.0f * PCL_PI_F)) * cp;
                     const float f = cp * cosSky * eye_mis_weight(1u, pdfSky, 1u, pdfB) / pdfSky;
-                    for (int c = 0; c < 3; ++c) sum[c] = sum[c] + Lsky[c] * tr[c] * f;
+                    for (int c = 0; c < 3; ++c) sum[c] = sum[c] + lsky[c] * f;
                 }
             }
             const float norm = (e + 2.0f) / (2.0f * PCL_PI_F);

@@ -82,13 +82,11 @@ inline void gather_direct(__global const PclBvhNode* nodes, __global const PclTr
     if (env_active(env)) {
         rng_block(seed, pixel, bounceWord, PCL_GATHER_DIRECT_BLOCK + 1u, PCL_RNG_STREAM_GATHER, w);
         PclV3 wi;
-        float Lsky[3], tr[3];
-        const float pdfL = env_sample(env, envData, rng_u01(w[0]), rng_u01(w[1]), &wi, Lsky);
-        const float cosS = sampling_dot(sf, wi);
-        if (pdfL > 0.0f && cosS > 0.0f && sampling_dot(nf, wi) > 0.0f &&
-            light_shadow(nodes, packets, spheres, em, PCL_NO_MEDIUM, o, wi, INFINITY, tau, tr)) {
+        float pdfL, cosS, le[3];
+        if (light_sky_sample(nodes, packets, spheres, em, PCL_NO_MEDIUM, env, envData, nf, sf, o, tau, rng_u01(w[0]),
+                             rng_u01(w[1]), &wi, &pdfL, &cosS, le)) {
             const float f = cosS / pdfL;
-            for (int c = 0; c < 3; ++c) E[c] = E[c] + Lsky[c] * tr[c] * f;
+            for (int c = 0; c < 3; ++c) E[c] = E[c] + le[c] * f;
         }
     }
 }

@@ -76,21 +76,16 @@ PclRadiance referenceDirectLightAt(const SceneGeometry& geometry, const SceneBuf
             stratify_cmj_cell(h.sample * M + m, count, pattern[1], &cellA, &cellB);
             stratify_shifted(cellA, cellB, cells, count, rng_u01(w[0]), rng_u01(w[1]), rng_u01(shift[2]),
                              rng_u01(shift[3]), &u0, &u1);
-            Vec3 wi, Lsky, tr;
-            const float pdfL = skySample(buffers, u0, u1, wi, Lsky);
-            if (!(pdfL > 0.0f)) continue;
-            const float cosS = dot(sf, wi);
-            if (!(cosS > 0.0f) || !(dot(nf, wi) > 0.0f)) continue;
-            tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, wi,
-                                        std::numeric_limits<float>::infinity(), tau);
-            if (!(maxComponent(tr) > 0.0f)) continue;
+            Vec3 wi, le;
+            float pdfL, cosS;
+            if (!lightSkySample(geometry, buffers, sm, nf, sf, o, tau, u0, u1, wi, pdfL, cosS, le)) continue;
             float pdfB = cosS / kPi;
             if (params.histogramCells > 0 && cdf) {
                 const uint32_t G = params.histogramCells;
                 pdfB = pdfB * (float(G * G) * eyeCellProbability(cdf, eyeCellOfDirection(sf, wi, G)));
             }
             const float wMis = params.gatherRays == 0 ? 1.0f : eyeMisWeight(M, pdfL, params.gatherRays, pdfB);
-            sky = sky + Lsky * tr * (cosS * wMis / pdfL);
+            sky = sky + le * (cosS * wMis / pdfL);
         }
         sum = sum + sky / Vec3(float(M));
     }

@@ -217,16 +217,13 @@ PclEyeHit referenceEyePath(const SceneGeometry& geometry, const SceneBuffers& bu
             if (skyActive(buffers)) {  // the sky: one sample by its map, MIS against the lobe
                 uint32_t ws[4];
                 rng_block(seed, pixel, k, v, PCL_RNG_STREAM_EYE_SKY, ws);
-                Vec3 wsky, Lsky;
-                const float pdfSky = skySample(buffers, rng_u01(ws[0]), rng_u01(ws[1]), wsky, Lsky);
-                const float cosSky = dot(sf, wsky);
-                if (pdfSky > 0.0f && cosSky > 0.0f && dot(nf, wsky) > 0.0f) {
-                    const Vec3 tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, lifted, wsky,
-                                                           std::numeric_limits<float>::infinity(), ray.time);
+                Vec3 wsky, lsky;
+                float pdfSky, cosSky;
+                if (lightSkySample(geometry, buffers, sm, nf, sf, lifted, ray.time, rng_u01(ws[0]), rng_u01(ws[1]),
+                                   wsky, pdfSky, cosSky, lsky)) {
                     const float cp = eyePhongCosPower(d, sf, wsky, e);
                     const float pdfB = (1.0f - pd) * ((e + 1.0f) / (2.0f * kPi)) * cp;
-                    if (maxComponent(tr) > 0.0f)
-                        sum = sum + Lsky * tr * (cp * cosSky * eyeMisWeight(1, pdfSky, 1, pdfB) / pdfSky);
+                    sum = sum + lsky * (cp * cosSky * eyeMisWeight(1, pdfSky, 1, pdfB) / pdfSky);
                 }
             }
             const float norm = (e + 2.0f) / (2.0f * kPi);

@@ -75,14 +75,11 @@ Vec3 gatherDirect(const SceneGeometry& geometry, const SceneBuffers& buffers, co
     }
     if (skyActive(buffers)) {
         rng_block(seed, pixel, bounceWord, PCL_GATHER_DIRECT_BLOCK + 1, PCL_RNG_STREAM_GATHER, w);
-        Vec3 wi, Lsky;
-        const float pdfL = skySample(buffers, rng_u01(w[0]), rng_u01(w[1]), wi, Lsky);
-        const float cosS = dot(sf, wi);
-        if (pdfL > 0.0f && cosS > 0.0f && dot(nf, wi) > 0.0f) {
-            const Vec3 tr = eyeShadowTransmittance(geometry, buffers, false, PCL_NO_MEDIUM, o, wi,
-                                                   std::numeric_limits<float>::infinity(), tau);
-            if (maxComponent(tr) > 0.0f) E = E + Lsky * tr * (cosS / pdfL);
-        }
+        Vec3 wi, le;
+        float pdfL, cosS;
+        if (lightSkySample(geometry, buffers, ShadowMedium{}, nf, sf, o, tau, rng_u01(w[0]), rng_u01(w[1]), wi, pdfL,
+                           cosS, le))
+            E = E + le * (cosS / pdfL);
     }
     return E;
 }

@@ -13,6 +13,7 @@
 #include "reference/eye_medium.h"
 #include "reference/eye_scatter.h"
 #include "reference/sampling.h"
+#include "reference/sky.h"
 #include "shared/texture.h"
 
 namespace pcl {
@@ -134,6 +135,24 @@ inline bool lightAreaSample(const SceneGeometry& geometry, const SceneBuffers& b
     const Vec3 tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, end - o, 1.0f, tau);
     if (!(maxComponent(tr) > 0.0f)) return false;
     le = lightEmissionAt(buffers, geometry.triangleCount(), L, bu, bv) * tr;
+    return true;
+}
+
+// One sample of the sky by its map from (u0, u1) (nf, sf as for lightAreaSample; shadow ray from
+// o in sm's medium): on success wi, the density pdfL, cosθ to sf and the sky's radiance times the
+// shadow ray's transmittance, le.
+inline bool lightSkySample(const SceneGeometry& geometry, const SceneBuffers& buffers, ShadowMedium sm, Vec3 nf,
+                           Vec3 sf, Vec3 o, float tau, float u0, float u1, Vec3& wi, float& pdfL, float& cosS,
+                           Vec3& le) {
+    Vec3 Lsky;
+    pdfL = skySample(buffers, u0, u1, wi, Lsky);
+    if (!(pdfL > 0.0f)) return false;
+    cosS = dot(sf, wi);
+    if (!(cosS > 0.0f) || !(dot(nf, wi) > 0.0f)) return false;
+    const Vec3 tr = eyeShadowTransmittance(geometry, buffers, sm.hasMedia, sm.medium, o, wi,
+                                           std::numeric_limits<float>::infinity(), tau);
+    if (!(maxComponent(tr) > 0.0f)) return false;
+    le = Lsky * tr;
     return true;
 }
 

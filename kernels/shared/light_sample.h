@@ -14,6 +14,7 @@
 #include "bvh.h"
 #include "eye.h"
 #include "eye_medium.h"
+#include "environment.h"
 
 /* shared/texture.h's lookup, declared here and defined there: the kernels include texture.h
  * after this header, so its `FP_CONTRACT OFF` pragma leaves the functions above and here
@@ -188,6 +189,25 @@ inline bool light_area_sample(__global const PclBvhNode* nodes, __global const P
     float Le[3];
     light_emission_at(lt, primInfo, materials, L, bu, bv, Le);
     for (int c = 0; c < 3; ++c) le[c] = Le[c] * tr[c];
+    return true;
+}
+
+/* One sample of the sky by its map (shared/environment.h) from (u0, u1), for the shading point
+ * with normals nf (geometric, on the incident side) and sf (shading), its shadow ray from o in
+ * `medium`: on success *wi, the density *pdfL, cosθ to sf (*cosS) and the sky's radiance times
+ * the shadow ray's transmittance le[3]; false when the map gives the direction no density, it
+ * lies below either normal, or the ray is blocked. */
+inline bool light_sky_sample(__global const PclBvhNode* nodes, __global const PclTriPacket* packets,
+                             __global const PclSphere* spheres, const EyeMedia em, int medium, const PclEnvironment env,
+                             __global const float* envData, PclV3 nf, PclV3 sf, PclV3 o, float tau, float u0, float u1,
+                             PclV3* wi, float* pdfL, float* cosS, float le[3]) {
+    float Lsky[3], tr[3];
+    *pdfL = env_sample(env, envData, u0, u1, wi, Lsky);
+    if (!(*pdfL > 0.0f)) return false;
+    *cosS = sampling_dot(sf, *wi);
+    if (!(*cosS > 0.0f) || !(sampling_dot(nf, *wi) > 0.0f)) return false;
+    if (!light_shadow(nodes, packets, spheres, em, medium, o, *wi, INFINITY, tau, tr)) return false;
+    for (int c = 0; c < 3; ++c) le[c] = Lsky[c] * tr[c];
     return true;
 }
 
