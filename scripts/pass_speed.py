@@ -6,7 +6,8 @@
 
 Every scene and method is rendered with `render`'s defaults (the shipped camera size, 256x256
 for the Cornell boxes; --fg-options adds options to fg, so two versions whose fg defaults differ
-can be timed on the same work) and the same seed by both binaries, old then new, `--runs` times, so load
+can be timed on the same work; --new-options adds options to one method of the new binary only)
+and the same seed by both binaries, old then new, `--runs` times, so load
 on the machine falls on both alike. Per run it reads the render's "time by stage" table and
 divides by the passes. Prints (and with --out writes) a Markdown table: the median seconds per
 pass of each binary, their ratio, the median CPU seconds per pass (user + system of the render
@@ -67,6 +68,10 @@ def main():
     a.add_argument("--fg-options", default="",
                    help="extra render options for fg (e.g. the same eye samples and gather rays for both binaries "
                         "when their defaults differ)")
+    a.add_argument("--new-options", action="append", default=[], metavar="METHOD:OPTIONS",
+                   help="extra render options for one method of the new binary only, after --fg-options "
+                        "(repeatable; options the old binary does not know, or defaults that changed, e.g. "
+                        "'fg:--emitter-strata 0' or 'progressive:--strata 1')")
     o = a.parse_args()
     for b in (o.old, o.new):
         if not os.access(b, os.X_OK):
@@ -75,6 +80,14 @@ def main():
     if o.runs < 1 or o.passes < 1:
         sys.stderr.write("pass_speed: --runs and --passes must be at least 1\n")
         return 2
+    newOptions = {}
+    for spec in o.new_options:
+        method, sep, options = spec.partition(":")
+        if not sep or method not in ("fg", "direct", "progressive"):
+            sys.stderr.write(f"pass_speed: --new-options {spec!r}: expected METHOD:OPTIONS with METHOD fg, direct "
+                             "or progressive\n")
+            return 2
+        newOptions.setdefault(method, []).extend(shlex.split(options))
     scenes = [os.path.join(root, "scenes", s) for s in o.scenes.split(",")]
     methods = o.methods.split(",")
     lines = ["| scene | method | old s/pass | new s/pass | old / new | old CPU s/pass | new CPU s/pass | old / new CPU | "
@@ -87,8 +100,10 @@ def main():
                 runs = {"old": [], "new": []}
                 for r in range(o.runs):
                     for which, binary in (("old", o.old), ("new", o.new)):
-                        runs[which].append(render(binary, scene, method, o.passes, out,
-                                                  shlex.split(o.fg_options) if method == "fg" else ()))
+                        extra = shlex.split(o.fg_options) if method == "fg" else []
+                        if which == "new":
+                            extra += newOptions.get(method, [])
+                        runs[which].append(render(binary, scene, method, o.passes, out, extra))
                         sys.stderr.write(f"pass_speed: {os.path.basename(scene)} {method} run {r + 1} {which}: "
                                          f"{runs[which][-1]['total']:.3f} s/pass, "
                                          f"{runs[which][-1]['cpu']:.3f} CPU s/pass\n")
