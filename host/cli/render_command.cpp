@@ -134,6 +134,29 @@ std::string kernelProfileTable(const std::vector<Device::KernelTime>& profile, u
     return out + line;
 }
 
+// The photon pass per pass (issue 14's paths per second inside render): the first pass apart,
+// since it also loads the kernels and touches fresh buffers.
+std::string photonPassProfile(const std::vector<double>& seconds, uint64_t paths) {
+    if (seconds.empty() || paths == 0) return {};
+    const double perPass = double(paths) / double(seconds.size());
+    char line[200];
+    if (seconds.size() == 1) {
+        std::snprintf(line, sizeof line, "photon pass: %.4g ms, %.3g M paths a second\n", seconds[0] * 1e3,
+                      perPass / seconds[0] * 1e-6);
+        return line;
+    }
+    std::vector<double> later(seconds.begin() + 1, seconds.end());
+    std::sort(later.begin(), later.end());
+    const size_t n = later.size();
+    const double median = n % 2 ? later[n / 2] : 0.5 * (later[n / 2 - 1] + later[n / 2]);
+    std::snprintf(line, sizeof line,
+                  "photon pass: first pass %.4g ms, later passes median %.4g ms (%.4g-%.4g): %.3g M paths a "
+                  "second\n",
+                  seconds[0] * 1e3, median * 1e3, later.front() * 1e3, later.back() * 1e3,
+                  median > 0 ? perPass / median * 1e-6 : 0.0);
+    return line;
+}
+
 // `device`: already opened (method auto's pilot ran on it), else opened here.
 int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedScene& prepared,
                     const std::string& output, Clock::time_point start, std::unique_ptr<Device> device = nullptr) {
@@ -236,7 +259,9 @@ int runPhotonRender(const RenderOptions& o, const Scene& scene, const PreparedSc
     if (!o.quiet && r.emitterPixels)
         std::fprintf(stderr, "emitter samples: %ux%u a pass in %u pixels (the rows' spans of emitter edges)\n",
                      r.emitterStrata, r.emitterStrata, r.emitterPixels);
-    if (o.profile) std::fprintf(stderr, "%s", kernelProfileTable(device->kernelProfile(), r.passes).c_str());
+    if (o.profile)
+        std::fprintf(stderr, "%s%s", kernelProfileTable(device->kernelProfile(), r.passes).c_str(),
+                     photonPassProfile(r.photonPassSeconds, r.globalEmitted + r.causticEmitted).c_str());
     if (r.nonFiniteSamples)
         std::fprintf(stderr, "warning: %llu non-finite eye samples were dropped\n",
                      static_cast<unsigned long long>(r.nonFiniteSamples));

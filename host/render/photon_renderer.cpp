@@ -674,7 +674,10 @@ PhotonRenderResult PhotonRenderer::run() {
         passFilm = Film(width_, height_);
         PassPhotons photons;
         if (maps_.global || maps_.caustic) {
-            timed(stages_, result_.times.photons, [&] { photons = tracePhotons(pass); });
+            double seconds = 0;
+            timed(stages_, seconds, [&] { photons = tracePhotons(pass); });
+            result_.times.photons += seconds;
+            result_.photonPassSeconds.push_back(seconds);
             result_.globalEmitted += photons.globalEmitted;
             result_.causticEmitted += photons.causticEmitted;
             result_.globalStored += photons.global.size();

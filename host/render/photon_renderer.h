@@ -65,6 +65,8 @@ struct PhotonRenderResult {
     bool stopped = false;  // a stop request ended the render early
     // Photons over all passes.
     uint64_t globalEmitted = 0, causticEmitted = 0, globalStored = 0, causticStored = 0;
+    // Each pass's photon pass, seconds (the first also loads the kernels and touches fresh buffers).
+    std::vector<double> photonPassSeconds;
     uint64_t samples = 0;                   // eye samples traced
     uint64_t nonFiniteSamples = 0;          // samples whose radiance was NaN/Inf: dropped (expected 0)
     uint32_t emitterPixels = 0;             // fg: pixels given emitter samples (PhotonRenderSettings::emitterStrata)

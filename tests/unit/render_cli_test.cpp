@@ -73,6 +73,28 @@ TEST_F(RenderCliTest, AovLayersAndStageTimes) {
     EXPECT_EQ(run("render " + scene("cornell-box.json") + " --aov sparkle -o " + out.string() + small).status, 2);
 }
 
+// --profile: the device seconds of every kernel per pass, and the photon pass per pass (the first
+// apart: it loads the kernels) with its paths per second (4000 paths a pass here).
+TEST_F(RenderCliTest, ProfileTimesEveryKernelAndThePhotonPassPerPass) {
+    Result r = run("render " + scene("cornell-box.json") + " --method fg --passes 3 --profile -o " +
+                   (dir / "p.exr").string() +
+                   " --width 16 --height 16 --strata 1 --global-photons 4000 --gather-rays 4");
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (const char* line : {"device time by kernel", "emit_photons", "trace_photons_global", "final_gather_trace"})
+        EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(r.output, m,
+                                  std::regex("photon pass: first pass ([0-9.]+) ms, later passes median ([0-9.]+) ms "
+                                             "\\(([0-9.]+)-([0-9.]+)\\): ([0-9.]+) M paths a second")))
+        << r.output;
+    const double median = std::stod(m[2]), lo = std::stod(m[3]), hi = std::stod(m[4]), rate = std::stod(m[5]);
+    EXPECT_GT(std::stod(m[1]), 0.0);
+    EXPECT_LE(lo, median);
+    EXPECT_LE(median, hi);
+    ASSERT_GT(median, 0.0);
+    EXPECT_NEAR(rate / (4000.0 / median * 1e-3), 1.0, 0.01) << "both printed to 3-4 digits";
+}
+
 // The parts sum to the image: per pixel, beauty = direct + caustic + indirect + emitted (every
 // layer read back from the EXR; cornell-spheres has all four: lamp, caustics, indirect light), so
 // a part left out, counted twice or written to the wrong layer fails. The beauty is summed in
