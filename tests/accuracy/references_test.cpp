@@ -146,7 +146,7 @@ TEST(References, FreshPathTracedRenderAgreesWithEachReference) {
 // hand with other seeds and sample counts) against the 64-wide ones, 4×4-averaged: finite, the
 // camera's aspect, the image means within 0.5 % (each mean's standard error is under 0.1 %),
 // and the 64×64 images within a relMSE of 2e-3 (the two references' own noise: measured 5e-5 to
-// 4.5e-4). cornell-box's 256 reference held to cornell-glossy's small one (the floor glossy
+// 4.5e-4; hazy-room's own bound below). cornell-box's 256 reference held to cornell-glossy's small one (the floor glossy
 // instead of diffuse) gives relMSE 0.018 and mean 1.024, to cornell-spheres' 0.11: both fail.
 TEST(References, EqualTimeReferencesAgreeWithTheSmallOnes) {
     PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (the references are EXR)");
@@ -175,8 +175,10 @@ TEST(References, EqualTimeReferencesAgreeWithTheSmallOnes) {
         std::printf("[figure] %s 4x4-averaged vs %s: %s\n", big.filename().c_str(), smallPath.filename().c_str(),
                     formatErrors(e).c_str());
         EXPECT_NEAR(e.meanRatio, 1.0, 0.005) << big;
-        EXPECT_LT(e.relMse, 2e-3) << big;
+        // hazy-room: the 64-px reference's own relMSE is 4.4e-3 (the spot light's fireflies in
+        // the haze), so the pair reads 3.75e-3; its 512-spp trial halves read 8.6e-3.
+        EXPECT_LT(e.relMse, name == "media/hazy-room.json" ? 6e-3 : 2e-3) << big;
     }
-    EXPECT_EQ(found, 9u) << "tests/data/references-256.md lists nine 256-wide references (all but the furnaces, "
-                            "whose answer is exact, and hazy-room, whose path-traced fireflies need more samples)";
+    EXPECT_EQ(found, 10u) << "tests/data/references-256.md lists ten 256-wide references (all but the furnaces, "
+                             "whose answer is exact)";
 }
