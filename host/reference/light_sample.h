@@ -1,6 +1,7 @@
-// Next-event estimation at a shading point, the twin of kernels/shared/light_sample.h: shared by
-// the direct-light twin (the diffuse record, ρd/π) and the eye-path twin (glossy chain hits, the
-// Phong lobe, single scattering in media). The light's incident contribution before the BRDF
+// Next-event estimation at a shading point (delta, triangle and sky lights), the twin of
+// kernels/shared/light_sample.h: shared by the direct-light twin (the diffuse record, ρd/π), the
+// eye-path twin (glossy chain hits, the Phong lobe, single scattering in media) and the final
+// gather's twin (close gather hits). The light's incident contribution before the BRDF
 // (kernels/README.md, "direct light"); shadow rays carry the transmittance of media.
 #pragma once
 #include <algorithm>

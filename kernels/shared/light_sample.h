@@ -1,6 +1,7 @@
-/* light_sample.h: next-event estimation at a shading point, shared by direct_light (at the
- * diffuse eye record, BRDF ρd/π) and eye_paths (at glossy chain hits, the Phong lobe; the
- * single scattering along medium segments): the light's incident contribution before the BRDF.
+/* light_sample.h: next-event estimation at a shading point (delta, triangle and sky lights),
+ * shared by direct_light (at the diffuse eye record, BRDF ρd/π), eye_paths (at glossy chain hits,
+ * the Phong lobe; the single scattering along medium segments) and final_gather (the direct light
+ * at close gather hits): the light's incident contribution before the BRDF.
  * In a scene with media (EyeMedia.hasMedia) the shadow rays carry the transmittance of media and
  * invisible boundaries (shared/eye_medium.h); without, they are the plain visibility tests, and
  * the transmittance 1 they report leaves every product bit-identical. Rules: kernels/README.md,
