@@ -135,13 +135,14 @@ std::string kernelProfileTable(const std::vector<Device::KernelTime>& profile, u
 }
 
 // The photon pass per pass (issue 14's paths per second inside render): the first pass apart,
-// since it also loads the kernels and touches fresh buffers.
+// since it also loads the kernels and touches fresh buffers. Milliseconds in fixed point: never
+// an exponent, whatever the pass takes.
 std::string photonPassProfile(const std::vector<double>& seconds, uint64_t paths) {
     if (seconds.empty() || paths == 0) return {};
     const double perPass = double(paths) / double(seconds.size());
     char line[200];
     if (seconds.size() == 1) {
-        std::snprintf(line, sizeof line, "photon pass: %.4g ms, %.3g M paths a second\n", seconds[0] * 1e3,
+        std::snprintf(line, sizeof line, "photon pass: %.3f ms, %.3g M paths a second\n", seconds[0] * 1e3,
                       perPass / seconds[0] * 1e-6);
         return line;
     }
@@ -150,7 +151,7 @@ std::string photonPassProfile(const std::vector<double>& seconds, uint64_t paths
     const size_t n = later.size();
     const double median = n % 2 ? later[n / 2] : 0.5 * (later[n / 2 - 1] + later[n / 2]);
     std::snprintf(line, sizeof line,
-                  "photon pass: first pass %.4g ms, later passes median %.4g ms (%.4g-%.4g): %.3g M paths a "
+                  "photon pass: first pass %.3f ms, later passes median %.3f ms (%.3f-%.3f): %.3g M paths a "
                   "second\n",
                   seconds[0] * 1e3, median * 1e3, later.front() * 1e3, later.back() * 1e3,
                   median > 0 ? perPass / median * 1e-6 : 0.0);

@@ -146,8 +146,9 @@ TEST(References, FreshPathTracedRenderAgreesWithEachReference) {
 // hand with other seeds and sample counts) against the 64-wide ones, 4×4-averaged: finite, the
 // camera's aspect, the image means within 0.5 % (each mean's standard error is under 0.1 %),
 // and the 64×64 images within a relMSE of 2e-3 (the two references' own noise: measured 5e-5 to
-// 4.5e-4; hazy-room's own bound below). cornell-box's 256 reference held to cornell-glossy's small one (the floor glossy
-// instead of diffuse) gives relMSE 0.018 and mean 1.024, to cornell-spheres' 0.11: both fail.
+// 4.5e-4; hazy-room's own bound below). cornell-box's 256 reference held to cornell-glossy's
+// small one (the floor glossy instead of diffuse) gives relMSE 0.018 and mean 1.024, to
+// cornell-spheres' 0.11: both fail.
 TEST(References, EqualTimeReferencesAgreeWithTheSmallOnes) {
     PCL_REQUIRE_FEATURE(haveOpenImageIO(), "OpenImageIO (the references are EXR)");
     const std::filesystem::path data = std::filesystem::path(PHOTONCL_SOURCE_DIR) / "tests" / "data";
