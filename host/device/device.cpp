@@ -69,6 +69,8 @@ std::vector<DeviceInfo> listDevices() {
                 info.version = trimmed(d.getInfo<CL_DEVICE_VERSION>());
                 info.driver = trimmed(d.getInfo<CL_DRIVER_VERSION>());
                 info.type = d.getInfo<CL_DEVICE_TYPE>();
+                info.correctlyRoundedDivideSqrt =
+                    (d.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>() & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
                 info.computeUnits = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
                 info.globalMem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
                 info.maxAlloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();

@@ -44,6 +44,9 @@ struct DeviceInfo {
                                 // driver's, or the buffer cap when that is lower (Device::setBufferCap)
     size_t driverMaxAlloc = 0;  // bytes: CL_DEVICE_MAX_MEM_ALLOC_SIZE as the driver reports it
     size_t bufferCap = 0;       // bytes: the cap from setBufferCap (--max-buffer-mib); 0: none
+    // CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT in CL_DEVICE_SINGLE_FP_CONFIG: the device can divide and
+    // take square roots correctly rounded, as the CPU twins do (ProgramCache asks it to).
+    bool correctlyRoundedDivideSqrt = false;
     cl::Platform clPlatform;
     cl::Device clDevice;
 };

@@ -149,9 +149,48 @@ ProgramCache::ProgramCache(cl::Context context, DeviceInfo device, std::optional
     if (cacheDir_ && cacheDir_->empty()) cacheDir_.reset();
 }
 
+std::string mapBuildLogLines(const std::string& log, const std::string& source) {
+    // origin[n - 1]: the file and line of the expanded source's line n.
+    static const std::regex marker(R"re(^\s*#\s*line\s+(\d+)\s+"([^"]*)"\s*$)re");
+    std::vector<std::pair<std::string, long>> origin;
+    std::string file = "<kernel>";
+    long next = 1;
+    std::istringstream in(source);
+    for (std::string line; std::getline(in, line);) {
+        std::smatch m;
+        origin.emplace_back(file, next);
+        if (std::regex_match(line, m, marker)) {
+            file = m[2];
+            next = std::stol(m[1]);
+        } else {
+            ++next;
+        }
+    }
+    static const std::regex anonymous(R"re(<(kernel|source|input)>:(\d+):)re");
+    std::string out;
+    auto rest = log.cbegin();
+    for (std::sregex_iterator it(log.begin(), log.end(), anonymous), end; it != end; ++it) {
+        const std::smatch& m = *it;
+        out.append(rest, m[0].first);
+        const long n = std::stol(m[2]);
+        if (n >= 1 && size_t(n) <= origin.size())
+            out += origin[n - 1].first + ":" + std::to_string(origin[n - 1].second) + ":";
+        else out += m.str();
+        rest = m[0].second;
+    }
+    out.append(rest, log.cend());
+    return out;
+}
+
 std::string ProgramCache::fullOptions(const std::string& options) const {
     std::string o = kDefaultBuildOptions;
+    // OpenCL lets single-precision division and sqrt be off by 2.5 and 3 ulp unless asked (GPUs
+    // take that leave; PoCL does not): the twins' are IEEE, and an estimate filter's 1 - d²/r² at
+    // the k-th photon must come out 0 on both sides, not 6e-8 on one.
+    if (device_.correctlyRoundedDivideSqrt) o += " -cl-fp32-correctly-rounded-divide-sqrt";
     if (!options.empty()) o += " " + options;
+    if (const char* extra = std::getenv("PHOTONCL_CL_OPTIONS"); extra && *extra)  // tuning and GPU experiments
+        o += std::string(" ") + extra;
     return o;
 }
 
@@ -278,7 +317,7 @@ cl::Program ProgramCache::build(const std::string& stage, const std::string& opt
         std::ostringstream msg;
         msg << where << ": build failed on " << device_.name << " (" << device_.platform << ", driver "
             << device_.driver << ") with options '" << opts << "': " << clErrorName(e.err()) << " (" << e.err() << ")";
-        if (!log.empty()) msg << "\n" << log;
+        if (!log.empty()) msg << "\n" << mapBuildLogLines(log, source);
         throw DeviceError(msg.str());
     }
     ++stats_.compiled;

@@ -46,6 +46,11 @@ std::string expandKernelFile(const std::filesystem::path& kernelDir, const std::
 // Throws DeviceError for an unknown stage.
 std::string kernelSource(const std::string& stage, const std::optional<std::filesystem::path>& kernelDir);
 
+// A build log with the compiler's own line numbers in the expanded source ("<kernel>:6:12:", as
+// NVIDIA's OpenCL writes them, ignoring #line) replaced by the file and line the source's #line
+// markers give ("broken.cl:3:12:"). Logs that already name files pass through unchanged.
+std::string mapBuildLogLines(const std::string& log, const std::string& source);
+
 class ProgramCache {
 public:
     // kernelDir: where sources are read from (nullopt: the embedded ones).

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <stdexcept>
+#include "pipeline/accumulate.h"
 #include "pipeline/camera_rays.h"
 #include "pipeline/connect_caustics.h"
 #include "pipeline/estimate.h"
@@ -36,6 +37,8 @@ DeviceRenderStages::DeviceRenderStages(Device& device, const Scene& scene, const
     directRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: direct radiance");
     causticRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: caustic radiance");
     indirectRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: indirect radiance");
+    sampleRad_ = device.allocate<PclRadiance>(chunk_, CL_MEM_READ_WRITE, "render: sample radiance");
+    spans_ = device.allocate<int32_t>(1, CL_MEM_READ_ONLY, "render: emitter spans");
 }
 
 DeviceRenderStages::~DeviceRenderStages() = default;
@@ -181,6 +184,29 @@ void DeviceRenderStages::readChunk(uint32_t count, ChunkParts parts, ChunkResult
             out.volume[i].b += v[i].b;
         }
     }
+}
+
+void DeviceRenderStages::readSampleRadiance(const SampleRadianceSpec& spec, std::vector<PclRadiance>& out) {
+    PclAccumulateParams p{};
+    p.firstPixel = static_cast<uint32_t>(spec.first / spec.samplesPerPixel);
+    p.firstSubsample = static_cast<uint32_t>(spec.first % spec.samplesPerPixel);
+    p.sampleCount = spec.count;
+    p.samplesPerPixel = spec.samplesPerPixel;
+    p.width = spec.width;
+    p.parts = (spec.parts.direct ? PCL_ACCUMULATE_DIRECT : 0u) | (spec.parts.caustic ? PCL_ACCUMULATE_CAUSTIC : 0u) |
+              (spec.parts.indirect ? PCL_ACCUMULATE_INDIRECT : 0u) |
+              (spec.parts.volume && volumeParts_[0] ? PCL_ACCUMULATE_VOLUME0 : 0u) |
+              (spec.parts.volume && volumeParts_[1] ? PCL_ACCUMULATE_VOLUME1 : 0u);
+    p.emitterSpans = spec.emitterSpans && !spec.emitterSpans->empty() ? 1u : 0u;
+    if (p.emitterSpans && *spec.emitterSpans != spansOnHost_) {  // set once a render
+        spansOnHost_ = *spec.emitterSpans;
+        spans_ = device_.upload(spansOnHost_, CL_MEM_READ_ONLY, "render: emitter spans");
+    }
+    // Parts not named are not read: any buffer stands in for them.
+    const cl::Buffer& v0 = volumeParts_[0] ? volumeRad_[0] : directRad_;
+    const cl::Buffer& v1 = volumeParts_[1] ? volumeRad_[1] : directRad_;
+    accumulateSamples(device_, p, hits_, directRad_, causticRad_, indirectRad_, v0, v1, spans_, sampleRad_);
+    device_.downloadInto(sampleRad_, spec.count, out);
 }
 
 }  // namespace pcl

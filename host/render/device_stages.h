@@ -40,6 +40,7 @@ public:
     void volumeEstimate() override;
     std::vector<float> volumeKthNeighbourDist2(const std::vector<PclPhoton>& photons, uint32_t k, float rMax) override;
     void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) override;
+    void readSampleRadiance(const SampleRadianceSpec& spec, std::vector<PclRadiance>& out) override;
 
 private:
     struct Maps;  // the pass's maps and their readers
@@ -51,6 +52,8 @@ private:
     DeviceAreaLights lights_;
     size_t chunk_ = 0;
     cl::Buffer rays_, hits_, directRad_, causticRad_, indirectRad_, histograms_;
+    cl::Buffer sampleRad_, spans_;         // readSampleRadiance: its output; the emitter spans (2 ints a row)
+    std::vector<int32_t> spansOnHost_;     // what spans_ holds
     cl::Buffer segments_, segmentCounts_;  // media: the eye records' medium segments (eyePaths)
     size_t segmentSlots_ = 0;
     PclEyeParams lastEye_{};   // the last eyePaths launch: its records and segment slots

@@ -125,8 +125,8 @@ void keepCountedVolumePhotons(PassPhotons& p) {
 bool finite(const PclRadiance& r) { return std::isfinite(r.r) && std::isfinite(r.g) && std::isfinite(r.b); }
 
 // One render: each pass traces fresh photons, decides how its maps are read and runs the eye
-// pass in chunks, every stage through `stages` (the device's or the twin's); the film is
-// accumulated here, on the host, for both.
+// pass in chunks, every stage through `stages` (the device's or the twin's); each sample's sum
+// comes from the stages (accumulate), and the film is added to here, on the host, for both.
 class PhotonRenderer {
 public:
     PhotonRenderer(RenderStages& stages, const Scene& scene, const SceneGeometry& geometry, const SceneBuffers& buffers,
@@ -182,6 +182,7 @@ private:
     ChunkParts shadeDirectVisualisation(const PassMapSpec& maps, uint32_t count);
     ChunkParts shadeProgressive(const PassMapSpec& maps, const PclEyeParams& ep, uint32_t count);
     void accumulate(size_t first, uint32_t count, ChunkParts parts, Film& passFilm);
+    void sumPartsWithAovs(size_t first, uint32_t count, ChunkParts parts);  // into sampleRadiance_
     std::string summary() const;
 
     const Clock::time_point start_;  // the render's start: its time budget and total count from here
@@ -200,9 +201,11 @@ private:
     const double area_;
     const AreaLightTable table_;
     const size_t chunk_;
-    ChunkResult chunkResult_;                // a chunk's records and parts, kept across chunks and passes
-    std::vector<EmitterSpan> emitterSpans_;  // fg with emitterStrata: per row, the pixels whose collected
-                                             // light the emitter samples give (empty: none)
+    std::vector<PclRadiance> sampleRadiance_;  // a chunk's sums, one per record
+    ChunkResult chunkResult_;                  // a chunk's records and parts, kept across chunks and passes
+    std::vector<int32_t> emitterSpanBounds_;   // the same, 2 ints a row (begin, end): the accumulate stage's
+    std::vector<EmitterSpan> emitterSpans_;    // fg with emitterStrata: per row, the pixels whose collected
+                                               // light the emitter samples give (empty: none)
     EstimateSettings est_;
     double r0Squared_ = 0.0;
     // Media: the volume maps' first radius² (global, caustic), from pass 0's photons, and this
@@ -511,6 +514,11 @@ void PhotonRenderer::findEmitterSpans() {
         result_.emitterPixels = 0;
         result_.emitterStrata = 0;
     }
+    emitterSpanBounds_.clear();
+    for (const EmitterSpan& span : emitterSpans_) {
+        emitterSpanBounds_.push_back(span.begin);
+        emitterSpanBounds_.push_back(span.end);
+    }
 }
 
 // Each pass, M × M samples per pixel of the emitter spans for the light collected before the
@@ -545,39 +553,59 @@ void PhotonRenderer::emitterSamples(uint32_t pass, Film& passFilm) {
 // 4. Accumulate: sample s of the pass lies in pixel s / n²; its radiance is emitted + the parts.
 void PhotonRenderer::accumulate(size_t first, uint32_t count, ChunkParts parts, Film& passFilm) {
     auto t = Clock::now();
+    if (s_.aovs) {
+        sumPartsWithAovs(first, count, parts);
+    } else {  // the stages sum each sample: 16 bytes a record to read
+        SampleRadianceSpec spec;
+        spec.first = first;
+        spec.count = count;
+        spec.samplesPerPixel = spp_;
+        spec.width = static_cast<uint32_t>(width_);
+        spec.parts = parts;
+        spec.emitterSpans = &emitterSpanBounds_;
+        stages_.readSampleRadiance(spec, sampleRadiance_);
+    }
+    for (uint32_t i = 0; i < count; ++i) {
+        const size_t pixel = (first + i) / spp_;
+        PclRadiance sum = sampleRadiance_[i];
+        if (!finite(sum)) {
+            ++result_.nonFiniteSamples;
+            sum = PclRadiance{0, 0, 0, 0};  // counted and reported; the pixel keeps its weight
+        }
+        passFilm.add(static_cast<int>(pixel % width_), static_cast<int>(pixel / width_), {sum.r, sum.g, sum.b});
+    }
+    result_.times.accumulate += since(t);
+    result_.samples += count;
+}
+
+// AOVs need the parts apart: the records and every part come back, and each sample's sum is
+// taken here, as the accumulate stage takes it (kernels/accumulate.cl).
+void PhotonRenderer::sumPartsWithAovs(size_t first, uint32_t count, ChunkParts parts) {
     const PclRadiance zero{0, 0, 0, 0};
     stages_.readChunk(count, parts, chunkResult_);
     const std::vector<PclEyeHit>& eye = chunkResult_.hits;
     const std::vector<PclRadiance>&direct = chunkResult_.direct, &caustic = chunkResult_.caustic,
           &indirect = chunkResult_.indirect, &volume = chunkResult_.volume;
+    sampleRadiance_.resize(count);
     for (uint32_t i = 0; i < count; ++i) {
         size_t pixel = (first + i) / spp_;
         int x = static_cast<int>(pixel % width_), y = static_cast<int>(pixel / width_);
         const PclEyeHit& h = eye[i];
         PclRadiance em{h.emitted[0], h.emitted[1], h.emitted[2], 0};
         if (inEmitterSpan(x, y)) em = zero;  // emitterSamples gives it
-        PclRadiance sum{em.r + direct[i].r + caustic[i].r + indirect[i].r + volume[i].r,
-                        em.g + direct[i].g + caustic[i].g + indirect[i].g + volume[i].g,
-                        em.b + direct[i].b + caustic[i].b + indirect[i].b + volume[i].b, 0};
-        if (!finite(sum)) {
-            ++result_.nonFiniteSamples;
-            sum = zero;  // counted and reported; the pixel keeps its weight
-        }
-        passFilm.add(x, y, {sum.r, sum.g, sum.b});
-        if (s_.aovs) {
-            auto v = [](const PclRadiance& r) { return finite(r) ? Vec3(r.r, r.g, r.b) : Vec3(0.0f); };
-            RenderAovs& a = result_.aovs;
-            a.direct.add(x, y, v(direct[i]));
-            a.caustic.add(x, y, v(caustic[i]));
-            a.indirect.add(x, y, v(indirect[i]) + v(volume[i]));  // media: multiple scattering is indirect too
-            a.emitted.add(x, y, v(em));
-            bool diffuse = h.flags & PCL_EYE_DIFFUSE;
-            a.albedo.add(x, y, diffuse ? Vec3(h.albedo[0], h.albedo[1], h.albedo[2]) : Vec3(0.0f));
-            a.normal.add(x, y, diffuse ? Vec3(h.nx, h.ny, h.nz) : Vec3(0.0f));
-        }
+        sampleRadiance_[i] = {em.r + direct[i].r + caustic[i].r + indirect[i].r + volume[i].r,
+                              em.g + direct[i].g + caustic[i].g + indirect[i].g + volume[i].g,
+                              em.b + direct[i].b + caustic[i].b + indirect[i].b + volume[i].b, 0};
+        auto v = [](const PclRadiance& r) { return finite(r) ? Vec3(r.r, r.g, r.b) : Vec3(0.0f); };
+        RenderAovs& a = result_.aovs;
+        a.direct.add(x, y, v(direct[i]));
+        a.caustic.add(x, y, v(caustic[i]));
+        a.indirect.add(x, y, v(indirect[i]) + v(volume[i]));  // media: multiple scattering is indirect too
+        a.emitted.add(x, y, v(em));
+        bool diffuse = h.flags & PCL_EYE_DIFFUSE;
+        a.albedo.add(x, y, diffuse ? Vec3(h.albedo[0], h.albedo[1], h.albedo[2]) : Vec3(0.0f));
+        a.normal.add(x, y, diffuse ? Vec3(h.nx, h.ny, h.nz) : Vec3(0.0f));
     }
-    result_.times.accumulate += since(t);
-    result_.samples += count;
 }
 
 // 3. The eye pass, chunk by chunk: camera rays, eye paths to the first diffuse hit, the method's

@@ -7,7 +7,8 @@
 //     progressive: direct light + caustic map + the global map's indirect photons (those after a
 //                  diffuse bounce), both read with a fixed radius that shrinks from pass to pass,
 //                  r²_{i+1} = r²_i (i + α)/(i + 1) (Knaus & Zwicker 2011, probabilistic PPM)
-//   → every sample's radiance (emitted + the parts above) added to the film.
+//   → every sample's radiance (emitted + the parts above, summed by the accumulate stage; with
+//     AOVs the parts come back apart and are summed here) added to the film.
 // Eye samples are processed in chunks so the gather buffers stay within the device's max
 // allocation. The film holds the average over the passes done; a stop request (Ctrl-C) is
 // honoured between passes, so the film always holds whole passes.

@@ -10,8 +10,8 @@
 //   per chunk of eye samples (records 0 .. count−1):
 //   [connectCaustics(the pass's caustic photons)]    fg: splats into the pass's film
 //     cameraRays → eyePaths → [gatherHistograms] → directLight / causticEstimate /
-//     globalEstimate / finalGather / volumeEstimate (each fills one part) → readChunk (records and
-//     parts to host)
+//     globalEstimate / finalGather / volumeEstimate (each fills one part) → readSampleRadiance
+//     (their sum per record to host; readChunk instead: records and parts, for AOVs)
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -64,6 +64,17 @@ struct ChunkParts {
     bool direct = false, caustic = false, indirect = false, volume = false;
 };
 
+// What readSampleRadiance sums: the chunk's records are samples first .. first + count − 1 of
+// the pass, sample s in pixel s / samplesPerPixel of an image `width` wide.
+struct SampleRadianceSpec {
+    size_t first = 0;
+    uint32_t count = 0, samplesPerPixel = 1, width = 1;
+    ChunkParts parts;
+    // 2 ints per image row: its pixels [begin, end) whose emitted light the render's emitter
+    // samples give instead (the sum leaves it out there); empty: none.
+    const std::vector<int32_t>* emitterSpans = nullptr;
+};
+
 // A chunk on the host: the eye records and the four parts, `count` each.
 struct ChunkResult {
     std::vector<PclEyeHit> hits;
@@ -113,6 +124,11 @@ public:
                                                        float rMax) = 0;
     // The chunk's records and the parts it got (the others zero-filled), `count` each.
     virtual void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) = 0;
+    // The accumulate stage: per record the radiance the film adds, the emitted light (0 inside
+    // an emitter span) + the parts spec.parts names, added in float in that order
+    // (kernels/accumulate.cl), spec.count of them. 16 bytes a record where readChunk reads 192
+    // and more: what the render reads unless it writes AOVs (which need the parts apart).
+    virtual void readSampleRadiance(const SampleRadianceSpec& spec, std::vector<PclRadiance>& out) = 0;
 };
 
 }  // namespace pcl

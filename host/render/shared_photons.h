@@ -52,6 +52,9 @@ public:
         return inner_.volumeKthNeighbourDist2(photons, k, rMax);
     }
     void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) override { inner_.readChunk(count, parts, out); }
+    void readSampleRadiance(const SampleRadianceSpec& spec, std::vector<PclRadiance>& out) override {
+        inner_.readSampleRadiance(spec, out);
+    }
 
 private:
     RenderStages& inner_;

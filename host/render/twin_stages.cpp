@@ -156,4 +156,25 @@ void TwinRenderStages::readChunk(uint32_t count, ChunkParts parts, ChunkResult& 
     part(parts.volume, volume_, out.volume);
 }
 
+void TwinRenderStages::readSampleRadiance(const SampleRadianceSpec& spec, std::vector<PclRadiance>& out) {
+    if (hits_.size() != spec.count)
+        throw std::logic_error("render (twin): chunk of " + std::to_string(spec.count) + " records summed after " +
+                               std::to_string(hits_.size()) + " were traced");
+    const PclRadiance zero{0, 0, 0, 0};
+    out.resize(spec.count);
+    for (uint32_t i = 0; i < spec.count; ++i) {
+        const size_t pixel = (spec.first + i) / spec.samplesPerPixel;
+        const int x = int(pixel % spec.width), y = int(pixel / spec.width);
+        const std::vector<int32_t>* spans = spec.emitterSpans;
+        const bool inSpan = spans && !spans->empty() && x >= (*spans)[2 * y] && x < (*spans)[2 * y + 1];
+        const float* e = hits_[i].emitted;
+        const PclRadiance em = inSpan ? zero : PclRadiance{e[0], e[1], e[2], 0};
+        const PclRadiance& d = spec.parts.direct ? direct_[i] : zero;
+        const PclRadiance& c = spec.parts.caustic ? caustic_[i] : zero;
+        const PclRadiance& n = spec.parts.indirect ? indirect_[i] : zero;
+        const PclRadiance& v = spec.parts.volume ? volume_[i] : zero;
+        out[i] = {em.r + d.r + c.r + n.r + v.r, em.g + d.g + c.g + n.g + v.g, em.b + d.b + c.b + n.b + v.b, 0};
+    }
+}
+
 }  // namespace pcl

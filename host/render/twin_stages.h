@@ -35,6 +35,7 @@ public:
     void volumeEstimate() override;
     std::vector<float> volumeKthNeighbourDist2(const std::vector<PclPhoton>& photons, uint32_t k, float rMax) override;
     void readChunk(uint32_t count, ChunkParts parts, ChunkResult& out) override;
+    void readSampleRadiance(const SampleRadianceSpec& spec, std::vector<PclRadiance>& out) override;
 
 private:
     // E rgb at each query (maxRadius2 = 0 gives 0) from one map as the spec reads it.

@@ -33,6 +33,7 @@
     X(PclVolumeSegment)       \
     X(PclEyeHit)              \
     X(PclRadiance)            \
+    X(PclAccumulateParams)    \
     X(PclDirectParams)        \
     X(PclGatherParams)        \
     X(PclGatherHit)           \

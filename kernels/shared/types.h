@@ -409,6 +409,25 @@ typedef struct PclRadiance {
 } PclRadiance;
 PCL_STATIC_ASSERT(sizeof(PclRadiance) == 16, PclRadiance_size);
 
+/* accumulate (accumulate.cl): a chunk's records summed into one radiance per eye sample. */
+#define PCL_ACCUMULATE_DIRECT 1u
+#define PCL_ACCUMULATE_CAUSTIC 2u
+#define PCL_ACCUMULATE_INDIRECT 4u
+#define PCL_ACCUMULATE_VOLUME0 8u  /* the global volume map's part */
+#define PCL_ACCUMULATE_VOLUME1 16u /* the volume caustic map's part */
+typedef struct PclAccumulateParams {
+    pcl_u32 firstPixel;       /* record i lies in pixel firstPixel + (firstSubsample + i) / n² */
+    pcl_u32 firstSubsample;   /* record 0's sample within its pixel (< n²) */
+    pcl_u32 sampleCount;      /* records in this launch */
+    pcl_u32 samplesPerPixel;  /* n² */
+    pcl_u32 width;            /* the image's */
+    pcl_u32 parts;            /* PCL_ACCUMULATE_* bits: the parts this chunk got (the others are 0) */
+    pcl_u32 emitterSpans;     /* 1: spans[2y], spans[2y + 1] bound row y's pixels [begin, end) whose
+                                 emitted light the render's emitter samples give instead */
+    pcl_u32 pad0;
+} PclAccumulateParams;
+PCL_STATIC_ASSERT(sizeof(PclAccumulateParams) == 32, PclAccumulateParams_size);
+
 typedef struct PclDirectParams {
     pcl_u32 seedLo, seedHi;   /* the pass seed */
     pcl_u32 samplesPerPixel;  /* n² */

@@ -1,8 +1,8 @@
 // The whole photon-mapped render on the device (renderPhotonMapped) against the same render on
 // the CPU twin's stages (renderPhotonMappedTwin, no OpenCL), same settings and seeds, per pixel,
 // for every shipped scene and the three photon methods. The two share the loop and the film
-// accumulation (host code, render/photon_renderer.cpp); every stage in between is the kernel on
-// one side and its twin on the other, so this chains the stage checks end to end.
+// (host code, render/photon_renderer.cpp); every stage in between is the kernel on one side and
+// its twin on the other, so this chains the stage checks end to end.
 //
 // Each device render is compared twice:
 //  * with the twin given the device's photons (render/shared_photons.h): the eye pass, held per
@@ -19,8 +19,10 @@
 //    ≤ 1.7e-3) and no pixel off by more than 25 % of the peak (measured ≤ 7.9 %).
 // A 1 % error in one kernel fails the first on every scene (kernels from PHOTONCL_KERNEL_DIR with
 // the radiance of final_gather.cl's resolve, eye_estimate.cl's resolve or direct_light.cl × 1.01:
-// 0–56 % of the pixels of the methods reading it match). The film's accumulation is host code
-// shared by both renders (render/photon_renderer.cpp), so it is not compared here.
+// 0–56 % of the pixels of the methods reading it match). Each sample's sum of its parts is a
+// stage too (accumulate: the kernel here, the twin's own sum there; accumulate_test.cpp holds it
+// to the bits of the parts added on the host); adding the sums to the film is host code both
+// renders share (render/photon_renderer.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -31,6 +31,25 @@ TEST(KernelSource, IncludesAreInlinedWithLineMarkers) {
     EXPECT_EQ(s.find("#line 1 \"shared/compat.h\"", first + 1), std::string::npos);
 }
 
+// NVIDIA's OpenCL ignores #line in its build log ("<kernel>:6:12: error: ..." on the H200): the
+// host maps such numbers back through the markers, so a GPU's log names the file and line too.
+TEST(KernelSource, BuildLogLinesOfTheExpandedSourceMapToTheirFiles) {
+    const std::string source = "#line 1 \"broken.cl\"\n"                        // 1
+                               "#line 1 \"shared/helper.h\"\n"                  // 2
+                               "#define PCL_HELPER 1\n"                         // 3: helper.h:1
+                               "#line 2 \"broken.cl\"\n"                        // 4
+                               "__kernel void broken_run(__global int* x) {\n"  // 5: broken.cl:2
+                               "    x[0] = pcl_undeclared_thing;\n"             // 6: broken.cl:3
+                               "}\n";
+    EXPECT_EQ(pcl::mapBuildLogLines("<kernel>:6:12: error: use of undeclared identifier\n<kernel>:3:9: note: x\n",
+                                    source),
+              "broken.cl:3:12: error: use of undeclared identifier\nshared/helper.h:1:9: note: x\n");
+    // Already mapped (PoCL honours #line), out of range, or no line at all: unchanged.
+    EXPECT_EQ(pcl::mapBuildLogLines("broken.cl:3:12: error: x", source), "broken.cl:3:12: error: x");
+    EXPECT_EQ(pcl::mapBuildLogLines("<kernel>:99:1: error: x", source), "<kernel>:99:1: error: x");
+    EXPECT_EQ(pcl::mapBuildLogLines("ptxas fatal", source), "ptxas fatal");
+}
+
 TEST(KernelSource, UnknownStageIsADeviceError) {
     EXPECT_THROW(pcl::kernelSource("no_such_stage", std::nullopt), pcl::DeviceError);
     EXPECT_THROW(pcl::kernelSource("no_such_stage", std::filesystem::path(PHOTONCL_SOURCE_DIR "/kernels")),
