@@ -53,7 +53,9 @@ void expectSameFilms(const std::string& sceneName, RenderMethod method, bool exp
         EXPECT_EQ(sums.nonFiniteSamples, parts.nonFiniteSamples) << side;
         EXPECT_EQ(sums.nonFiniteSamples, 0u) << side;
         EXPECT_GT(sums.film.totalWeight(), 0.0) << side;
-        if (expectSpans) EXPECT_GT(sums.emitterPixels, 0u) << side << ": no emitter spans to leave out";
+        if (expectSpans) {
+            EXPECT_GT(sums.emitterPixels, 0u) << side << ": no emitter spans to leave out";
+        }
     }
 }
 

@@ -305,7 +305,10 @@ TEST(Knn, RejectsBadQueries) {
 TEST(Knn, ShippedScenesSurfaceAndRandomQueries) {
     std::vector<std::filesystem::path> files;
     for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(PHOTONCL_SOURCE_DIR) / "scenes"))
-        if (e.path().extension() == ".json" || e.path().extension() == ".gltf") files.push_back(e.path());
+        if (e.path().extension() == ".json") files.push_back(e.path());
+#ifdef PHOTONCL_HAVE_GLTF  // the build for the GPU machine reads no glTF
+        else if (e.path().extension() == ".gltf") files.push_back(e.path());
+#endif
     std::sort(files.begin(), files.end());
     ASSERT_GE(files.size(), 2u);
     size_t causticRows = 0;

@@ -193,6 +193,7 @@ TEST(MemoryPlan, PredictedBytesEqualAllocatedBytesForEveryBuffer) {
     std::printf("[figure] %zu buffers planned, %zu allocations observed\n", plan.buffers.size(), log.count);
 }
 
+#ifdef PHOTONCL_HAVE_GLTF  // the courtyard's geometry is glTF (the build for the GPU machine reads none)
 // The courtyard: image textures, a normal map with its tangents, per-vertex normals and an image
 // sky. Every scene buffer the photon pass allocates for them is planned to the byte, and every
 // planned scene buffer is allocated.
@@ -228,6 +229,7 @@ TEST(MemoryPlan, TexturedSkyLitScenePlansEverySceneBuffer) {
     }
     std::printf("[figure] courtyard: %zu scene buffers, %zu bytes, each as planned\n", sceneBuffers, planned);
 }
+#endif
 
 // A scene with media: the media buffers, the volume slots and counts and each pass's volume map
 // are planned to the byte as allocated (a volume map that outgrows its first capacity is
