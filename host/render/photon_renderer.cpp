@@ -171,9 +171,10 @@ private:
     struct EmitterSpan {
         int begin = 0, end = 0;  // pixels [begin, end) of a row; end 0: none
     };
+    EmitterSpan emitterSpan(int y) const { return {emitterSpans_[2 * size_t(y)], emitterSpans_[2 * size_t(y) + 1]}; }
     bool inEmitterSpan(int x, int y) const {
         if (emitterSpans_.empty()) return false;
-        const EmitterSpan& s = emitterSpans_[size_t(y)];
+        const EmitterSpan s = emitterSpan(y);
         return x >= s.begin && x < s.end;
     }
     void emitterSamples(uint32_t pass, Film& passFilm);
@@ -203,9 +204,9 @@ private:
     const size_t chunk_;
     std::vector<PclRadiance> sampleRadiance_;  // a chunk's sums, one per record
     ChunkResult chunkResult_;                  // a chunk's records and parts, kept across chunks and passes
-    std::vector<int32_t> emitterSpanBounds_;   // the same, 2 ints a row (begin, end): the accumulate stage's
-    std::vector<EmitterSpan> emitterSpans_;    // fg with emitterStrata: per row, the pixels whose collected
-                                               // light the emitter samples give (empty: none)
+    std::vector<int32_t> emitterSpans_;        // fg with emitterStrata: per row, 2 ints (EmitterSpan: begin,
+                                               // end) bounding the pixels whose collected light the emitter
+                                               // samples give (empty: none); the accumulate stage reads them
     EstimateSettings est_;
     double r0Squared_ = 0.0;
     // Media: the volume maps' first radius² (global, caustic), from pass 0's photons, and this
@@ -492,16 +493,16 @@ void PhotonRenderer::findEmitterSpans() {
             hi[p] = std::max(hi[p], v);
         }
     }
-    emitterSpans_.assign(size_t(height_), EmitterSpan{});
+    emitterSpans_.assign(2 * size_t(height_), 0);
     for (int y = 0; y < height_; ++y) {
-        EmitterSpan& span = emitterSpans_[size_t(y)];
+        int32_t &begin = emitterSpans_[2 * size_t(y)], &end = emitterSpans_[2 * size_t(y) + 1];
         for (int x = 0; x < width_; ++x) {
             const size_t p = size_t(y) * width_ + x;
             if (!(hi[p] > lo[p] + 1e-6f * std::abs(hi[p]))) continue;
-            if (span.end == 0) span.begin = x;
-            span.end = x + 1;
+            if (end == 0) begin = x;
+            end = x + 1;
         }
-        result_.emitterPixels += uint32_t(span.end - span.begin);
+        result_.emitterPixels += uint32_t(end - begin);
     }
     // M × M as fine as the cap allows while the spans' samples stay within a quarter of the pass's
     // eye samples (they trace eye paths only, no light or gather rays); none when M would not
@@ -514,11 +515,6 @@ void PhotonRenderer::findEmitterSpans() {
         result_.emitterPixels = 0;
         result_.emitterStrata = 0;
     }
-    emitterSpanBounds_.clear();
-    for (const EmitterSpan& span : emitterSpans_) {
-        emitterSpanBounds_.push_back(span.begin);
-        emitterSpanBounds_.push_back(span.end);
-    }
 }
 
 // Each pass, M × M samples per pixel of the emitter spans for the light collected before the
@@ -528,7 +524,7 @@ void PhotonRenderer::emitterSamples(uint32_t pass, Film& passFilm) {
     const float scale = float(spp_) / float(mm);
     const PclCameraParams camera = cameraParams(scene_.camera, plan_, emitterSeed(s_.seed, pass), m);
     for (int y = 0; y < height_; ++y) {
-        const EmitterSpan span = emitterSpans_[size_t(y)];
+        const EmitterSpan span = emitterSpan(y);
         if (span.end == 0) continue;
         const size_t base = (size_t(y) * width_ + size_t(span.begin)) * mm;
         const size_t total = size_t(span.end - span.begin) * mm;
@@ -562,7 +558,7 @@ void PhotonRenderer::accumulate(size_t first, uint32_t count, ChunkParts parts, 
         spec.samplesPerPixel = spp_;
         spec.width = static_cast<uint32_t>(width_);
         spec.parts = parts;
-        spec.emitterSpans = &emitterSpanBounds_;
+        spec.emitterSpans = &emitterSpans_;
         stages_.readSampleRadiance(spec, sampleRadiance_);
     }
     for (uint32_t i = 0; i < count; ++i) {
